@@ -1,0 +1,48 @@
+// warpfem: parametric finite elements on exactly warped curved domains.
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "apps/commands.hpp"
+#include "core/environment.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+
+namespace {
+
+const char* kUsage =
+    "usage: warpfem <command> [arguments]\n"
+    "\n"
+    "commands:\n"
+    "  run <config.json> [--output-dir DIR] [PETSc options]   solve the problem a config describes\n"
+    "  help                                                   show this text\n"
+    "\n"
+    "PETSc options (-ksp_monitor, -ksp_type gmres, ...) may follow any command.\n"
+    "Run under MPI with: mpiexec -n 4 warpfem run config.json\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    std::cout << kUsage;
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  warpfem::Environment env(argc, argv);
+  try {
+    if (command == "run") return warpfem::apps::run_command(args);
+    std::cerr << "error: unknown command \"" << command << "\"\n\n" << kUsage;
+    return 2;
+  } catch (const warpfem::Error& e) {
+    // Config and input errors are found identically on every rank: report them once.
+    if (warpfem::Environment::rank() == 0 || e.context().file.empty()) warpfem::log::error(e.what());
+    if (warpfem::Environment::size() > 1 && e.context().file.empty()) MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  } catch (const std::exception& e) {
+    warpfem::log::error("internal error: ", e.what());
+    if (warpfem::Environment::size() > 1) MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  }
+}

@@ -1,0 +1,97 @@
+#include "apps/poisson_run.hpp"
+
+#include <iomanip>
+#include <sstream>
+
+#include "core/log.hpp"
+#include "core/timer.hpp"
+#include "fem/output_mesh.hpp"
+#include "fem/poisson.hpp"
+#include "fem/polygon_mesher.hpp"
+#include "fem/uniform_refinement.hpp"
+#include "io/expression.hpp"
+#include "io/vtk_writer.hpp"
+#include "mapping/make_map.hpp"
+
+namespace warpfem::apps {
+
+PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const PoissonRunOptions& options) {
+  PoissonRunResult result;
+  Stopwatch total;
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+
+  Stopwatch watch;
+  const mapping::MapPtr<2> map = mapping::make_map(cfg.map);
+  log::info("map: ", map->describe(), " (", format_seconds(watch.seconds()), ")");
+
+  watch.reset();
+  const Polygon& source = *cfg.map.source;
+  fem::PolygonMeshOptions mesh_options;
+  mesh_options.max_edge_length = cfg.mesh.max_edge_length > 0 ? cfg.mesh.max_edge_length
+                                                               : 0.1 * (source.bbox_max() - source.bbox_min()).norm();
+  mesh_options.shape_bound = cfg.mesh.shape_bound;
+  fem::Mesh<2> mesh = fem::mesh_polygon(source, mesh_options);
+  for (int r = 0; r < cfg.mesh.refinements; ++r) mesh = fem::refine_uniformly(mesh).mesh;
+  result.num_cells = mesh.num_cells();
+  result.h = mesh.max_edge_length();
+  log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
+            " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements, ",
+            format_seconds(watch.seconds()), ")");
+
+  fem::PoissonData data;
+  data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
+  data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
+  data.neumann = io::make_boundary_conditions(cfg.poisson.neumann, cfg.file);
+  const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
+                                                     : fem::default_quadrature_degree(cfg.poisson.order);
+  watch.reset();
+  fem::PoissonProblem problem(comm, mesh, map, cfg.poisson.order, qdeg, data);
+  result.num_dofs = problem.dofs().num_dofs();
+  log::info("warped geometry: ", problem.geometry().num_cells() * problem.geometry().points_per_cell(),
+            " quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
+  watch.reset();
+  problem.assemble();
+  log::info("assembled P", cfg.poisson.order, " Poisson: ", result.num_dofs, " DOFs on ", size, " rank(s) (",
+            format_seconds(watch.seconds()), ")");
+
+  result.solve = problem.solve(cfg.solver.linear);
+  log::info("solved with ", result.solve.ksp_type, "/", result.solve.pc_type, ": ", result.solve.iterations,
+            " iterations, residual ", std::scientific, std::setprecision(2), result.solve.residual_norm, " (setup ",
+            format_seconds(result.solve.setup_seconds), ", solve ", format_seconds(result.solve.solve_seconds), ")");
+
+  result.area = problem.area();
+  if (!cfg.poisson.exact_solution.empty()) {
+    const io::Expression exact(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");
+    const auto u = exact.as_function_2d();
+    const fem::GradientFunction grad = [&exact](const Point<2>& x, double t) { return exact.gradient<2>(x, t); };
+    const auto e = problem.errors(u, grad);
+    result.l2_error = e.l2;
+    result.h1_error = e.h1_semi;
+    log::info("error against exact solution: L2 ", std::scientific, std::setprecision(4), e.l2, ", H1-seminorm ",
+              e.h1_semi);
+  }
+  if (options.gather_solution) result.solution = problem.distribution().gather_all(problem.solution());
+
+  if (options.write_output && cfg.output.vtk) {
+    watch.reset();
+    const int order = cfg.output.vtk_order > 0 ? cfg.output.vtk_order
+                                               : std::max(cfg.poisson.order, map->is_affine() ? 1 : 2);
+    const fem::OutputMesh out = fem::make_output_mesh(mesh, problem.distribution(), *map, order);
+    const VectorX u = out.interpolate(problem.dofs(), problem.distribution(),
+                                      problem.distribution().gather_relevant(problem.solution()));
+    io::VtkOutput vtk;
+    vtk.mesh = &out;
+    vtk.point_fields.push_back({"u", 1, std::vector<double>(u.data(), u.data() + u.size())});
+    vtk.point_fields.push_back({"det_Jf", 1, std::vector<double>(out.map_det.data(), out.map_det.data() + out.map_det.size())});
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    vtk.cell_fields.push_back({"rank", 1, std::vector<double>(static_cast<std::size_t>(out.cells.rows()), rank)});
+    result.output_file = io::write_vtk(comm, vtk, cfg.output.directory, cfg.output.name);
+    log::info("wrote ", result.output_file, " (", format_seconds(watch.seconds()), ")");
+  }
+  log::info("total ", format_seconds(total.seconds()));
+  return result;
+}
+
+}  // namespace warpfem::apps

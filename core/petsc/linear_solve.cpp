@@ -1,0 +1,58 @@
+#include "core/petsc/linear_solve.hpp"
+
+#include "core/error.hpp"
+#include "core/petsc/check.hpp"
+#include "core/petsc/handles.hpp"
+#include "core/timer.hpp"
+
+namespace warpfem::petsc {
+
+LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOptions& options) {
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  LinearSolver ksp;
+  WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp.out()));
+  WARPFEM_PETSC_CHECK(KSPSetOperators(ksp.get(), A, A));
+  WARPFEM_PETSC_CHECK(KSPSetType(ksp.get(), options.ksp_type.c_str()));
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(ksp.get(), &pc));
+  WARPFEM_PETSC_CHECK(PCSetType(pc, options.pc_type.c_str()));
+  WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp.get(), options.rtol, options.atol, PETSC_DEFAULT, options.max_iterations));
+  WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp.get(), PETSC_TRUE));
+  if (!options.prefix.empty()) WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp.get(), options.prefix.c_str()));
+  WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp.get()));
+
+  LinearSolveReport report;
+  Stopwatch watch;
+  WARPFEM_PETSC_CHECK(KSPSetUp(ksp.get()));
+  report.setup_seconds = watch.seconds();
+  watch.reset();
+  WARPFEM_PETSC_CHECK(KSPSolve(ksp.get(), b, x));
+  report.solve_seconds = watch.seconds();
+
+  KSPConvergedReason reason;
+  WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp.get(), &reason));
+  PetscInt its = 0;
+  WARPFEM_PETSC_CHECK(KSPGetIterationNumber(ksp.get(), &its));
+  PetscReal rnorm = 0;
+  WARPFEM_PETSC_CHECK(KSPGetResidualNorm(ksp.get(), &rnorm));
+  KSPType kt;
+  PCType pt;
+  WARPFEM_PETSC_CHECK(KSPGetType(ksp.get(), &kt));
+  WARPFEM_PETSC_CHECK(PCGetType(pc, &pt));
+  report.iterations = static_cast<int>(its);
+  report.residual_norm = rnorm;
+  report.ksp_type = kt ? kt : "";
+  report.pc_type = pt ? pt : "";
+  report.converged_reason = KSPConvergedReasons[reason];
+  if (reason < 0)
+    throw Error("linear solver " + report.ksp_type + "/" + report.pc_type + " diverged after " +
+                    std::to_string(its) + " iterations: " + report.converged_reason + " (residual norm " +
+                    std::to_string(rnorm) + ")",
+                {.file = "", .key_path = "/solver",
+                 .hint = "raise /solver/max_iterations, loosen /solver/rtol, or choose another solver in "
+                         "/solver/petsc_options (e.g. \"-ksp_type gmres -pc_type lu\")"});
+  return report;
+}
+
+}  // namespace warpfem::petsc

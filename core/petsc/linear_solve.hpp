@@ -1,0 +1,32 @@
+#pragma once
+// One linear solve with PETSc's KSP: defaults set in code, then overridden by
+// the options database (config "petsc_options" and the command line).
+
+#include <petscksp.h>
+
+#include <string>
+
+namespace warpfem::petsc {
+
+struct LinearSolveOptions {
+  std::string ksp_type = "cg";
+  std::string pc_type = "gamg";
+  double rtol = 1e-10;
+  double atol = 1e-50;
+  int max_iterations = 10000;
+  std::string prefix;  ///< PETSc options prefix, e.g. "poisson_"
+};
+
+struct LinearSolveReport {
+  int iterations = 0;
+  double residual_norm = 0;
+  std::string ksp_type, pc_type;
+  std::string converged_reason;
+  double setup_seconds = 0, solve_seconds = 0;
+};
+
+/// Solves A x = b (x is the initial guess on entry). Throws warpfem::Error with
+/// PETSc's reason and a hint if the solver diverges.
+LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOptions& options);
+
+}  // namespace warpfem::petsc

@@ -1,0 +1,155 @@
+#include "core/polygon.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2_algorithms.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "core/error.hpp"
+
+namespace warpfem {
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using KPoint = Kernel::Point_2;
+using KSegment = Kernel::Segment_2;
+
+KPoint to_cgal(const Point<2>& p) { return KPoint(p.x(), p.y()); }
+
+std::string vertex_text(const Point<2>& p) {
+  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ")";
+}
+}  // namespace
+
+Polygon::Polygon(std::vector<Point<2>> vertices, std::string name)
+    : vertices_(std::move(vertices)), name_(std::move(name)) {}
+
+Polygon Polygon::checked(std::vector<Point<2>> vertices, std::string name) {
+  Polygon p(std::move(vertices), std::move(name));
+  p.validate();
+  return p;
+}
+
+void Polygon::validate() const {
+  const Index n = size();
+  if (n < 3)
+    throw Error(name_ + " has " + std::to_string(n) + " vertices",
+                {.file = "", .key_path = "", .hint = "a polygon needs at least 3 vertices"});
+  for (Index i = 0; i < n; ++i) {
+    if (!vertex(i).allFinite())
+      throw Error(name_ + ": vertex " + std::to_string(i) + " is not a finite number",
+                  {.file = "", .key_path = "", .hint = "give finite coordinates"});
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (to_cgal(vertex(i)) == to_cgal(vertex(i + 1)))
+      throw Error(name_ + ": edge " + std::to_string(i) + " (vertices " + std::to_string(i) + " and " +
+                      std::to_string(wrap(i + 1)) + ") has zero length at " + vertex_text(vertex(i)),
+                  {.file = "", .key_path = "", .hint = "remove the duplicated vertex"});
+  }
+  // Self-intersection: non-adjacent edges must not meet; adjacent edges may
+  // only share their common vertex (no fold-back along a line).
+  std::vector<KSegment> seg(static_cast<std::size_t>(n));
+  std::vector<CGAL::Bbox_2> box(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i) {
+    seg[i] = KSegment(to_cgal(vertex(i)), to_cgal(vertex(i + 1)));
+    box[i] = seg[i].bbox();
+  }
+  // Sweep over edges sorted by xmin to keep this near O(n log n) in practice.
+  std::vector<Index> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), Index{0});
+  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return box[a].xmin() < box[b].xmin(); });
+  for (std::size_t a = 0; a < order.size(); ++a) {
+    const Index i = order[a];
+    for (std::size_t b = a + 1; b < order.size() && box[order[b]].xmin() <= box[i].xmax(); ++b) {
+      const Index j = order[b];
+      if (!CGAL::do_overlap(box[i], box[j])) continue;
+      const bool adjacent = wrap(i + 1) == j || wrap(j + 1) == i;
+      bool bad = false;
+      if (!adjacent) {
+        bad = CGAL::do_intersect(seg[i], seg[j]);
+      } else {
+        // Adjacent edges share one vertex; they are bad if they fold back onto each other.
+        const Index first = (wrap(i + 1) == j) ? i : j;  // edge first -> shared vertex -> edge second
+        const KPoint& p = seg[first].source();
+        const KPoint& q = seg[first].target();
+        const KPoint& r = seg[wrap(first + 1)].target();
+        bad = CGAL::collinear(p, q, r) && !CGAL::collinear_are_ordered_along_line(p, q, r);
+        if (n == 3) bad = bad || CGAL::collinear(p, q, r);
+      }
+      if (bad)
+        throw Error(name_ + " is not simple: edge " + std::to_string(std::min(i, j)) + " and edge " +
+                        std::to_string(std::max(i, j)) + " intersect",
+                    {.file = "", .key_path = "",
+                     .hint = "move the vertices so that edges meet only at their shared endpoints"});
+    }
+  }
+  if (signed_area() <= 0)
+    throw Error(name_ + " is oriented clockwise (signed area " + std::to_string(signed_area()) + ")",
+                {.file = "", .key_path = "", .hint = "reverse the vertex order to make it counter-clockwise"});
+}
+
+bool Polygon::is_convex() const {
+  const Index n = size();
+  for (Index i = 0; i < n; ++i)
+    if (CGAL::orientation(to_cgal(vertex(i - 1)), to_cgal(vertex(i)), to_cgal(vertex(i + 1))) == CGAL::RIGHT_TURN)
+      return false;
+  return true;
+}
+
+Real Polygon::signed_area() const {
+  Real a = 0;
+  for (Index i = 0; i < size(); ++i) {
+    const Point<2>& p = vertex(i);
+    const Point<2>& q = vertex(i + 1);
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * a;
+}
+
+Real Polygon::perimeter() const {
+  Real l = 0;
+  for (Index i = 0; i < size(); ++i) l += (vertex(i + 1) - vertex(i)).norm();
+  return l;
+}
+
+Point<2> Polygon::bbox_min() const {
+  Point<2> m = vertices_.front();
+  for (const auto& v : vertices_) m = m.cwiseMin(v);
+  return m;
+}
+
+Point<2> Polygon::bbox_max() const {
+  Point<2> m = vertices_.front();
+  for (const auto& v : vertices_) m = m.cwiseMax(v);
+  return m;
+}
+
+int Polygon::side_of(const Point<2>& p) const {
+  std::vector<KPoint> pts;
+  pts.reserve(vertices_.size());
+  for (const auto& v : vertices_) pts.push_back(to_cgal(v));
+  switch (CGAL::bounded_side_2(pts.begin(), pts.end(), to_cgal(p), Kernel())) {
+    case CGAL::ON_BOUNDED_SIDE: return 1;
+    case CGAL::ON_BOUNDARY: return 0;
+    default: return -1;
+  }
+}
+
+Polygon Polygon::reversed() const {
+  std::vector<Point<2>> v;
+  v.reserve(vertices_.size());
+  v.push_back(vertices_.front());
+  for (auto it = vertices_.rbegin(); it + 1 != vertices_.rend(); ++it) v.push_back(*it);
+  return Polygon(std::move(v), name_);
+}
+
+void require_same_vertex_count(const Polygon& source, const Polygon& target) {
+  if (source.size() != target.size())
+    throw Error(source.name() + " has " + std::to_string(source.size()) + " vertices but " + target.name() +
+                    " has " + std::to_string(target.size()),
+                {.file = "", .key_path = "",
+                 .hint = "give both polygons the same number of vertices (add collinear vertices along the "
+                         "source's edges, one per target vertex)"});
+}
+
+}  // namespace warpfem

@@ -1,0 +1,44 @@
+#pragma once
+// Wall-clock timing: a stopwatch and a scoped timer that logs on exit.
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "core/log.hpp"
+
+namespace warpfem {
+
+/// "0.012 s", "3.4 ms"-free fixed formatting used in all progress logs.
+inline std::string format_seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f s", s);
+  return buf;
+}
+
+class Stopwatch {
+ public:
+  Stopwatch() : start_(clock::now()) {}
+  void reset() { start_ = clock::now(); }
+  /// Seconds since construction or the last reset().
+  double seconds() const { return std::chrono::duration<double>(clock::now() - start_).count(); }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  clock::time_point start_;
+};
+
+/// Logs "<label>: <seconds> s" at debug level when it goes out of scope.
+class ScopedTimer {
+ public:
+  explicit ScopedTimer(std::string label) : label_(std::move(label)) {}
+  ~ScopedTimer() { log::debug(label_, ": ", watch_.seconds(), " s"); }
+  ScopedTimer(const ScopedTimer&) = delete;
+  ScopedTimer& operator=(const ScopedTimer&) = delete;
+
+ private:
+  std::string label_;
+  Stopwatch watch_;
+};
+
+}  // namespace warpfem

@@ -1,0 +1,115 @@
+#include "fem/dof_distribution.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "core/petsc/check.hpp"
+#include "fem/cell_partition.hpp"
+
+namespace warpfem::fem {
+
+DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs)
+    : comm_(comm), dofs_(&dofs) {
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+  const std::vector<int> cell_owner = partition_cells(mesh, size_);
+  const IndexTable& cd = dofs.cell_dofs();
+  const Index nd = dofs.num_dofs();
+  owner_.assign(static_cast<std::size_t>(nd), size_);
+  for (Index c = 0; c < mesh.num_cells(); ++c) {
+    if (cell_owner[c] == rank_) local_cells_.push_back(c);
+    for (Index k = 0; k < cd.cols(); ++k) owner_[cd(c, k)] = std::min(owner_[cd(c, k)], cell_owner[c]);
+  }
+  std::vector<PetscInt> count(static_cast<std::size_t>(size_) + 1, 0);
+  for (Index d = 0; d < nd; ++d) ++count[owner_[d] + 1];
+  std::partial_sum(count.begin(), count.end(), count.begin());
+  owned_begin_ = count[rank_];
+  owned_end_ = count[rank_ + 1];
+  num_global_ = count[size_];
+  global_.resize(static_cast<std::size_t>(nd));
+  std::vector<PetscInt> next(count.begin(), count.end() - 1);
+  for (Index d = 0; d < nd; ++d) global_[d] = next[owner_[d]]++;
+
+  relevant_index_.assign(static_cast<std::size_t>(nd), -1);
+  for (Index c : local_cells_)
+    for (Index k = 0; k < cd.cols(); ++k) relevant_index_[cd(c, k)] = 0;
+  for (Index d = 0; d < nd; ++d)
+    if (relevant_index_[d] == 0) {
+      relevant_index_[d] = static_cast<Index>(relevant_.size());
+      relevant_.push_back(d);
+    }
+}
+
+petsc::Vector DofDistribution::create_vector() const {
+  petsc::Vector v;
+  WARPFEM_PETSC_CHECK(VecCreateMPI(comm_, num_owned(), num_global_, v.out()));
+  return v;
+}
+
+VectorX DofDistribution::gather_relevant(Vec v) const {
+  const PetscInt n = static_cast<PetscInt>(relevant_.size());
+  if (!scatter_) {
+    std::vector<PetscInt> from(relevant_.size());
+    for (std::size_t i = 0; i < relevant_.size(); ++i) from[i] = global_[relevant_[i]];
+    petsc::IndexSet is;
+    WARPFEM_PETSC_CHECK(ISCreateGeneral(PETSC_COMM_SELF, n, from.data(), PETSC_COPY_VALUES, is.out()));
+    WARPFEM_PETSC_CHECK(VecCreateSeq(PETSC_COMM_SELF, n, relevant_values_.out()));
+    WARPFEM_PETSC_CHECK(VecScatterCreate(v, is.get(), relevant_values_.get(), nullptr, scatter_.out()));
+  }
+  WARPFEM_PETSC_CHECK(VecScatterBegin(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
+  WARPFEM_PETSC_CHECK(VecScatterEnd(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
+  VectorX out(n);
+  const PetscScalar* a = nullptr;
+  WARPFEM_PETSC_CHECK(VecGetArrayRead(relevant_values_.get(), &a));
+  std::copy(a, a + n, out.data());
+  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(relevant_values_.get(), &a));
+  return out;
+}
+
+VectorX DofDistribution::gather_all(Vec v) const {
+  petsc::Scatter all;
+  petsc::Vector seq;
+  WARPFEM_PETSC_CHECK(VecScatterCreateToAll(v, all.out(), seq.out()));
+  WARPFEM_PETSC_CHECK(VecScatterBegin(all.get(), v, seq.get(), INSERT_VALUES, SCATTER_FORWARD));
+  WARPFEM_PETSC_CHECK(VecScatterEnd(all.get(), v, seq.get(), INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar* a = nullptr;
+  WARPFEM_PETSC_CHECK(VecGetArrayRead(seq.get(), &a));
+  VectorX out(static_cast<Index>(global_.size()));
+  for (std::size_t d = 0; d < global_.size(); ++d) out(static_cast<Index>(d)) = a[global_[d]];
+  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(seq.get(), &a));
+  return out;
+}
+
+void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
+                                    std::vector<PetscInt>& o_nnz) const {
+  const IndexTable& cd = dofs.cell_dofs();
+  const Index nd = dofs.num_dofs();
+  // CSR adjacency owned DOF -> cells, restricted to owned DOFs.
+  std::vector<Index> start(static_cast<std::size_t>(nd) + 1, 0);
+  for (Index c = 0; c < mesh.num_cells(); ++c)
+    for (Index k = 0; k < cd.cols(); ++k)
+      if (owner_[cd(c, k)] == rank_) ++start[cd(c, k) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<Index> cells(static_cast<std::size_t>(start.back()));
+  std::vector<Index> fill(start.begin(), start.end() - 1);
+  for (Index c = 0; c < mesh.num_cells(); ++c)
+    for (Index k = 0; k < cd.cols(); ++k)
+      if (owner_[cd(c, k)] == rank_) cells[fill[cd(c, k)]++] = c;
+
+  d_nnz.assign(static_cast<std::size_t>(num_owned()), 0);
+  o_nnz.assign(static_cast<std::size_t>(num_owned()), 0);
+  std::vector<Index> stamp(static_cast<std::size_t>(nd), -1);
+  for (Index d = 0; d < nd; ++d) {
+    if (owner_[d] != rank_) continue;
+    const PetscInt row = global_[d] - owned_begin_;
+    for (Index i = start[d]; i < start[d + 1]; ++i)
+      for (Index k = 0; k < cd.cols(); ++k) {
+        const Index col = cd(cells[i], k);
+        if (stamp[col] == d) continue;
+        stamp[col] = d;
+        (owner_[col] == rank_ ? d_nnz : o_nnz)[row]++;
+      }
+  }
+}
+
+}  // namespace warpfem::fem

@@ -1,0 +1,65 @@
+#pragma once
+// Parallel ownership and PETSc numbering of the DOFs of a DofMap.
+//
+// Cells are owned by the rank partition_cells() gives them; a DOF is owned by
+// the lowest rank among the cells that contain it. PETSc global indices number
+// the DOFs of rank 0 first, then rank 1, ..., each block in mesh order, so
+// every rank owns one contiguous range [owned_begin, owned_end).
+
+#include <mpi.h>
+#include <petscvec.h>
+
+#include <vector>
+
+#include "core/petsc/handles.hpp"
+#include "fem/dof_map.hpp"
+
+namespace warpfem::fem {
+
+class DofDistribution {
+ public:
+  DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs);
+
+  MPI_Comm comm() const { return comm_; }
+  int rank() const { return rank_; }
+  /// Cells this rank assembles.
+  const std::vector<Index>& local_cells() const { return local_cells_; }
+  PetscInt owned_begin() const { return owned_begin_; }
+  PetscInt owned_end() const { return owned_end_; }
+  PetscInt num_owned() const { return owned_end_ - owned_begin_; }
+  PetscInt num_global() const { return num_global_; }
+  /// PETSc global index of a mesh DOF.
+  PetscInt global(Index dof) const { return global_[static_cast<std::size_t>(dof)]; }
+  bool owns(Index dof) const { return owner_[static_cast<std::size_t>(dof)] == rank_; }
+  int owner(Index dof) const { return owner_[static_cast<std::size_t>(dof)]; }
+  /// Mesh DOFs touched by the local cells (owned and ghost), sorted.
+  const std::vector<Index>& relevant_dofs() const { return relevant_; }
+  /// Position of a mesh DOF in relevant_dofs(), or -1.
+  Index relevant_index(Index dof) const { return relevant_index_[static_cast<std::size_t>(dof)]; }
+
+  /// A new parallel vector with this layout.
+  petsc::Vector create_vector() const;
+  /// Values of `v` at relevant_dofs() (owned and ghost), via a cached PETSc scatter.
+  VectorX gather_relevant(Vec v) const;
+  /// Values of `v` at every mesh DOF on every rank (for tests and small outputs).
+  VectorX gather_all(Vec v) const;
+  /// Per-row counts of nonzeros in the diagonal and off-diagonal blocks for
+  /// the owned rows of a matrix coupling all DOFs of each cell.
+  void preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
+                     std::vector<PetscInt>& o_nnz) const;
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  std::vector<Index> local_cells_;
+  std::vector<int> owner_;
+  std::vector<PetscInt> global_;
+  PetscInt owned_begin_ = 0, owned_end_ = 0, num_global_ = 0;
+  std::vector<Index> relevant_;
+  std::vector<Index> relevant_index_;
+  mutable petsc::Scatter scatter_;
+  mutable petsc::Vector relevant_values_;
+  const DofMap* dofs_;
+};
+
+}  // namespace warpfem::fem

@@ -1,0 +1,64 @@
+#include "fem/dof_map.hpp"
+
+#include "core/error.hpp"
+
+namespace warpfem::fem {
+
+DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(element), edges_(mesh) {
+  require(mesh.cell_type == element.cell_type(),
+          "DofMap: element " + element.name() + " does not match " + to_string(mesh.cell_type) + " cells");
+  const Index nv = mesh.num_vertices(), ne = edges_.num_edges(), nc = mesh.num_cells();
+  const int per_edge = element.dofs_per_edge(), interior = element.interior_dofs();
+  num_dofs_ = nv + ne * per_edge + nc * interior;
+  const int nloc = element.num_dofs();
+  const int nvert = element.num_vertex_dofs();
+  const auto& edges = cell_edges(mesh.cell_type);
+  cell_dofs_.resize(nc, nloc);
+  for (Index c = 0; c < nc; ++c) {
+    for (int k = 0; k < nvert; ++k) cell_dofs_(c, k) = mesh.cells(c, k);
+    for (int e = 0; e < static_cast<int>(edges.size()) && per_edge > 0; ++e)
+      cell_dofs_(c, nvert + e) = nv + edges_.cell_edge(c, e);
+    for (int k = 0; k < interior; ++k) cell_dofs_(c, nloc - interior + k) = nv + ne * per_edge + c * interior + k;
+  }
+  // Node positions: map the reference nodes through the straight cell geometry.
+  const LagrangeElement geo(mesh.cell_type, 1);
+  const MatrixX N = geo.values(element.nodes());
+  dof_points_.resize(num_dofs_, 2);
+  for (Index c = 0; c < nc; ++c)
+    for (int k = 0; k < nloc; ++k) {
+      Point<2> x = Point<2>::Zero();
+      for (int v = 0; v < nvert; ++v) x += N(k, v) * mesh.vertex(mesh.cells(c, v));
+      dof_points_.row(cell_dofs_(c, k)) = x.transpose();
+    }
+}
+
+std::vector<Index> DofMap::facet_dofs(const Mesh<2>& mesh, Index facet) const {
+  const Index a = mesh.boundary_facets(facet, 0), b = mesh.boundary_facets(facet, 1);
+  std::vector<Index> out{a, b};
+  if (element_.dofs_per_edge() > 0) {
+    const Index e = edges_.find(a, b);
+    require(e >= 0, "DofMap: boundary facet is not a mesh edge");
+    out.push_back(mesh.num_vertices() + e);
+  }
+  return out;
+}
+
+void simple_cell_geometry(const Mesh<2>& mesh, Index cell, const Points<2>& xi, const MatrixX& N,
+                          const std::array<MatrixX, 2>& dN, Points<2>& x0, Jacobians<2>& JG, Index offset) {
+  const int nv = vertices_per_cell(mesh.cell_type);
+  for (Index q = 0; q < xi.rows(); ++q) {
+    double x = 0, y = 0, j00 = 0, j01 = 0, j10 = 0, j11 = 0;
+    for (int k = 0; k < nv; ++k) {
+      const Index v = mesh.cells(cell, k);
+      const double vx = mesh.vertices(v, 0), vy = mesh.vertices(v, 1);
+      x += N(q, k) * vx, y += N(q, k) * vy;
+      j00 += vx * dN[0](q, k), j01 += vx * dN[1](q, k);
+      j10 += vy * dN[0](q, k), j11 += vy * dN[1](q, k);
+    }
+    const Index r = offset + q;
+    x0(r, 0) = x, x0(r, 1) = y;
+    JG(r, 0) = j00, JG(r, 1) = j01, JG(r, 2) = j10, JG(r, 3) = j11;
+  }
+}
+
+}  // namespace warpfem::fem

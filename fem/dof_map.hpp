@@ -1,0 +1,43 @@
+#pragma once
+// Mesh-wide numbering of the DOFs of a Lagrange space (serial numbering,
+// identical on every rank): vertex v -> v, edge node e -> nv + e, cell-interior
+// node of cell c -> nv + ne + c. fem::DofDistribution turns it into the
+// parallel PETSc numbering.
+
+#include <memory>
+#include <vector>
+
+#include "fem/edge_numbering.hpp"
+#include "fem/lagrange_element.hpp"
+#include "fem/mesh.hpp"
+
+namespace warpfem::fem {
+
+class DofMap {
+ public:
+  DofMap(const Mesh<2>& mesh, const LagrangeElement& element);
+
+  Index num_dofs() const { return num_dofs_; }
+  const LagrangeElement& element() const { return element_; }
+  /// cells x element().num_dofs() table of DOF ids.
+  const IndexTable& cell_dofs() const { return cell_dofs_; }
+  /// Position of every DOF node in Ω0 (num_dofs x 2).
+  const Points<2>& dof_points() const { return dof_points_; }
+  /// DOFs on boundary facet f, ordered (start vertex, end vertex, interior nodes).
+  std::vector<Index> facet_dofs(const Mesh<2>& mesh, Index facet) const;
+
+ private:
+  LagrangeElement element_;
+  EdgeNumbering edges_;
+  Index num_dofs_ = 0;
+  IndexTable cell_dofs_;
+  Points<2> dof_points_;
+};
+
+/// Reference-to-Ω0 geometry of a straight cell: x0(ξ) = Σ N_k(ξ) v_k with the
+/// P1/Q1 shape functions N_k. Fills the Ω0 points and J_G at the given reference points.
+void simple_cell_geometry(const Mesh<2>& mesh, Index cell, const Points<2>& xi, const MatrixX& geo_values,
+                          const std::array<MatrixX, 2>& geo_gradients, Points<2>& x0, Jacobians<2>& JG,
+                          Index offset);
+
+}  // namespace warpfem::fem

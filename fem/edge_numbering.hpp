@@ -1,0 +1,33 @@
+#pragma once
+// Global numbering of the edges of a 2D mesh (each undirected edge once).
+
+#include <unordered_map>
+#include <vector>
+
+#include "fem/mesh.hpp"
+
+namespace warpfem::fem {
+
+class EdgeNumbering {
+ public:
+  template <int dim>
+  explicit EdgeNumbering(const Mesh<dim>& mesh);
+
+  Index num_edges() const { return static_cast<Index>(edge_vertices_.size()); }
+  /// Edge id of local edge `e` (cell_edges order) of `cell`.
+  Index cell_edge(Index cell, int e) const { return cell_edge_(cell, e); }
+  /// Edge id of the edge between vertices a and b; -1 if there is none.
+  Index find(Index a, Index b) const;
+  const std::array<Index, 2>& vertices(Index edge) const { return edge_vertices_[static_cast<std::size_t>(edge)]; }
+
+ private:
+  static std::uint64_t key(Index a, Index b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b);
+  }
+  std::unordered_map<std::uint64_t, Index> ids_;
+  std::vector<std::array<Index, 2>> edge_vertices_;
+  IndexTable cell_edge_;
+};
+
+}  // namespace warpfem::fem

@@ -1,0 +1,40 @@
+#include "fem/mesh.hpp"
+
+namespace warpfem::fem {
+
+std::string to_string(CellType t) {
+  switch (t) {
+    case CellType::triangle: return "triangle";
+    case CellType::quadrilateral: return "quadrilateral";
+    case CellType::tetrahedron: return "tetrahedron";
+    case CellType::hexahedron: return "hexahedron";
+  }
+  return "unknown";
+}
+
+const std::vector<std::array<int, 2>>& cell_edges(CellType t) {
+  static const std::vector<std::array<int, 2>> tri{{0, 1}, {1, 2}, {2, 0}};
+  static const std::vector<std::array<int, 2>> quad{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  static const std::vector<std::array<int, 2>> tet{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  static const std::vector<std::array<int, 2>> none{};
+  switch (t) {
+    case CellType::triangle: return tri;
+    case CellType::quadrilateral: return quad;
+    case CellType::tetrahedron: return tet;
+    default: return none;
+  }
+}
+
+template <int dim>
+Real Mesh<dim>::max_edge_length() const {
+  Real h = 0;
+  for (Index c = 0; c < num_cells(); ++c)
+    for (const auto& e : cell_edges(cell_type))
+      h = std::max(h, (vertex(cells(c, e[0])) - vertex(cells(c, e[1]))).norm());
+  return h;
+}
+
+template struct Mesh<2>;
+template struct Mesh<3>;
+
+}  // namespace warpfem::fem

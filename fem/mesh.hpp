@@ -1,0 +1,58 @@
+#pragma once
+// A conforming mesh of the parametrization domain Ω0 (the "simple" mesh).
+//
+// The mesh is replicated on every MPI rank (it is the coarse description of
+// Ω0 and its uniform refinements); ownership of cells and DOFs is decided by
+// fem::DofDistribution. Boundary facets carry the index of the source-polygon
+// edge they lie on, which is also the index of the corresponding target edge,
+// so boundary conditions can select "target-polygon edges".
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace warpfem::fem {
+
+enum class CellType { triangle, quadrilateral, tetrahedron, hexahedron };
+
+constexpr int vertices_per_cell(CellType t) {
+  switch (t) {
+    case CellType::triangle: return 3;
+    case CellType::quadrilateral: return 4;
+    case CellType::tetrahedron: return 4;
+    case CellType::hexahedron: return 8;
+  }
+  return 0;
+}
+constexpr int cell_dimension(CellType t) {
+  return (t == CellType::triangle || t == CellType::quadrilateral) ? 2 : 3;
+}
+std::string to_string(CellType t);
+
+/// Row-major integer table: one row per cell (or facet).
+using IndexTable = Eigen::Matrix<Index, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// Local vertex pairs of the edges of a 2D cell, in the order used for edge DOFs
+/// (and by VTK's Lagrange cells): triangle (0,1),(1,2),(2,0); quad (0,1),(1,2),(2,3),(3,0).
+const std::vector<std::array<int, 2>>& cell_edges(CellType t);
+
+template <int dim>
+struct Mesh {
+  CellType cell_type = dim == 2 ? CellType::triangle : CellType::tetrahedron;
+  Points<dim> vertices;         ///< N x dim, coordinates in Ω0
+  IndexTable cells;             ///< cells x vertices_per_cell(cell_type), counter-clockwise in 2D
+  IndexTable boundary_facets;   ///< boundary facets x (dim == 2 ? 2 : 3)
+  std::vector<int> facet_tags;  ///< per boundary facet: index of the polygon edge (face) it lies on
+
+  Index num_vertices() const { return vertices.rows(); }
+  Index num_cells() const { return cells.rows(); }
+  Index num_boundary_facets() const { return boundary_facets.rows(); }
+  Point<dim> vertex(Index i) const { return vertices.row(i).transpose(); }
+  /// Largest edge length over all cells.
+  Real max_edge_length() const;
+};
+
+}  // namespace warpfem::fem

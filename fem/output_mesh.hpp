@@ -1,0 +1,37 @@
+#pragma once
+// The warped mesh as it is written for visualization: the local cells of this
+// rank as Lagrange cells of order `order` whose nodes are placed by f, so
+// curved cells are shown curved (order 2 for any non-affine map). Fields of a
+// finite element function are evaluated at these nodes.
+
+#include <vector>
+
+#include "fem/dof_distribution.hpp"
+#include "fem/dof_map.hpp"
+#include "mapping/map.hpp"
+
+namespace warpfem::fem {
+
+struct OutputMesh {
+  CellType cell_type = CellType::triangle;
+  int order = 1;
+  Points<2> reference_points;  ///< node positions in Ω0
+  Points<2> points;            ///< node positions f(x0) in Ω1
+  VectorX map_det;             ///< det J_f at the nodes
+  IndexTable cells;            ///< local cells x nodes, VTK Lagrange node order
+  std::vector<Index> cell_ids; ///< mesh cell id of every output cell
+
+  /// Values at the nodes of the FE function with coefficients `relevant_values`
+  /// (ordered as dist.relevant_dofs()).
+  VectorX interpolate(const DofMap& dofs, const DofDistribution& dist, const VectorX& relevant_values) const;
+
+ private:
+  friend OutputMesh make_output_mesh(const Mesh<2>&, const DofDistribution&, const mapping::Map<2>&, int);
+  std::vector<std::pair<Index, int>> node_source_;  ///< (cell index in cells, local node) defining each node
+};
+
+/// Builds the output mesh of the cells owned by this rank. `order` 0 picks
+/// max(element order, 1 if f is affine else 2).
+OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, const mapping::Map<2>& map, int order);
+
+}  // namespace warpfem::fem

@@ -1,0 +1,206 @@
+#include "fem/poisson.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/petsc/check.hpp"
+#include "core/timer.hpp"
+
+namespace warpfem::fem {
+
+bool BoundaryCondition::applies_to(int tag) const {
+  return edges.empty() || std::find(edges.begin(), edges.end(), tag) != edges.end();
+}
+
+PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
+                               int quadrature_degree, PoissonData data)
+    : comm_(comm),
+      mesh_(mesh),
+      map_(std::move(map)),
+      data_(std::move(data)),
+      dofs_(mesh, LagrangeElement(mesh.cell_type, order)),
+      dist_(comm, mesh, dofs_),
+      geometry_(mesh, dist_.local_cells(), cell_quadrature(mesh.cell_type, quadrature_degree), *map_) {
+  shape_values_ = dofs_.element().values(geometry_.rule().points);
+  shape_grads_ = dofs_.element().gradients(geometry_.rule().points);
+  const auto& rel = dist_.relevant_dofs();
+  Points<2> x0(static_cast<Index>(rel.size()), 2);
+  for (std::size_t i = 0; i < rel.size(); ++i) x0.row(static_cast<Index>(i)) = dofs_.dof_points().row(rel[i]);
+  map_->eval(x0, relevant_x_);
+}
+
+void PoissonProblem::assemble() {
+  ScopedTimer timer("Poisson assembly");
+  std::vector<PetscInt> d_nnz, o_nnz;
+  dist_.preallocation(mesh_, dofs_, d_nnz, o_nnz);
+  WARPFEM_PETSC_CHECK(MatCreateAIJ(comm_, dist_.num_owned(), dist_.num_owned(), dist_.num_global(),
+                                   dist_.num_global(), 0, d_nnz.data(), 0, o_nnz.data(), A_.out()));
+  WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  b_ = dist_.create_vector();
+  u_ = dist_.create_vector();
+  WARPFEM_PETSC_CHECK(VecSet(b_.get(), 0.0));
+  WARPFEM_PETSC_CHECK(VecSet(u_.get(), 0.0));
+
+  const int n = dofs_.element().num_dofs();
+  const Index nq = geometry_.points_per_cell();
+  MatrixX ke(n, n);
+  VectorX fe(n);
+  Eigen::Matrix<double, 2, Eigen::Dynamic> grad(2, n);
+  std::vector<PetscInt> idx(static_cast<std::size_t>(n));
+  const auto& J = geometry_.inverse_transpose();
+  const auto& x = geometry_.physical_points();
+  const auto& w = geometry_.JxW();
+  for (Index i = 0; i < geometry_.num_cells(); ++i) {
+    const Index c = geometry_.cells()[i];
+    ke.setZero();
+    fe.setZero();
+    for (Index q = 0; q < nq; ++q) {
+      const Index p = geometry_.at(i, q);
+      for (int k = 0; k < n; ++k) {
+        const double gu = shape_grads_[0](q, k), gv = shape_grads_[1](q, k);
+        grad(0, k) = J(p, 0) * gu + J(p, 1) * gv;
+        grad(1, k) = J(p, 2) * gu + J(p, 3) * gv;
+      }
+      ke.noalias() += w(p) * (grad.transpose() * grad);
+      const double g = data_.source(x.row(p).transpose(), 0.0);
+      fe.noalias() += (w(p) * g) * shape_values_.row(q).transpose();
+    }
+    for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs_.cell_dofs()(c, k));
+    WARPFEM_PETSC_CHECK(MatSetValues(A_.get(), n, idx.data(), n, idx.data(), ke.data(), ADD_VALUES));
+    WARPFEM_PETSC_CHECK(VecSetValues(b_.get(), n, idx.data(), fe.data(), ADD_VALUES));
+  }
+  std::vector<PetscInt> rows;
+  std::vector<PetscScalar> values;
+  assemble_neumann(rows, values);
+  if (!rows.empty())
+    WARPFEM_PETSC_CHECK(VecSetValues(b_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), ADD_VALUES));
+  WARPFEM_PETSC_CHECK(MatAssemblyBegin(A_.get(), MAT_FINAL_ASSEMBLY));
+  WARPFEM_PETSC_CHECK(MatAssemblyEnd(A_.get(), MAT_FINAL_ASSEMBLY));
+  WARPFEM_PETSC_CHECK(VecAssemblyBegin(b_.get()));
+  WARPFEM_PETSC_CHECK(VecAssemblyEnd(b_.get()));
+  apply_dirichlet();
+}
+
+void PoissonProblem::assemble_neumann(std::vector<PetscInt>& rows, std::vector<PetscScalar>& values) const {
+  if (data_.neumann.empty()) return;
+  // Boundary facets of local cells: a facet belongs to the rank owning its first DOF.
+  const int order = dofs_.element().order();
+  const auto rule = gauss_legendre(order + 3);
+  std::vector<Index> facets;
+  for (Index f = 0; f < mesh_.num_boundary_facets(); ++f) {
+    if (!dist_.owns(mesh_.boundary_facets(f, 0))) continue;
+    for (const auto& bc : data_.neumann)
+      if (bc.applies_to(mesh_.facet_tags[f])) {
+        facets.push_back(f);
+        break;
+      }
+  }
+  if (facets.empty()) return;
+  const Index nq = rule.size();
+  Points<2> s0(static_cast<Index>(facets.size()) * nq, 2);
+  for (std::size_t i = 0; i < facets.size(); ++i) {
+    const Point<2> a = mesh_.vertex(mesh_.boundary_facets(facets[i], 0));
+    const Point<2> b = mesh_.vertex(mesh_.boundary_facets(facets[i], 1));
+    for (Index q = 0; q < nq; ++q) s0.row(static_cast<Index>(i) * nq + q) = (a + rule.points(q, 0) * (b - a)).transpose();
+  }
+  Points<2> s;
+  Jacobians<2> Jf;
+  map_->eval_with_jacobian(s0, s, Jf);
+  double phi[3];
+  for (std::size_t i = 0; i < facets.size(); ++i) {
+    const Index f = facets[i];
+    const int tag = mesh_.facet_tags[f];
+    const Point<2> t0 = mesh_.vertex(mesh_.boundary_facets(f, 1)) - mesh_.vertex(mesh_.boundary_facets(f, 0));
+    const std::vector<Index> fd = dofs_.facet_dofs(mesh_, f);
+    std::vector<double> fe(fd.size(), 0.0);
+    for (Index q = 0; q < nq; ++q) {
+      const Index p = static_cast<Index>(i) * nq + q;
+      const Point<2> t(Jf(p, 0) * t0.x() + Jf(p, 1) * t0.y(), Jf(p, 2) * t0.x() + Jf(p, 3) * t0.y());
+      double h = 0;
+      for (const auto& bc : data_.neumann)
+        if (bc.applies_to(tag)) h = bc.value(s.row(p).transpose(), 0.0);
+      edge_shape_functions(order, rule.points(q, 0), phi);
+      for (std::size_t k = 0; k < fd.size(); ++k) fe[k] += rule.weights(q) * t.norm() * h * phi[k];
+    }
+    for (std::size_t k = 0; k < fd.size(); ++k) {
+      rows.push_back(dist_.global(fd[k]));
+      values.push_back(fe[k]);
+    }
+  }
+}
+
+void PoissonProblem::apply_dirichlet() {
+  std::vector<PetscInt> rows;
+  std::vector<PetscScalar> values;
+  std::vector<char> seen(static_cast<std::size_t>(dofs_.num_dofs()), 0);
+  for (Index f = 0; f < mesh_.num_boundary_facets(); ++f) {
+    const BoundaryCondition* bc = nullptr;
+    for (const auto& cand : data_.dirichlet)
+      if (cand.applies_to(mesh_.facet_tags[f])) bc = &cand;
+    if (!bc) continue;
+    for (Index d : dofs_.facet_dofs(mesh_, f)) {
+      if (!dist_.owns(d) || seen[d]) continue;
+      seen[d] = 1;
+      const Index r = dist_.relevant_index(d);
+      rows.push_back(dist_.global(d));
+      values.push_back(bc->value(relevant_x_.row(r).transpose(), 0.0));
+    }
+  }
+  WARPFEM_PETSC_CHECK(VecSetValues(u_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES));
+  WARPFEM_PETSC_CHECK(VecAssemblyBegin(u_.get()));
+  WARPFEM_PETSC_CHECK(VecAssemblyEnd(u_.get()));
+  // Symmetric elimination keeps the matrix SPD for CG: b -= A_{:,D} u_D, rows/cols D -> identity.
+  WARPFEM_PETSC_CHECK(MatZeroRowsColumns(A_.get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0, u_.get(), b_.get()));
+  PetscInt total = 0, local = static_cast<PetscInt>(rows.size());
+  MPI_Allreduce(&local, &total, 1, MPIU_INT, MPI_SUM, comm_);
+  if (total == 0 && data_.neumann.empty())
+    log::warning("no Dirichlet boundary condition: the Poisson problem is singular");
+}
+
+petsc::LinearSolveReport PoissonProblem::solve(const petsc::LinearSolveOptions& options) {
+  return petsc::solve_linear_system(A_.get(), b_.get(), u_.get(), options);
+}
+
+ErrorNorms PoissonProblem::errors(const ScalarFunction& exact, const GradientFunction& exact_gradient) const {
+  const VectorX u = dist_.gather_relevant(u_.get());
+  const int n = dofs_.element().num_dofs();
+  const auto& J = geometry_.inverse_transpose();
+  const auto& x = geometry_.physical_points();
+  const auto& w = geometry_.JxW();
+  double local[2] = {0, 0};
+  for (Index i = 0; i < geometry_.num_cells(); ++i) {
+    const Index c = geometry_.cells()[i];
+    for (Index q = 0; q < geometry_.points_per_cell(); ++q) {
+      const Index p = geometry_.at(i, q);
+      double uh = 0, gu = 0, gv = 0;
+      for (int k = 0; k < n; ++k) {
+        const double uk = u(dist_.relevant_index(dofs_.cell_dofs()(c, k)));
+        uh += uk * shape_values_(q, k);
+        gu += uk * shape_grads_[0](q, k);
+        gv += uk * shape_grads_[1](q, k);
+      }
+      const Point<2> grad(J(p, 0) * gu + J(p, 1) * gv, J(p, 2) * gu + J(p, 3) * gv);
+      const Point<2> xp = x.row(p).transpose();
+      local[0] += w(p) * std::pow(exact(xp, 0.0) - uh, 2);
+      local[1] += w(p) * (exact_gradient(xp, 0.0) - grad).squaredNorm();
+    }
+  }
+  double global[2];
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, comm_);
+  return {std::sqrt(global[0]), std::sqrt(global[1])};
+}
+
+double PoissonProblem::area() const {
+  double local = geometry_.JxW().sum(), global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, comm_);
+  return global;
+}
+
+double PoissonProblem::solution_l2_norm() const {
+  const ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };
+  const GradientFunction zero_grad = [](const Point<2>&, double) { return Point<2>::Zero().eval(); };
+  return errors(zero, zero_grad).l2;
+}
+
+}  // namespace warpfem::fem

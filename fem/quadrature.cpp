@@ -1,0 +1,65 @@
+#include "fem/quadrature.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include "core/error.hpp"
+
+namespace warpfem::fem {
+
+QuadratureRule<1> gauss_legendre(int n) {
+  require(n >= 1, "gauss_legendre: need at least one point");
+  // Golub–Welsch: nodes are eigenvalues of the Jacobi matrix of Legendre polynomials.
+  MatrixX T = MatrixX::Zero(n, n);
+  for (int k = 1; k < n; ++k) {
+    const double b = k / std::sqrt(4.0 * k * k - 1.0);
+    T(k, k - 1) = T(k - 1, k) = b;
+  }
+  Eigen::SelfAdjointEigenSolver<MatrixX> eig(T);
+  QuadratureRule<1> rule;
+  rule.points.resize(n, 1);
+  rule.weights.resize(n);
+  for (int k = 0; k < n; ++k) {
+    rule.points(k, 0) = 0.5 * (eig.eigenvalues()(k) + 1.0);
+    const double v0 = eig.eigenvectors()(0, k);
+    rule.weights(k) = v0 * v0;  // 2 v0^2 on [-1,1], halved for [0,1]
+  }
+  rule.degree = 2 * n - 1;
+  return rule;
+}
+
+QuadratureRule<2> cell_quadrature(CellType type, int degree) {
+  require(degree >= 0, "cell_quadrature: negative degree");
+  QuadratureRule<2> rule;
+  rule.degree = degree;
+  if (type == CellType::quadrilateral) {
+    const auto g = gauss_legendre(degree / 2 + 1);
+    const Index n = g.size();
+    rule.points.resize(n * n, 2);
+    rule.weights.resize(n * n);
+    for (Index i = 0; i < n; ++i)
+      for (Index j = 0; j < n; ++j) {
+        rule.points.row(i * n + j) << g.points(j, 0), g.points(i, 0);
+        rule.weights(i * n + j) = g.weights(i) * g.weights(j);
+      }
+    return rule;
+  }
+  require(type == CellType::triangle, "cell_quadrature: unsupported cell type " + to_string(type));
+  // Collapsed coordinates: (u, v) in [0,1]^2 -> (x, y) = (u (1 - v), v), Jacobian (1 - v).
+  // Gauss in both directions with one extra point in v for the Jacobian factor.
+  const auto gu = gauss_legendre(degree / 2 + 1);
+  const auto gv = gauss_legendre((degree + 1) / 2 + 1);
+  rule.points.resize(gu.size() * gv.size(), 2);
+  rule.weights.resize(gu.size() * gv.size());
+  Index k = 0;
+  for (Index j = 0; j < gv.size(); ++j)
+    for (Index i = 0; i < gu.size(); ++i, ++k) {
+      const double u = gu.points(i, 0), v = gv.points(j, 0);
+      rule.points.row(k) << u * (1.0 - v), v;
+      rule.weights(k) = gu.weights(i) * gv.weights(j) * (1.0 - v);
+    }
+  return rule;
+}
+
+int default_quadrature_degree(int order) { return 2 * order + 2; }
+
+}  // namespace warpfem::fem

@@ -1,0 +1,33 @@
+#pragma once
+// Quadrature rules on reference cells: Gauss–Legendre on [0,1], tensor Gauss
+// on the unit square, and collapsed (Duffy) Gauss rules on the reference
+// triangle {(0,0), (1,0), (0,1)}, exact for polynomials of the requested degree.
+//
+// Because the map f is not polynomial, warped integrands are never integrated
+// exactly; default_quadrature_degree() over-integrates by a fixed margin.
+
+#include "core/types.hpp"
+#include "fem/mesh.hpp"
+
+namespace warpfem::fem {
+
+template <int dim>
+struct QuadratureRule {
+  Points<dim> points;  ///< reference coordinates, one row per point
+  VectorX weights;     ///< sum = reference cell measure
+  int degree = 0;      ///< polynomial degree integrated exactly
+  Index size() const { return weights.size(); }
+};
+
+/// n-point Gauss–Legendre rule on [0, 1] (exact to degree 2n - 1).
+QuadratureRule<1> gauss_legendre(int npoints);
+
+/// Rule on the reference cell of `type` exact for polynomials of total degree `degree`
+/// (tensor degree for quadrilaterals).
+QuadratureRule<2> cell_quadrature(CellType type, int degree);
+
+/// 2*order + 2: exact for the mass matrix plus two extra degrees for the
+/// non-polynomial geometry factor.
+int default_quadrature_degree(int order);
+
+}  // namespace warpfem::fem

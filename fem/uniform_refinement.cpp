@@ -1,0 +1,67 @@
+#include "fem/uniform_refinement.hpp"
+
+#include "core/error.hpp"
+#include "fem/edge_numbering.hpp"
+
+namespace warpfem::fem {
+
+RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
+  const bool quads = coarse.cell_type == CellType::quadrilateral;
+  require(coarse.cell_type == CellType::triangle || quads, "refine_uniformly: unsupported cell type");
+  const EdgeNumbering edges(coarse);
+  const Index nv = coarse.num_vertices(), ne = edges.num_edges(), nc = coarse.num_cells();
+
+  RefinedMesh out;
+  Mesh<2>& fine = out.mesh;
+  fine.cell_type = coarse.cell_type;
+  const Index nf_vertices = nv + ne + (quads ? nc : 0);
+  fine.vertices.resize(nf_vertices, 2);
+  out.vertex_parents.resize(static_cast<std::size_t>(nf_vertices));
+  for (Index v = 0; v < nv; ++v) {
+    fine.vertices.row(v) = coarse.vertices.row(v);
+    out.vertex_parents[v] = {v};
+  }
+  for (Index e = 0; e < ne; ++e) {
+    const auto& ev = edges.vertices(e);
+    fine.vertices.row(nv + e) = 0.5 * (coarse.vertices.row(ev[0]) + coarse.vertices.row(ev[1]));
+    out.vertex_parents[nv + e] = {ev[0], ev[1]};
+  }
+  fine.cells.resize(4 * nc, quads ? 4 : 3);
+  out.cell_parent.resize(static_cast<std::size_t>(4 * nc));
+  for (Index c = 0; c < nc; ++c) {
+    const Index* v = &coarse.cells(c, 0);
+    for (int k = 0; k < 4; ++k) out.cell_parent[4 * c + k] = c;
+    if (!quads) {
+      const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1), m20 = nv + edges.cell_edge(c, 2);
+      fine.cells.row(4 * c + 0) << v[0], m01, m20;
+      fine.cells.row(4 * c + 1) << m01, v[1], m12;
+      fine.cells.row(4 * c + 2) << m20, m12, v[2];
+      fine.cells.row(4 * c + 3) << m01, m12, m20;
+    } else {
+      const Index centre = nv + ne + c;
+      fine.vertices.row(centre) = 0.25 * (coarse.vertices.row(v[0]) + coarse.vertices.row(v[1]) +
+                                          coarse.vertices.row(v[2]) + coarse.vertices.row(v[3]));
+      out.vertex_parents[centre] = {v[0], v[1], v[2], v[3]};
+      Index m[4];
+      for (int k = 0; k < 4; ++k) m[k] = nv + edges.cell_edge(c, k);
+      fine.cells.row(4 * c + 0) << v[0], m[0], centre, m[3];
+      fine.cells.row(4 * c + 1) << m[0], v[1], m[1], centre;
+      fine.cells.row(4 * c + 2) << centre, m[1], v[2], m[2];
+      fine.cells.row(4 * c + 3) << m[3], centre, m[2], v[3];
+    }
+  }
+  const Index nb = coarse.num_boundary_facets();
+  fine.boundary_facets.resize(2 * nb, 2);
+  fine.facet_tags.resize(static_cast<std::size_t>(2 * nb));
+  for (Index f = 0; f < nb; ++f) {
+    const Index a = coarse.boundary_facets(f, 0), b = coarse.boundary_facets(f, 1);
+    const Index e = edges.find(a, b);
+    require(e >= 0, "refine_uniformly: boundary facet is not an edge of the mesh");
+    fine.boundary_facets.row(2 * f) << a, nv + e;
+    fine.boundary_facets.row(2 * f + 1) << nv + e, b;
+    fine.facet_tags[2 * f] = fine.facet_tags[2 * f + 1] = coarse.facet_tags[f];
+  }
+  return out;
+}
+
+}  // namespace warpfem::fem

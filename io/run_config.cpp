@@ -1,0 +1,201 @@
+#include "io/run_config.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/log.hpp"
+#include "io/expression.hpp"
+
+namespace warpfem::io {
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Reads a polygon file: one vertex per line, "x,y" or "x y"; '#' starts a comment.
+std::vector<Point<2>> read_polygon_file(const std::string& path, const ConfigNode& node, const std::string& key) {
+  std::ifstream in(path);
+  if (!in) throw node.error(key, "cannot open polygon file \"" + path + "\"", "check the path (relative paths start at the config file's directory)");
+  std::vector<Point<2>> pts;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    for (char& ch : line)
+      if (ch == ',' || ch == ';' || ch == '\t') ch = ' ';
+    std::istringstream ls(line);
+    double x, y;
+    if (!(ls >> x)) continue;  // blank line
+    std::string rest;
+    if (!(ls >> y) || (ls >> rest))
+      throw Error("line " + std::to_string(number) + ": expected two numbers \"x, y\"",
+                  {.file = path, .key_path = "", .hint = "write one vertex per line"});
+    pts.emplace_back(x, y);
+  }
+  return pts;
+}
+
+}  // namespace
+
+Polygon parse_polygon(const ConfigNode& node, const std::string& key, const std::string& name) {
+  std::vector<Point<2>> pts;
+  const nlohmann::json& raw = node.raw(key);
+  std::string where = node.file();
+  if (raw.is_string()) {
+    fs::path p(raw.get<std::string>());
+    if (p.is_relative()) p = fs::path(node.file()).parent_path() / p;
+    pts = read_polygon_file(p.string(), node, key);
+    where = p.string();
+  } else {
+    pts = node.get_points(key);
+  }
+  Polygon polygon(std::move(pts), name);
+  try {
+    polygon.validate();
+  } catch (const Error& e) {
+    throw Error(e.message(), {.file = where, .key_path = node.path_of(key), .hint = e.context().hint});
+  }
+  return polygon;
+}
+
+mapping::MapSpec parse_map_spec(const ConfigNode& node) {
+  mapping::MapSpec spec;
+  spec.origin = node.file();
+  spec.type = node.get_choice("type", "identity", {"identity", "barycentric", "composite_mean_value"});
+  if (!node.has("source"))
+    throw node.error("source", "missing required field: the source polygon Ω0 (an array of [x, y])",
+                     "add \"source\": [[0,0], [1,0], [1,1], [0,1]]");
+  spec.source = parse_polygon(node, "source", "source polygon");
+  if (spec.type != "identity") {
+    if (!node.has("target"))
+      throw node.error("target", "missing required field: the target polygon Ω1 for map type \"" + spec.type + "\"",
+                       "add \"target\": [[x, y], ...] with as many vertices as the source");
+    spec.target = parse_polygon(node, "target", "target polygon");
+    try {
+      require_same_vertex_count(*spec.source, *spec.target);
+    } catch (const Error& e) {
+      throw node.error("target", e.message(), e.context().hint);
+    }
+  } else if (node.has("target")) {
+    throw node.error("target", "the identity map takes no target polygon",
+                     "remove \"target\" or set \"type\": \"composite_mean_value\"");
+  }
+  spec.coordinates = node.get_choice("coordinates", spec.coordinates, {"mean_value", "wachspress", "discrete_harmonic"});
+  spec.vertex_path = node.get_choice("vertex_path", spec.vertex_path, {"linear", "intrinsic"});
+  spec.partition = node.get_choice("partition", spec.partition, {"adaptive", "uniform", "explicit"});
+  spec.steps = static_cast<int>(node.get_int("steps", spec.steps, 1, 100000));
+  spec.times = node.get_doubles("times");
+  spec.sample_resolution = static_cast<int>(node.get_int("sample_resolution", spec.sample_resolution, 4, 8192));
+  spec.min_interval = node.get_double("min_interval", spec.min_interval, 1e-12, 1.0);
+  if (spec.partition == "explicit" && spec.times.size() < 2)
+    throw node.error("times", "partition \"explicit\" needs the list of times 0 = t0 < t1 < ... < tm = 1",
+                     "add \"times\": [0, 0.5, 1]");
+  node.finish();
+  return spec;
+}
+
+namespace {
+
+std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::string& key, Index num_edges) {
+  std::vector<BoundarySpec> out;
+  if (!node.has(key)) return out;
+  const nlohmann::json& list = node.raw(key);
+  if (!list.is_array())
+    throw node.error(key, "expected an array of {\"edges\": ..., \"value\": ...} objects, got " + json_excerpt(list));
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const ConfigNode item(list[i], node.file(), node.path_of(key) + "/" + std::to_string(i));
+    BoundarySpec bc;
+    bc.key_path = item.path_of("value");
+    if (item.has("edges")) {
+      const nlohmann::json& e = item.raw("edges");
+      if (e.is_string() && e.get<std::string>() == "all") {
+      } else if (e.is_array()) {
+        for (std::size_t k = 0; k < e.size(); ++k) {
+          if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_edges)
+            throw item.error("edges/" + std::to_string(k),
+                             "expected an edge index in [0, " + std::to_string(num_edges - 1) + "], got " + json_excerpt(e[k]),
+                             "edge i joins target vertices i and i+1");
+          bc.edges.push_back(e[k].get<int>());
+        }
+      } else {
+        throw item.error("edges", "expected \"all\" or an array of edge indices, got " + json_excerpt(e));
+      }
+    }
+    if (!item.has("value")) throw item.error("value", "missing required field", "give a number or an expression of x, y");
+    bc.value = item.get_expression("value", "0");
+    Expression(bc.value, node.file(), bc.key_path);  // syntax check now
+    item.finish();
+    out.push_back(bc);
+  }
+  return out;
+}
+
+}  // namespace
+
+RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) {
+  RunConfig cfg;
+  cfg.file = file;
+  const ConfigNode root(json, file);
+  cfg.verbosity = root.get_choice("verbosity", cfg.verbosity, {"quiet", "error", "warning", "info", "debug"});
+  if (!root.has("map"))
+    throw root.error("map", "missing required field: the map (at least its source polygon)",
+                     "add \"map\": {\"type\": \"identity\", \"source\": [[0,0],[1,0],[1,1],[0,1]]}");
+  cfg.map = parse_map_spec(root.child("map"));
+  const Index num_edges = cfg.map.source->size();
+
+  const ConfigNode mesh = root.child("mesh");
+  cfg.mesh.type = mesh.get_choice("type", cfg.mesh.type, {"delaunay"});
+  cfg.mesh.max_edge_length = mesh.get_double("max_edge_length", cfg.mesh.max_edge_length, 0.0);
+  cfg.mesh.shape_bound = mesh.get_double("shape_bound", cfg.mesh.shape_bound, 0.125);
+  cfg.mesh.refinements = static_cast<int>(mesh.get_int("refinements", cfg.mesh.refinements, 0, 12));
+  mesh.finish();
+
+  const ConfigNode problem = root.child("problem");
+  problem.get_choice("type", "poisson", {"poisson"});
+  cfg.poisson.order = static_cast<int>(problem.get_int("order", cfg.poisson.order, 1, 2));
+  cfg.poisson.quadrature_degree = static_cast<int>(problem.get_int("quadrature_degree", 0, 0, 30));
+  cfg.poisson.source = problem.get_expression("source", cfg.poisson.source);
+  Expression(cfg.poisson.source, file, problem.path_of("source"));
+  cfg.poisson.dirichlet = parse_boundary(problem, "dirichlet", num_edges);
+  cfg.poisson.neumann = parse_boundary(problem, "neumann", num_edges);
+  cfg.poisson.exact_solution = problem.get_expression("exact_solution", "");
+  if (!cfg.poisson.exact_solution.empty()) Expression(cfg.poisson.exact_solution, file, problem.path_of("exact_solution"));
+  if (cfg.poisson.dirichlet.empty() && cfg.poisson.neumann.empty())
+    throw problem.error("dirichlet", "no boundary condition given",
+                        "add \"dirichlet\": [{\"edges\": \"all\", \"value\": 0}]");
+  problem.finish();
+
+  const ConfigNode solver = root.child("solver");
+  auto& lin = cfg.solver.linear;
+  lin.ksp_type = solver.get_string("ksp_type", lin.ksp_type);
+  lin.pc_type = solver.get_string("pc_type", lin.pc_type);
+  lin.rtol = solver.get_double("rtol", lin.rtol, 0.0, 1.0);
+  lin.atol = solver.get_double("atol", lin.atol, 0.0);
+  lin.max_iterations = static_cast<int>(solver.get_int("max_iterations", lin.max_iterations, 1));
+  cfg.solver.petsc_options = solver.get_string("petsc_options", "");
+  solver.finish();
+
+  const ConfigNode output = root.child("output");
+  cfg.output.directory = output.get_string("directory", cfg.output.directory);
+  cfg.output.name = output.get_string("name", cfg.output.name);
+  if (cfg.output.name.empty() || cfg.output.name.find('/') != std::string::npos)
+    throw output.error("name", "expected a file name without '/', got \"" + cfg.output.name + "\"", "use e.g. \"solution\"");
+  cfg.output.vtk = output.get_bool("vtk", cfg.output.vtk);
+  cfg.output.vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
+  output.finish();
+  root.finish();
+  return cfg;
+}
+
+RunConfig load_run_config(const std::string& path) {
+  const nlohmann::json json = ConfigNode::parse_file(path);
+  return parse_run_config(json, path);
+}
+
+std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
+                                                             const std::string& file) {
+  std::vector<fem::BoundaryCondition> out;
+  for (const auto& s : specs) out.push_back({s.edges, Expression(s.value, file, s.key_path).as_function_2d()});
+  return out;
+}
+
+}  // namespace warpfem::io

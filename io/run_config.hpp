@@ -1,0 +1,75 @@
+#pragma once
+// The configuration of one `warpfem run`: geometry and map, mesh of Ω0,
+// physics, solver and output. See docs/config.md for every field and default.
+
+#include <string>
+#include <vector>
+
+#include "core/petsc/linear_solve.hpp"
+#include "fem/functions.hpp"
+#include "io/config_node.hpp"
+#include "mapping/map_spec.hpp"
+
+namespace warpfem::io {
+
+struct MeshSpec {
+  std::string type = "delaunay";  ///< delaunay: CGAL constrained Delaunay mesh of the source polygon
+  double max_edge_length = 0;     ///< 0: a tenth of the source polygon's bounding-box diagonal
+  double shape_bound = 0.125;     ///< CGAL circumradius-to-shortest-edge bound
+  int refinements = 0;            ///< uniform refinements after meshing
+};
+
+struct BoundarySpec {
+  std::vector<int> edges;  ///< empty: all edges
+  std::string value;       ///< expression of x, y (physical coordinates), t
+  std::string key_path;    ///< for error messages
+};
+
+struct PoissonSpec {
+  int order = 1;                      ///< Lagrange order (1 or 2)
+  int quadrature_degree = 0;          ///< 0: fem::default_quadrature_degree(order)
+  std::string source = "0";           ///< g in −Δu = g
+  std::vector<BoundarySpec> dirichlet;
+  std::vector<BoundarySpec> neumann;  ///< ∂u/∂n = h (outward normal)
+  std::string exact_solution;         ///< optional: report L2/H1 errors against it
+};
+
+struct SolverSpec {
+  petsc::LinearSolveOptions linear;
+  std::string petsc_options;  ///< extra PETSc options, e.g. "-ksp_monitor"
+};
+
+struct OutputSpec {
+  std::string directory = "output";
+  std::string name = "solution";
+  bool vtk = true;
+  int vtk_order = 0;  ///< 0: 2 for warped geometry (curved cells), else the element order
+};
+
+struct RunConfig {
+  std::string file;
+  std::string verbosity = "info";
+  mapping::MapSpec map;
+  MeshSpec mesh;
+  PoissonSpec poisson;
+  SolverSpec solver;
+  OutputSpec output;
+};
+
+/// Loads and validates a run config; throws warpfem::Error naming the file and field.
+RunConfig load_run_config(const std::string& path);
+/// Same, from already parsed JSON (for tests); `file` is used in messages and to resolve relative paths.
+RunConfig parse_run_config(const nlohmann::json& json, const std::string& file);
+
+/// Reads a polygon stored at `key`: an inline array of [x, y] or the name of a
+/// file with one "x, y" per line (relative to the config file); validates it.
+Polygon parse_polygon(const ConfigNode& node, const std::string& key, const std::string& name);
+
+/// Reads the "map" object (shared by `run`, `map` and `warp-image` configs).
+mapping::MapSpec parse_map_spec(const ConfigNode& node);
+
+/// Turns boundary specs into fem boundary conditions (parses the expressions).
+std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
+                                                             const std::string& file);
+
+}  // namespace warpfem::io

@@ -1,0 +1,36 @@
+#pragma once
+// Writes a warped mesh and its fields with VTK's XML writers: one .vtu in a
+// serial run, a .pvtu plus one .vtu piece per rank (in a subdirectory) under
+// MPI. Every file is written atomically (temporary name, then rename; the
+// .pvtu last, so it never points at missing pieces).
+
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+#include "fem/output_mesh.hpp"
+
+namespace warpfem::io {
+
+struct VtkField {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;  ///< components * count, interleaved
+};
+
+struct VtkOutput {
+  const fem::OutputMesh* mesh = nullptr;
+  std::vector<VtkField> point_fields;
+  std::vector<VtkField> cell_fields;
+};
+
+/// Writes `<directory>/<name>.vtu` (one rank) or `<directory>/<name>.pvtu` with
+/// pieces `<directory>/<name>/<name>_<rank>.vtu` (several ranks). Collective.
+/// Returns the path of the file to open in ParaView.
+std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory, const std::string& name);
+
+/// VTK cell type id used for a cell type and order (VTK_TRIANGLE, VTK_LAGRANGE_TRIANGLE, ...).
+int vtk_cell_type(fem::CellType type, int order);
+
+}  // namespace warpfem::io

@@ -1,0 +1,32 @@
+#pragma once
+// What a config asks the mapping module to build. io/ fills it from JSON;
+// make_map() turns it into a Map. Keeping this a plain struct keeps mapping/
+// free of any config-format dependency.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/polygon.hpp"
+
+namespace warpfem::mapping {
+
+struct MapSpec {
+  /// "identity" or "composite_mean_value" (more types register in make_map.cpp).
+  std::string type = "identity";
+  /// Source Ω0 and target Ω1 (same vertex count); unused by "identity".
+  std::optional<Polygon> source;
+  std::optional<Polygon> target;
+
+  // Composite mean value options (see mapping/composite_mean_value_map.hpp).
+  std::string coordinates = "mean_value";   ///< mean_value | wachspress | discrete_harmonic
+  std::string vertex_path = "linear";       ///< linear | intrinsic
+  std::string partition = "adaptive";       ///< adaptive | uniform | explicit
+  int steps = 1;                            ///< uniform: number of steps m
+  std::vector<double> times;                ///< explicit: 0 = t0 < t1 < ... < tm = 1
+  int sample_resolution = 64;               ///< adaptive: grid samples per bounding-box side
+  double min_interval = 1e-4;               ///< adaptive: ε, smallest interval length
+  std::string origin = "map";               ///< where this spec came from (file name) for messages
+};
+
+}  // namespace warpfem::mapping

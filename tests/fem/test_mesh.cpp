@@ -1,0 +1,78 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "fem/cell_partition.hpp"
+#include "fem/polygon_mesher.hpp"
+#include "fem/uniform_refinement.hpp"
+
+using namespace warpfem;
+using namespace warpfem::fem;
+
+namespace {
+Polygon lshape() { return Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}); }
+
+double mesh_area(const Mesh<2>& m) {
+  double a = 0;
+  for (Index c = 0; c < m.num_cells(); ++c) {
+    const Point<2> p = m.vertex(m.cells(c, 0)), q = m.vertex(m.cells(c, 1)), r = m.vertex(m.cells(c, 2));
+    const double s = 0.5 * ((q - p).x() * (r - p).y() - (q - p).y() * (r - p).x());
+    EXPECT_GT(s, 0) << "cell " << c << " is not counter-clockwise";
+    a += s;
+  }
+  return a;
+}
+}  // namespace
+
+TEST(PolygonMesher, CoversPolygonRespectsSizeAndTagsEdges) {
+  const Polygon poly = lshape();
+  const Mesh<2> m = mesh_polygon(poly, {.max_edge_length = 0.2});
+  EXPECT_NEAR(mesh_area(m), 3.0, 1e-12);
+  EXPECT_LE(m.max_edge_length(), 0.2 + 1e-12);
+  // Every polygon vertex is a mesh vertex.
+  for (Index i = 0; i < poly.size(); ++i) {
+    bool found = false;
+    for (Index v = 0; v < m.num_vertices(); ++v) found |= (m.vertex(v) - poly.vertex(i)).norm() == 0.0;
+    EXPECT_TRUE(found) << "polygon vertex " << i;
+  }
+  // Boundary facets lie on the polygon edge they are tagged with and cover the perimeter.
+  double perimeter = 0;
+  std::set<int> tags;
+  for (Index f = 0; f < m.num_boundary_facets(); ++f) {
+    const int e = m.facet_tags[f];
+    tags.insert(e);
+    const Point<2> a = poly.vertex(e), b = poly.vertex(e + 1);
+    for (int k = 0; k < 2; ++k) {
+      const Point<2> p = m.vertex(m.boundary_facets(f, k));
+      EXPECT_NEAR((b - a).x() * (p - a).y() - (b - a).y() * (p - a).x(), 0.0, 1e-12);
+    }
+    perimeter += (m.vertex(m.boundary_facets(f, 1)) - m.vertex(m.boundary_facets(f, 0))).norm();
+  }
+  EXPECT_NEAR(perimeter, poly.perimeter(), 1e-12);
+  EXPECT_EQ(tags.size(), 6u);
+}
+
+TEST(UniformRefinement, QuadruplesCellsKeepsAreaAndIsNested) {
+  const Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.5});
+  const RefinedMesh fine = refine_uniformly(coarse);
+  EXPECT_EQ(fine.mesh.num_cells(), 4 * coarse.num_cells());
+  EXPECT_EQ(fine.mesh.num_boundary_facets(), 2 * coarse.num_boundary_facets());
+  EXPECT_NEAR(mesh_area(fine.mesh), 3.0, 1e-12);
+  EXPECT_NEAR(fine.mesh.max_edge_length(), 0.5 * coarse.max_edge_length(), 1e-12);
+  // Coarse vertices keep their index and position; new vertices are averages of their parents.
+  for (Index v = 0; v < fine.mesh.num_vertices(); ++v) {
+    Point<2> avg = Point<2>::Zero();
+    for (Index p : fine.vertex_parents[v]) avg += coarse.vertex(p);
+    avg /= static_cast<double>(fine.vertex_parents[v].size());
+    EXPECT_NEAR((avg - fine.mesh.vertex(v)).norm(), 0.0, 1e-15);
+  }
+}
+
+TEST(CellPartition, BalancedAndDeterministic) {
+  const Mesh<2> m = mesh_polygon(lshape(), {.max_edge_length = 0.1});
+  const auto parts = partition_cells(m, 3);
+  std::vector<int> count(3, 0);
+  for (int p : parts) ++count[p];
+  for (int c : count) EXPECT_NEAR(c, m.num_cells() / 3.0, 1.0);
+  EXPECT_EQ(parts, partition_cells(m, 3));
+}

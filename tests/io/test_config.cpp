@@ -1,0 +1,171 @@
+// Malformed configs must be rejected with a message naming the field and the fix.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.hpp"
+#include "io/run_config.hpp"
+
+using namespace warpfem;
+using nlohmann::json;
+
+namespace {
+
+json valid_config() {
+  return json::parse(R"json({
+    "map": {"type": "identity", "source": [[0,0],[1,0],[1,1],[0,1]]},
+    "mesh": {"max_edge_length": 0.25, "refinements": 1},
+    "problem": {"source": "1", "dirichlet": [{"edges": "all", "value": 0}]},
+    "output": {"directory": "output/test"}
+  })json");
+}
+
+std::string error_of(const json& j) {
+  try {
+    io::parse_run_config(j, "config.json");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+void expect_contains(const std::string& text, const std::string& part) {
+  EXPECT_NE(text.find(part), std::string::npos) << "message: " << text << "\nexpected to contain: " << part;
+}
+
+}  // namespace
+
+TEST(RunConfig, ValidConfigParsesWithDefaults) {
+  const io::RunConfig cfg = io::parse_run_config(valid_config(), "config.json");
+  EXPECT_EQ(cfg.mesh.refinements, 1);
+  EXPECT_EQ(cfg.poisson.order, 1);
+  EXPECT_EQ(cfg.solver.linear.ksp_type, "cg");
+  EXPECT_EQ(cfg.map.source->size(), 4);
+  ASSERT_EQ(cfg.poisson.dirichlet.size(), 1u);
+  EXPECT_TRUE(cfg.poisson.dirichlet[0].edges.empty());
+}
+
+TEST(RunConfig, WrongTypeNamesKeyPathAndValue) {
+  json j = valid_config();
+  j["mesh"]["refinements"] = "two";
+  EXPECT_EQ(error_of(j), "config.json: /mesh/refinements: expected an integer in [0, 12], got \"two\"");
+}
+
+TEST(RunConfig, UnknownKeyIsRejectedWithSuggestion) {
+  json j = valid_config();
+  j["mesh"]["refinement"] = 2;
+  const std::string m = error_of(j);
+  expect_contains(m, "config.json: /mesh/refinement: unknown key \"refinement\"");
+  expect_contains(m, "did you mean \"refinements\"?");
+}
+
+TEST(RunConfig, UnknownTopLevelKeyIsRejected) {
+  json j = valid_config();
+  j["solvr"] = json::object();
+  expect_contains(error_of(j), "/solvr: unknown key \"solvr\"");
+}
+
+TEST(RunConfig, ClockwisePolygonNamesFieldAndFix) {
+  json j = valid_config();
+  j["map"]["source"] = json::parse("[[0,0],[0,1],[1,1],[1,0]]");
+  const std::string m = error_of(j);
+  expect_contains(m, "config.json: /map/source: source polygon is oriented clockwise");
+  expect_contains(m, "reverse the vertex order");
+}
+
+TEST(RunConfig, SelfIntersectingPolygonIsRejected) {
+  json j = valid_config();
+  j["map"]["source"] = json::parse("[[0,0],[1,1],[1,0],[0,1]]");
+  expect_contains(error_of(j), "/map/source: source polygon is not simple: edge 0 and edge 2 intersect");
+}
+
+TEST(RunConfig, VertexCountMismatchIsRejected) {
+  json j = valid_config();
+  j["map"]["type"] = "composite_mean_value";
+  j["map"]["target"] = json::parse("[[0,0],[2,0],[0,2]]");
+  expect_contains(error_of(j), "/map/target: source polygon has 4 vertices but target polygon has 3");
+}
+
+TEST(RunConfig, BadExpressionNamesField) {
+  json j = valid_config();
+  j["problem"]["source"] = "sin(pi*x";
+  const std::string m = error_of(j);
+  expect_contains(m, "config.json: /problem/source: cannot parse expression \"sin(pi*x\"");
+}
+
+TEST(RunConfig, UnknownVariableInBoundaryValue) {
+  json j = valid_config();
+  j["problem"]["dirichlet"][0]["value"] = "x + w";
+  expect_contains(error_of(j), "/problem/dirichlet/0/value: cannot parse expression \"x + w\"");
+}
+
+TEST(RunConfig, EdgeIndexOutOfRange) {
+  json j = valid_config();
+  j["problem"]["dirichlet"][0]["edges"] = json::parse("[0, 7]");
+  expect_contains(error_of(j), "/problem/dirichlet/0/edges/1: expected an edge index in [0, 3], got 7");
+}
+
+TEST(RunConfig, UnknownChoiceListsAlternatives) {
+  json j = valid_config();
+  j["map"]["type"] = "magic";
+  const std::string m = error_of(j);
+  expect_contains(m, "/map/type: unknown value \"magic\"");
+  expect_contains(m, "use one of \"identity\"");
+}
+
+TEST(RunConfig, MissingBoundaryConditionIsAnError) {
+  json j = valid_config();
+  j["problem"].erase("dirichlet");
+  expect_contains(error_of(j), "/problem/dirichlet: no boundary condition given");
+}
+
+TEST(RunConfig, MissingMapIsAnError) {
+  json j = valid_config();
+  j.erase("map");
+  expect_contains(error_of(j), "config.json: /map: missing required field");
+}
+
+TEST(RunConfig, NegativeEdgeLengthIsAnError) {
+  json j = valid_config();
+  j["mesh"]["max_edge_length"] = -1;
+  expect_contains(error_of(j), "/mesh/max_edge_length: expected a number >= 0");
+}
+
+TEST(RunConfig, SyntaxErrorNamesLineAndColumn) {
+  const std::string path = "output/test_config_syntax.json";
+  std::filesystem::create_directories("output");
+  {
+    std::ofstream out(path);
+    out << "{\n  \"map\": {\n    \"type\": \"identity\"\n    \"source\": []\n  }\n}\n";
+  }
+  try {
+    io::load_run_config(path);
+    FAIL() << "expected a syntax error";
+  } catch (const Error& e) {
+    expect_contains(e.what(), path + ": invalid JSON at line 4");
+  }
+}
+
+TEST(RunConfig, MissingFileIsAnError) {
+  try {
+    io::load_run_config("does/not/exist.json");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    expect_contains(e.what(), "does/not/exist.json: cannot open config file");
+  }
+}
+
+TEST(RunConfig, PolygonFromFileRelativeToConfig) {
+  std::filesystem::create_directories("output/polyfile");
+  {
+    std::ofstream out("output/polyfile/square.csv");
+    out << "# x, y\n0,0\n1,0\n1 1\n0,1\n";
+  }
+  json j = valid_config();
+  j["map"]["source"] = "square.csv";
+  const auto cfg = io::parse_run_config(j, "output/polyfile/config.json");
+  EXPECT_EQ(cfg.map.source->size(), 4);
+  EXPECT_DOUBLE_EQ(cfg.map.source->signed_area(), 1.0);
+}
