@@ -7,7 +7,7 @@
 #include "core/timer.hpp"
 #include "fem/output_mesh.hpp"
 #include "fem/poisson.hpp"
-#include "fem/polygon_mesher.hpp"
+#include "fem/mesh_factory.hpp"
 #include "fem/uniform_refinement.hpp"
 #include "io/expression.hpp"
 #include "io/vtk_writer.hpp"
@@ -27,11 +27,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
 
   watch.reset();
   const Polygon& source = *cfg.map.source;
-  fem::PolygonMeshOptions mesh_options;
-  mesh_options.max_edge_length = cfg.mesh.max_edge_length > 0 ? cfg.mesh.max_edge_length
-                                                               : 0.1 * (source.bbox_max() - source.bbox_min()).norm();
-  mesh_options.shape_bound = cfg.mesh.shape_bound;
-  fem::Mesh<2> mesh = fem::mesh_polygon(source, mesh_options);
+  fem::Mesh<2> mesh = fem::make_coarse_mesh(source, cfg.mesh);
   for (int r = 0; r < cfg.mesh.refinements; ++r) mesh = fem::refine_uniformly(mesh).mesh;
   result.num_cells = mesh.num_cells();
   result.h = mesh.max_edge_length();
@@ -43,6 +39,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
   data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
   data.neumann = io::make_boundary_conditions(cfg.poisson.neumann, cfg.file);
+  data.boundary_polygon = source;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
                                                      : fem::default_quadrature_degree(cfg.poisson.order);
   watch.reset();

@@ -26,7 +26,13 @@ int run_command(const std::vector<std::string>& args) {
   log::set_level(log::parse_level(cfg.verbosity));
   Environment::insert_petsc_options(cfg.solver.petsc_options, config_path + ": /solver/petsc_options");
   log::info("warpfem run ", config_path, " on ", Environment::size(), " rank(s)");
-  run_poisson(cfg, PETSC_COMM_WORLD);
+  try {
+    run_poisson(cfg, PETSC_COMM_WORLD);
+  } catch (const Error& e) {
+    // Errors that name a config field but no file come from this config.
+    if (e.context().file.empty() && !e.context().key_path.empty()) throw e.in_file(config_path);
+    throw;
+  }
   return 0;
 }
 

@@ -22,6 +22,7 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       dofs_(mesh, LagrangeElement(mesh.cell_type, order)),
       dist_(comm, mesh, dofs_),
       geometry_(mesh, dist_.local_cells(), cell_quadrature(mesh.cell_type, quadrature_degree), *map_) {
+  if (data_.boundary_polygon) locator_.emplace(*data_.boundary_polygon);
   shape_values_ = dofs_.element().values(geometry_.rule().points);
   shape_grads_ = dofs_.element().gradients(geometry_.rule().points);
   const auto& rel = dist_.relevant_dofs();
@@ -88,14 +89,8 @@ void PoissonProblem::assemble_neumann(std::vector<PetscInt>& rows, std::vector<P
   const int order = dofs_.element().order();
   const auto rule = gauss_legendre(order + 3);
   std::vector<Index> facets;
-  for (Index f = 0; f < mesh_.num_boundary_facets(); ++f) {
-    if (!dist_.owns(mesh_.boundary_facets(f, 0))) continue;
-    for (const auto& bc : data_.neumann)
-      if (bc.applies_to(mesh_.facet_tags[f])) {
-        facets.push_back(f);
-        break;
-      }
-  }
+  for (Index f = 0; f < mesh_.num_boundary_facets(); ++f)
+    if (dist_.owns(mesh_.boundary_facets(f, 0))) facets.push_back(f);
   if (facets.empty()) return;
   const Index nq = rule.size();
   Points<2> s0(static_cast<Index>(facets.size()) * nq, 2);
@@ -110,23 +105,23 @@ void PoissonProblem::assemble_neumann(std::vector<PetscInt>& rows, std::vector<P
   double phi[3];
   for (std::size_t i = 0; i < facets.size(); ++i) {
     const Index f = facets[i];
-    const int tag = mesh_.facet_tags[f];
     const Point<2> t0 = mesh_.vertex(mesh_.boundary_facets(f, 1)) - mesh_.vertex(mesh_.boundary_facets(f, 0));
     const std::vector<Index> fd = dofs_.facet_dofs(mesh_, f);
     std::vector<double> fe(fd.size(), 0.0);
     for (Index q = 0; q < nq; ++q) {
       const Index p = static_cast<Index>(i) * nq + q;
       const Point<2> t(Jf(p, 0) * t0.x() + Jf(p, 1) * t0.y(), Jf(p, 2) * t0.x() + Jf(p, 3) * t0.y());
-      double h = 0;
-      for (const auto& bc : data_.neumann)
-        if (bc.applies_to(tag)) h = bc.value(s.row(p).transpose(), 0.0);
+      const int k = condition_at(data_.neumann, f, s0.row(p).transpose());
+      if (k < 0) continue;
+      const double h = data_.neumann[static_cast<std::size_t>(k)].value(s.row(p).transpose(), 0.0);
       edge_shape_functions(order, rule.points(q, 0), phi);
       for (std::size_t k = 0; k < fd.size(); ++k) fe[k] += rule.weights(q) * t.norm() * h * phi[k];
     }
-    for (std::size_t k = 0; k < fd.size(); ++k) {
-      rows.push_back(dist_.global(fd[k]));
-      values.push_back(fe[k]);
-    }
+    for (std::size_t k = 0; k < fd.size(); ++k)
+      if (fe[k] != 0.0) {
+        rows.push_back(dist_.global(fd[k]));
+        values.push_back(fe[k]);
+      }
   }
 }
 
@@ -134,17 +129,15 @@ void PoissonProblem::apply_dirichlet() {
   std::vector<PetscInt> rows;
   std::vector<PetscScalar> values;
   std::vector<char> seen(static_cast<std::size_t>(dofs_.num_dofs()), 0);
-  for (Index f = 0; f < mesh_.num_boundary_facets(); ++f) {
-    const BoundaryCondition* bc = nullptr;
-    for (const auto& cand : data_.dirichlet)
-      if (cand.applies_to(mesh_.facet_tags[f])) bc = &cand;
-    if (!bc) continue;
+  for (Index f = 0; f < mesh_.num_boundary_facets() && !data_.dirichlet.empty(); ++f) {
     for (Index d : dofs_.facet_dofs(mesh_, f)) {
       if (!dist_.owns(d) || seen[d]) continue;
+      const int k = condition_at(data_.dirichlet, f, dofs_.dof_points().row(d).transpose());
+      if (k < 0) continue;
       seen[d] = 1;
       const Index r = dist_.relevant_index(d);
       rows.push_back(dist_.global(d));
-      values.push_back(bc->value(relevant_x_.row(r).transpose(), 0.0));
+      values.push_back(data_.dirichlet[static_cast<std::size_t>(k)].value(relevant_x_.row(r).transpose(), 0.0));
     }
   }
   WARPFEM_PETSC_CHECK(VecSetValues(u_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES));
@@ -156,6 +149,21 @@ void PoissonProblem::apply_dirichlet() {
   MPI_Allreduce(&local, &total, 1, MPIU_INT, MPI_SUM, comm_);
   if (total == 0 && data_.neumann.empty())
     log::warning("no Dirichlet boundary condition: the Poisson problem is singular");
+}
+
+int PoissonProblem::condition_at(const std::vector<BoundaryCondition>& conditions, Index facet,
+                                 const Point<2>& x0) const {
+  thread_local std::vector<int> edges;
+  if (locator_) {
+    locator_->edges_at(x0, edges);
+  } else {
+    edges.assign(1, mesh_.facet_tags[static_cast<std::size_t>(facet)]);
+  }
+  int found = -1;
+  for (std::size_t k = 0; k < conditions.size(); ++k)
+    for (int e : edges)
+      if (conditions[k].applies_to(e)) found = static_cast<int>(k);
+  return found;
 }
 
 petsc::LinearSolveReport PoissonProblem::solve(const petsc::LinearSolveOptions& options) {

@@ -9,6 +9,8 @@
 
 #include "core/petsc/handles.hpp"
 #include "core/petsc/linear_solve.hpp"
+#include "core/polygon.hpp"
+#include "fem/boundary_locator.hpp"
 #include "fem/dof_distribution.hpp"
 #include "fem/functions.hpp"
 #include "fem/warped_geometry.hpp"
@@ -20,6 +22,10 @@ struct PoissonData {
   ScalarFunction source = [](const Point<2>&, double) { return 0.0; };
   std::vector<BoundaryCondition> dirichlet;
   std::vector<BoundaryCondition> neumann;
+  /// The source polygon: boundary conditions then select polygon edges per
+  /// point (DOF node, boundary quadrature point), which is exact also when a
+  /// mesh facet spans several polygon edges. Without it, the facet tags are used.
+  std::optional<Polygon> boundary_polygon;
 };
 
 struct ErrorNorms {
@@ -57,12 +63,15 @@ class PoissonProblem {
 
  private:
   void apply_dirichlet();
+  /// Index into `conditions` of the last condition that applies at x0 on facet f; -1 if none.
+  int condition_at(const std::vector<BoundaryCondition>& conditions, Index facet, const Point<2>& x0) const;
   void assemble_neumann(std::vector<PetscInt>& rows, std::vector<PetscScalar>& values) const;
 
   MPI_Comm comm_;
   const Mesh<2>& mesh_;
   mapping::MapPtr<2> map_;
   PoissonData data_;
+  std::optional<BoundaryLocator> locator_;
   DofMap dofs_;
   DofDistribution dist_;
   WarpedGeometry geometry_;

@@ -131,6 +131,40 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
 
 }  // namespace
 
+MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
+  MeshSpec spec;
+  spec.type = mesh.get_choice("type", spec.type, {"delaunay", "quad_split", "structured", "gmsh"});
+  spec.max_edge_length = mesh.get_double("max_edge_length", spec.max_edge_length, 0.0);
+  spec.shape_bound = mesh.get_double("shape_bound", spec.shape_bound, 0.125);
+  spec.refinements = static_cast<int>(mesh.get_int("refinements", spec.refinements, 0, 12));
+  const std::string cell = mesh.get_choice("cell_type", spec.type == "structured" ? "quadrilateral" : "triangle",
+                                           {"triangle", "quadrilateral"});
+  spec.cell_type = cell == "triangle" ? fem::CellType::triangle : fem::CellType::quadrilateral;
+  if (spec.type == "delaunay" && spec.cell_type != fem::CellType::triangle)
+    throw mesh.error("cell_type", "delaunay meshes are made of triangles", "use \"type\": \"quad_split\" for quadrilaterals");
+  if (spec.type == "quad_split") spec.cell_type = fem::CellType::quadrilateral;
+  if (mesh.has("cells")) {
+    const nlohmann::json& c = mesh.raw("cells");
+    if (c.is_number_integer() && c.get<long>() >= 1) {
+      spec.nx = spec.ny = c.get<int>();
+    } else if (c.is_array() && c.size() == 2 && c[0].is_number_integer() && c[1].is_number_integer() &&
+               c[0].get<long>() >= 1 && c[1].get<long>() >= 1) {
+      spec.nx = c[0].get<int>();
+      spec.ny = c[1].get<int>();
+    } else {
+      throw mesh.error("cells", "expected a positive integer or [nx, ny], got " + json_excerpt(c), "e.g. \"cells\": [4, 4]");
+    }
+  }
+  spec.file = mesh.get_string("file", "");
+  if (spec.type == "gmsh") {
+    if (spec.file.empty()) throw mesh.error("file", "mesh type \"gmsh\" needs a .msh file", "add \"file\": \"domain.msh\"");
+    std::filesystem::path p(spec.file);
+    if (p.is_relative()) spec.file = (std::filesystem::path(mesh.file()).parent_path() / p).string();
+  }
+  mesh.finish();
+  return spec;
+}
+
 RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) {
   RunConfig cfg;
   cfg.file = file;
@@ -142,12 +176,7 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   cfg.map = parse_map_spec(root.child("map"));
   const Index num_edges = cfg.map.source->size();
 
-  const ConfigNode mesh = root.child("mesh");
-  cfg.mesh.type = mesh.get_choice("type", cfg.mesh.type, {"delaunay"});
-  cfg.mesh.max_edge_length = mesh.get_double("max_edge_length", cfg.mesh.max_edge_length, 0.0);
-  cfg.mesh.shape_bound = mesh.get_double("shape_bound", cfg.mesh.shape_bound, 0.125);
-  cfg.mesh.refinements = static_cast<int>(mesh.get_int("refinements", cfg.mesh.refinements, 0, 12));
-  mesh.finish();
+  cfg.mesh = parse_mesh_spec(root.child("mesh"));
 
   const ConfigNode problem = root.child("problem");
   problem.get_choice("type", "poisson", {"poisson"});

@@ -7,17 +7,13 @@
 
 #include "core/petsc/linear_solve.hpp"
 #include "fem/functions.hpp"
+#include "fem/mesh_factory.hpp"
 #include "io/config_node.hpp"
 #include "mapping/map_spec.hpp"
 
 namespace warpfem::io {
 
-struct MeshSpec {
-  std::string type = "delaunay";  ///< delaunay: CGAL constrained Delaunay mesh of the source polygon
-  double max_edge_length = 0;     ///< 0: a tenth of the source polygon's bounding-box diagonal
-  double shape_bound = 0.125;     ///< CGAL circumradius-to-shortest-edge bound
-  int refinements = 0;            ///< uniform refinements after meshing
-};
+using MeshSpec = fem::MeshSpec;
 
 struct BoundarySpec {
   std::vector<int> edges;  ///< empty: all edges
@@ -67,6 +63,9 @@ Polygon parse_polygon(const ConfigNode& node, const std::string& key, const std:
 
 /// Reads the "map" object (shared by `run`, `map` and `warp-image` configs).
 mapping::MapSpec parse_map_spec(const ConfigNode& node);
+
+/// Reads the "mesh" object (shared by all run configs); `source` resolves relative file names.
+MeshSpec parse_mesh_spec(const ConfigNode& node);
 
 /// Turns boundary specs into fem boundary conditions (parses the expressions).
 std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,

@@ -1,0 +1,41 @@
+#pragma once
+// Builds the simple mesh of Ω0 a config asks for, and its nested hierarchy of
+// uniform refinements.
+
+#include <string>
+#include <vector>
+
+#include "core/polygon.hpp"
+#include "fem/mesh.hpp"
+#include "fem/uniform_refinement.hpp"
+
+namespace warpfem::fem {
+
+struct MeshSpec {
+  /// delaunay: CGAL constrained Delaunay triangles; quad_split: the Delaunay
+  /// triangles split into 3 quadrilaterals each; structured: an nx x ny grid
+  /// of the (rectangular) source polygon; gmsh: read from `file`.
+  std::string type = "delaunay";
+  CellType cell_type = CellType::triangle;  ///< structured: triangle or quadrilateral
+  double max_edge_length = 0;               ///< delaunay/quad_split: 0 = a tenth of the bbox diagonal
+  double shape_bound = 0.125;               ///< delaunay/quad_split: CGAL shape bound
+  int nx = 4, ny = 4;                       ///< structured: cells per direction
+  std::string file;                         ///< gmsh: path of the .msh file
+  int refinements = 0;                      ///< uniform refinements of the generated mesh
+};
+
+/// The coarse mesh (before refinements).
+Mesh<2> make_coarse_mesh(const Polygon& source, const MeshSpec& spec);
+
+/// Nested meshes: level 0 is the coarse mesh, level k + 1 the uniform refinement of level k.
+struct MeshHierarchy {
+  std::vector<Mesh<2>> levels;
+  /// transfers[k] describes how level k + 1 refines level k (parents of vertices and cells).
+  std::vector<RefinedMesh> transfers;
+
+  MeshHierarchy(Mesh<2> coarse, int refinements);
+  const Mesh<2>& finest() const { return levels.back(); }
+  int num_levels() const { return static_cast<int>(levels.size()); }
+};
+
+}  // namespace warpfem::fem

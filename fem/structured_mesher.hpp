@@ -1,0 +1,31 @@
+#pragma once
+// Meshes of simple parametrization domains that do not need a Delaunay mesher:
+// structured grids of rectangles, and quadrilateral meshes of any polygon by
+// splitting each triangle of a triangle mesh into three quadrilaterals.
+
+#include "core/polygon.hpp"
+#include "fem/mesh.hpp"
+
+namespace warpfem::fem {
+
+/// True if the polygon is an axis-aligned rectangle (possibly with extra
+/// collinear vertices along its sides, as parametrization domains carry).
+bool is_axis_aligned_rectangle(const Polygon& polygon);
+
+/// nx x ny grid on the polygon's bounding rectangle: quadrilaterals, or two
+/// triangles per rectangle. Boundary facets are tagged with the polygon edge
+/// containing their midpoint. Throws warpfem::Error if the polygon is not an
+/// axis-aligned rectangle.
+Mesh<2> structured_mesh(const Polygon& rectangle, int nx, int ny, CellType type);
+
+/// Splits every triangle into three quadrilaterals (corner, two edge
+/// midpoints, centroid). Tags carry over to the split boundary facets.
+Mesh<2> split_into_quadrilaterals(const Mesh<2>& triangles);
+
+/// Re-tags boundary facets with the polygon edge containing each facet's midpoint.
+void tag_boundary_facets(Mesh<2>& mesh, const Polygon& polygon);
+
+/// All edges of cells that belong to only one cell, oriented counter-clockwise.
+IndexTable find_boundary_facets(const Mesh<2>& mesh);
+
+}  // namespace warpfem::fem

@@ -1,0 +1,124 @@
+#include "mapping/adaptive_partition.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "mapping/barycentric_step.hpp"
+#include "mapping/polygon_sampling.hpp"
+
+namespace warpfem::mapping {
+namespace {
+
+Real step_min_det(const Polygon& from, const Polygon& to, const AdaptiveOptions& o) {
+  const BarycentricStep step(from, to.vertices(), o.coordinates);
+  const Points<2> x = bijectivity_sample(from, o.sample_resolution);
+  Points<2> y;
+  Jacobians<2> J;
+  step.apply(x, y, &J);
+  if (x.rows() == 0) return std::numeric_limits<Real>::infinity();
+  const VectorX det = jacobian_determinants<2>(J);
+  return min_entry(det.data(), det.size());
+}
+
+[[noreturn]] void fail(Real a, Real b, Real det, const AdaptiveOptions& o, const std::string& where) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "composite map is not bijective: " << where << " the step on [" << a << ", " << b
+     << "] still has min det J = " << det << " and the interval has reached the minimum length epsilon = "
+     << o.min_interval;
+  throw Error(os.str(), {.file = "",
+                         .key_path = "/map/min_interval",
+                         .hint = "decrease /map/min_interval, raise /map/sample_resolution, or try another "
+                                 "/map/vertex_path"});
+}
+
+void build(const VertexPath& path, Real a, const Polygon& Pa, Real b, const Polygon& Pb,
+           const AdaptiveOptions& o, std::vector<Real>& cuts, std::vector<Real>* dets) {
+  const Real det = step_min_det(Pa, Pb, o);
+  if (det > 0) {
+    if (dets) dets->push_back(det);
+    return;
+  }
+  if (b - a <= o.min_interval) fail(a, b, det, o, "Algorithm 1:");
+  const Real c = 0.5 * (a + b);
+  const Polygon Pc = path.polygon_at(c);
+  build(path, a, Pa, c, Pc, o, cuts, dets);
+  cuts.push_back(c);
+  build(path, c, Pc, b, Pb, o, cuts, dets);
+}
+
+}  // namespace
+
+std::vector<Real> binary_partition(const VertexPath& path, Real a, Real b, const AdaptiveOptions& options,
+                                   std::vector<Real>* interval_min_det) {
+  std::vector<Real> cuts;
+  build(path, a, path.polygon_at(a), b, path.polygon_at(b), options, cuts, interval_min_det);
+  return cuts;
+}
+
+CompositeReport analyze_composite(const CompositeMeanValueMap& map, int sample_resolution) {
+  CompositeReport r;
+  r.times = map.times();
+  const Points<2> x0 = bijectivity_sample(map.polygons().front(), sample_resolution);
+  r.samples = x0.rows();
+  MatrixX det;
+  Jacobians<2> J;
+  map.step_determinants(x0, det, nullptr, &J);
+  r.step_min_det_along.resize(static_cast<std::size_t>(map.steps()));
+  for (Index k = 0; k < map.steps(); ++k)
+    r.step_min_det_along[static_cast<std::size_t>(k)] =
+        x0.rows() ? min_entry(det.col(k).data(), det.rows()) : std::numeric_limits<Real>::infinity();
+  r.distortion = summarize_distortion<2>(J);
+  r.composite_min_det = x0.rows() ? r.distortion.min_det : std::numeric_limits<Real>::infinity();
+  return r;
+}
+
+AdaptiveComposite build_adaptive_composite(const VertexPath& path, const AdaptiveOptions& o) {
+  if (!(o.min_interval > 0) || o.sample_resolution < 2)
+    throw Error("adaptive partition needs min_interval > 0 and sample_resolution >= 2",
+                {.file = "", .key_path = "/map/min_interval", .hint = ""});
+  // 1. Algorithm 1 on [0, 1].
+  std::vector<Real> dets;
+  std::vector<Real> cuts = binary_partition(path, 0, 1, o, &dets);
+  std::vector<Real> times{0};
+  times.insert(times.end(), cuts.begin(), cuts.end());
+  times.push_back(1);
+  std::map<std::pair<Real, Real>, Real> known;  // Algorithm 1's min det J per accepted interval
+  for (std::size_t k = 0; k < dets.size(); ++k) known[{times[k], times[k + 1]}] = dets[k];
+  // 2. Composite check; split steps that fold along the pushed-forward sample.
+  for (int round = 1;; ++round) {
+    auto map = std::make_shared<const CompositeMeanValueMap>(path, times, o.coordinates);
+    CompositeReport r = analyze_composite(*map, o.sample_resolution);
+    r.rounds = round;
+    std::vector<Real> refined{0};
+    bool split = false;
+    for (std::size_t k = 0; k + 1 < times.size(); ++k) {
+      const Real a = times[k], b = times[k + 1];
+      const Real det = r.step_min_det_along[k];
+      if (!(det > 0)) {
+        if (b - a <= o.min_interval || round >= o.max_rounds) fail(a, b, det, o, "composite check:");
+        refined.push_back(0.5 * (a + b));
+        split = true;
+      }
+      refined.push_back(b);
+    }
+    if (!split && r.composite_min_det > 0) {
+      // per-step min det on each Ω_{t_k}'s own sample, for the report
+      for (std::size_t k = 0; k + 1 < times.size(); ++k) {
+        const auto it = known.find({times[k], times[k + 1]});
+        r.step_min_det.push_back(it != known.end() ? it->second
+                                                   : step_min_det(map->polygons()[k], map->polygons()[k + 1], o));
+      }
+      log::debug("adaptive composite: ", map->steps(), " steps, ", round, " rounds, min det J_f = ",
+                 r.composite_min_det);
+      return {map, std::move(r)};
+    }
+    times = std::move(refined);
+  }
+}
+
+}  // namespace warpfem::mapping

@@ -1,0 +1,83 @@
+#include "mapping/polygon_sampling.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace warpfem::mapping {
+
+bool inside_polygon(const Polygon& polygon, Real x, Real y) {
+  const auto& v = polygon.vertices();
+  const std::size_t n = v.size();
+  bool in = false;
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Real yi = v[i].y(), yj = v[j].y();
+    if ((yi > y) != (yj > y)) {
+      const Real xc = v[j].x() + (y - yj) * (v[i].x() - v[j].x()) / (yi - yj);
+      if (x < xc) in = !in;
+    }
+  }
+  return in;
+}
+
+namespace {
+Points<2> to_points(const std::vector<Point<2>>& pts) {
+  Points<2> out(static_cast<Index>(pts.size()), 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) out.row(static_cast<Index>(i)) = pts[i].transpose();
+  return out;
+}
+}  // namespace
+
+Points<2> grid_sample(const Polygon& polygon, int resolution) {
+  const Point<2> lo = polygon.bbox_min(), hi = polygon.bbox_max();
+  const Point<2> h = (hi - lo) / static_cast<Real>(resolution);
+  std::vector<Point<2>> pts;
+  pts.reserve(static_cast<std::size_t>(resolution) * static_cast<std::size_t>(resolution));
+  for (int j = 0; j < resolution; ++j)
+    for (int i = 0; i < resolution; ++i) {
+      const Point<2> p(lo.x() + (i + 0.5) * h.x(), lo.y() + (j + 0.5) * h.y());
+      if (inside_polygon(polygon, p.x(), p.y())) pts.push_back(p);
+    }
+  return to_points(pts);
+}
+
+Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int levels) {
+  std::vector<Point<2>> pts;
+  const Index n = polygon.size();
+  auto keep = [&](const Point<2>& p) {
+    if (polygon.side_of(p) > 0) pts.push_back(p);
+  };
+  for (Index i = 0; i < n; ++i) {
+    const Point<2> a = polygon.vertex(i), b = polygon.vertex(i + 1), c = polygon.vertex(i - 1);
+    const Point<2> e = b - a;
+    const Real len = e.norm();
+    const Point<2> normal(-e.y() / len, e.x() / len);  // inward for counter-clockwise order
+    // toward edge i
+    for (int k = 0; k < per_edge; ++k) {
+      const Real s = (k + 0.5) / per_edge;
+      for (int l = 1; l <= levels; ++l) keep(a + s * e + std::pow(10.0, -l) * len * normal);
+    }
+    // into corner i: angles across the interior wedge from edge i (to b) counter-clockwise to c
+    const Real a0 = std::atan2(e.y(), e.x());
+    const Point<2> f = c - a;
+    Real wedge = std::atan2(f.y(), f.x()) - a0;
+    while (wedge <= 0) wedge += 2 * std::numbers::pi;
+    const Real rad = std::min(len, f.norm());
+    for (int k = 1; k <= 5; ++k) {
+      const Real ang = a0 + wedge * k / 6.0;
+      for (int l = 1; l <= levels; ++l)
+        keep(a + std::pow(10.0, -l) * rad * Point<2>(std::cos(ang), std::sin(ang)));
+    }
+  }
+  return to_points(pts);
+}
+
+Points<2> bijectivity_sample(const Polygon& polygon, int resolution) {
+  const Points<2> g = grid_sample(polygon, resolution), b = boundary_cluster_sample(polygon);
+  Points<2> out(g.rows() + b.rows(), 2);
+  out.topRows(g.rows()) = g;
+  out.bottomRows(b.rows()) = b;
+  return out;
+}
+
+}  // namespace warpfem::mapping

@@ -1,0 +1,27 @@
+#pragma once
+// Sample points inside a polygon, used to check det J_f > 0 (bijectivity).
+//
+// A regular grid alone misses the places where folds start: next to the
+// vertices and edges. bijectivity_sample() therefore adds points clustered
+// geometrically toward every edge (distances 10^-1 … 10^-6 of the edge length)
+// and into every corner (radii 10^-1 … 10^-6 of the shorter adjacent edge,
+// several angles across the interior wedge). Only points strictly inside are kept.
+
+#include "core/polygon.hpp"
+#include "core/types.hpp"
+
+namespace warpfem::mapping {
+
+/// Even-odd crossing test, fast, for batches; boundary points may go either way.
+bool inside_polygon(const Polygon& polygon, Real x, Real y);
+
+/// Cell centres of a resolution x resolution grid over the bounding box, inside only.
+Points<2> grid_sample(const Polygon& polygon, int resolution);
+
+/// Points clustered toward every edge and vertex (exact inside test).
+Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge = 8, int levels = 6);
+
+/// grid_sample(resolution) followed by boundary_cluster_sample().
+Points<2> bijectivity_sample(const Polygon& polygon, int resolution);
+
+}  // namespace warpfem::mapping

@@ -1,0 +1,97 @@
+// make_map(): building maps from a MapSpec, and the error messages users see.
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "mapping/composite_mean_value_map.hpp"
+#include "mapping/make_map.hpp"
+#include "test_polygons.hpp"
+
+namespace warpfem::mapping {
+namespace {
+
+MapSpec dart_spec() {
+  MapSpec s;
+  s.type = "composite_mean_value";
+  s.source = test::diamond();
+  s.target = test::dart();
+  s.origin = "dart.json";
+  return s;
+}
+
+/// Runs make_map and returns the error it throws (fails the test if none).
+Error error_of(const MapSpec& s) {
+  try {
+    make_map(s);
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected warpfem::Error";
+  return Error("none");
+}
+
+TEST(MakeMap, BuildsEveryPartitionKind) {
+  MapSpec s = dart_spec();
+  s.partition = "uniform";
+  s.steps = 7;
+  auto u = std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(s));
+  ASSERT_TRUE(u);
+  EXPECT_EQ(u->steps(), 7);
+  s.partition = "explicit";
+  s.times = {0, 0.25, 0.5, 1};
+  auto e = std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(s));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->times(), s.times);
+  s.partition = "adaptive";
+  s.vertex_path = "intrinsic";
+  EXPECT_GT(std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(s))->steps(), 1);
+  s.type = "barycentric";
+  EXPECT_NE(make_map(s)->describe().find("mean_value"), std::string::npos);
+}
+
+TEST(MakeMap, ErrorsNameTheFileAndKey) {
+  MapSpec s = dart_spec();
+  s.partition = "binary";
+  Error e = error_of(s);
+  EXPECT_EQ(e.context().file, "dart.json");
+  EXPECT_EQ(e.context().key_path, "/map/partition");
+
+  s = dart_spec();
+  s.target.reset();
+  EXPECT_EQ(error_of(s).context().key_path, "/map/target");
+
+  s = dart_spec();
+  s.target = test::star();
+  EXPECT_EQ(error_of(s).context().key_path, "/map/target");  // 4 vs 10 vertices
+
+  s = dart_spec();
+  s.partition = "explicit";
+  s.times = {0, 0.6, 0.4, 1};
+  EXPECT_EQ(error_of(s).context().key_path, "/map/times");
+
+  s = dart_spec();
+  s.partition = "uniform";
+  s.steps = 0;
+  EXPECT_EQ(error_of(s).context().key_path, "/map/steps");
+
+  s = dart_spec();
+  s.vertex_path = "spline";
+  EXPECT_EQ(error_of(s).context().key_path, "/map/vertex_path");
+
+  s = dart_spec();
+  s.coordinates = "wachspress";  // the intermediate darts are concave
+  e = error_of(s);
+  EXPECT_NE(std::string(e.what()).find("wachspress coordinates need a"), std::string::npos) << e.what();
+  EXPECT_EQ(e.context().file, "dart.json");
+
+  s = dart_spec();
+  s.target = test::dart(-0.9);
+  s.min_interval = 0.6;
+  e = error_of(s);
+  EXPECT_NE(std::string(e.what()).find("min det J"), std::string::npos) << e.what();
+  EXPECT_EQ(e.context().key_path, "/map/min_interval");
+  EXPECT_EQ(e.context().file, "dart.json");
+}
+
+}  // namespace
+}  // namespace warpfem::mapping
