@@ -8,5 +8,7 @@
 namespace warpfem::apps {
 
 int run_command(const std::vector<std::string>& args);
+int map_command(const std::vector<std::string>& args);
+int warp_image_command(const std::vector<std::string>& args);
 
 }  // namespace warpfem::apps

@@ -16,6 +16,9 @@ const char* kUsage =
     "\n"
     "commands:\n"
     "  run <config.json> [--output-dir DIR] [PETSc options]   solve the problem a config describes\n"
+    "  map --config map.json [--points in.csv --out out.csv]  build a map, report bijectivity and distortion,\n"
+    "                                                         write the warped grid, map your own points\n"
+    "  warp-image --config warp.json [--input a.png] [--output b.png]   warp a picture without fold-overs\n"
     "  help                                                   show this text\n"
     "\n"
     "PETSc options (-ksp_monitor, -ksp_type gmres, ...) may follow any command.\n"
@@ -33,6 +36,8 @@ int main(int argc, char** argv) {
   warpfem::Environment env(argc, argv);
   try {
     if (command == "run") return warpfem::apps::run_command(args);
+    if (command == "map") return warpfem::apps::map_command(args);
+    if (command == "warp-image") return warpfem::apps::warp_image_command(args);
     std::cerr << "error: unknown command \"" << command << "\"\n\n" << kUsage;
     return 2;
   } catch (const warpfem::Error& e) {

@@ -1,0 +1,183 @@
+// warpfem map: build a map from a config, explain why it is bijective, write
+// the warped source grid, and optionally map the user's own points.
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "apps/commands.hpp"
+#include "core/environment.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/timer.hpp"
+#include "fem/dof_distribution.hpp"
+#include "fem/output_mesh.hpp"
+#include "fem/polygon_mesher.hpp"
+#include "io/atomic_file.hpp"
+#include "io/run_config.hpp"
+#include "io/vtk_writer.hpp"
+#include "mapping/adaptive_partition.hpp"
+#include "mapping/composite_mean_value_map.hpp"
+#include "mapping/distortion.hpp"
+#include "mapping/make_map.hpp"
+#include "mapping/polygon_sampling.hpp"
+
+namespace warpfem::apps {
+namespace {
+
+const char* kMapUsage = "usage: warpfem map --config map.json [--points in.csv --out out.csv] [--output-dir DIR]";
+
+std::string fmt(double v, int precision = 4) {
+  std::ostringstream os;
+  os << std::setprecision(precision) << v;
+  return os.str();
+}
+
+/// Reads "x,y" (or "x y") per line; '#' comments and one header line allowed.
+Points<2> read_points_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot open points file", {.file = path, .key_path = "", .hint = "check the path"});
+  std::vector<Point<2>> pts;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (auto h = line.find('#'); h != std::string::npos) line.erase(h);
+    for (char& c : line)
+      if (c == ',' || c == ';' || c == '\t') c = ' ';
+    std::istringstream ls(line);
+    std::string first;
+    if (!(ls >> first)) continue;
+    double x, y;
+    std::istringstream fs(first);
+    if (!(fs >> x)) {
+      if (pts.empty() && number == 1) continue;  // header line such as "x,y"
+      throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"", {.file = path, .key_path = "", .hint = "one point per line"});
+    }
+    if (!(ls >> y)) throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"", {.file = path, .key_path = "", .hint = "one point per line"});
+    pts.emplace_back(x, y);
+  }
+  Points<2> out(static_cast<Index>(pts.size()), 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) out.row(static_cast<Index>(i)) = pts[i].transpose();
+  return out;
+}
+
+void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec) {
+  const Polygon& source = *spec.source;
+  if (const auto* composite = dynamic_cast<const mapping::CompositeMeanValueMap*>(&map)) {
+    const mapping::CompositeReport r = mapping::analyze_composite(*composite, spec.sample_resolution);
+    std::ostringstream times;
+    for (std::size_t k = 0; k < r.times.size(); ++k) times << (k ? ", " : "") << fmt(r.times[k], 6);
+    log::info("partition (", r.steps(), " steps): ", times.str());
+    for (Index k = 0; k < r.steps(); ++k)
+      log::info("  step ", k, " [", fmt(r.times[k], 6), ", ", fmt(r.times[k + 1], 6), "]: min det J_k along the sample ",
+                fmt(r.step_min_det_along[static_cast<std::size_t>(k)]));
+    log::info("composite: min det J_f = ", fmt(r.composite_min_det), " on ", r.samples, " samples (grid + points clustered at every vertex and edge)");
+    log::info("distortion: conformal mean ", fmt(r.distortion.conformal.mean), " max ", fmt(r.distortion.conformal.max),
+              "; isometric mean ", fmt(r.distortion.isometric.mean), " max ", fmt(r.distortion.isometric.max));
+    const Points<2> sample = mapping::bijectivity_sample(source, spec.sample_resolution);
+    const mapping::CompositeMeanValueMap g = composite->backward();
+    log::info("backward map g (thesis §4.3): max |x - g(f(x))| = ", fmt(mapping::round_trip_error(map, g, sample)),
+              " over ", sample.rows(), " samples");
+    if (!(r.composite_min_det > 0))
+      log::warning("the map folds (min det J_f <= 0); use \"partition\": \"adaptive\" for a bijective map");
+    return;
+  }
+  const Points<2> sample = mapping::bijectivity_sample(source, spec.sample_resolution);
+  Points<2> x;
+  Jacobians<2> J;
+  map.eval_with_jacobian(sample, x, J);
+  const auto s = mapping::summarize_distortion<2>(J);
+  log::info("min det J_f = ", fmt(s.min_det), " on ", s.samples, " samples; distortion: conformal mean ",
+            fmt(s.conformal.mean), " max ", fmt(s.conformal.max), "; isometric mean ", fmt(s.isometric.mean), " max ",
+            fmt(s.isometric.max));
+  if (!(s.min_det > 0)) log::warning("the map folds (min det J_f <= 0): it is not bijective");
+}
+
+}  // namespace
+
+int map_command(const std::vector<std::string>& args) {
+  std::string config_path, points_in, points_out, output_dir;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    auto value = [&](const char* flag) -> std::string {
+      if (i + 1 >= args.size()) throw Error(std::string(flag) + " needs a value", {.file = "", .key_path = "", .hint = kMapUsage});
+      return args[++i];
+    };
+    if (args[i] == "--config") config_path = value("--config");
+    else if (args[i] == "--points") points_in = value("--points");
+    else if (args[i] == "--out") points_out = value("--out");
+    else if (args[i] == "--output-dir") output_dir = value("--output-dir");
+    else if (config_path.empty() && args[i].rfind("-", 0) != 0) config_path = args[i];
+  }
+  if (config_path.empty()) throw Error("missing --config", {.file = "", .key_path = "", .hint = kMapUsage});
+  if (points_in.empty() != points_out.empty())
+    throw Error("--points and --out go together", {.file = "", .key_path = "", .hint = kMapUsage});
+
+  const nlohmann::json json = io::ConfigNode::parse_file(config_path);
+  const io::ConfigNode root(json, config_path);
+  log::set_level(log::parse_level(root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"})));
+  const mapping::MapSpec spec = io::parse_map_spec(root.child("map"));
+  const io::ConfigNode out = root.child("output");
+  std::string directory = out.get_string("directory", "output/map");
+  const std::string name = out.get_string("name", "map");
+  const double edge = out.get_double("grid_edge_length", 0.0, 0.0);
+  const bool write_vtk = out.get_bool("vtk", true);
+  out.finish();
+  root.finish();
+  if (!output_dir.empty()) directory = output_dir;
+
+  Stopwatch watch;
+  mapping::MapPtr<2> map;
+  try {
+    map = mapping::make_map(spec);
+  } catch (const Error& e) {
+    throw e.context().file.empty() ? e.in_file(config_path) : e;
+  }
+  log::info("map: ", map->describe(), " (built in ", format_seconds(watch.seconds()), ")");
+  report_map(*map, spec);
+
+  if (!points_in.empty()) {
+    const Points<2> x0 = read_points_csv(points_in);
+    for (Index p = 0; p < x0.rows(); ++p)
+      if (spec.source->side_of(x0.row(p).transpose()) < 0)
+        throw Error("point " + std::to_string(p + 1) + " (" + fmt(x0(p, 0), 10) + ", " + fmt(x0(p, 1), 10) +
+                        ") lies outside the source polygon",
+                    {.file = points_in, .key_path = "", .hint = "the map is defined on the source polygon only"});
+    Points<2> x;
+    Jacobians<2> J;
+    map->eval_with_jacobian(x0, x, J);
+    const VectorX det = mapping::jacobian_determinants<2>(J);
+    std::ostringstream csv;
+    csv << "x,y,fx,fy,det_J\n" << std::setprecision(17);
+    for (Index p = 0; p < x0.rows(); ++p)
+      csv << x0(p, 0) << ',' << x0(p, 1) << ',' << x(p, 0) << ',' << x(p, 1) << ',' << det(p) << '\n';
+    if (Environment::rank() == 0) io::write_text_atomically(points_out, csv.str());
+    log::info("mapped ", x0.rows(), " points: ", points_out);
+  }
+
+  if (write_vtk) {
+    const Polygon& source = *spec.source;
+    const double h = edge > 0 ? edge : (source.bbox_max() - source.bbox_min()).norm() / 40.0;
+    const fem::Mesh<2> mesh = fem::mesh_polygon(source, {.max_edge_length = h});
+    const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, 1));
+    const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
+    const fem::OutputMesh grid = fem::make_output_mesh(mesh, dist, *map, 2);
+    Points<2> x;
+    Jacobians<2> J;
+    map->eval_with_jacobian(grid.reference_points, x, J);
+    VectorX conformal, isometric;
+    mapping::distortion<2>(J, conformal, isometric);
+    io::VtkOutput vtk;
+    vtk.mesh = &grid;
+    auto field = [](const char* n, const VectorX& v) { return io::VtkField{n, 1, std::vector<double>(v.data(), v.data() + v.size())}; };
+    vtk.point_fields = {field("det_Jf", grid.map_det), field("conformal_distortion", conformal),
+                        field("isometric_distortion", isometric)};
+    std::vector<double> x0(static_cast<std::size_t>(3 * grid.reference_points.rows()), 0.0);
+    for (Index p = 0; p < grid.reference_points.rows(); ++p) x0[3 * p] = grid.reference_points(p, 0), x0[3 * p + 1] = grid.reference_points(p, 1);
+    vtk.point_fields.push_back({"x0", 3, std::move(x0)});
+    const std::string file = io::write_vtk(MPI_COMM_WORLD, vtk, directory, name);
+    log::info("wrote ", file, " (warped source grid: ", mesh.num_cells(), " curved triangles)");
+  }
+  return 0;
+}
+
+}  // namespace warpfem::apps

@@ -1,0 +1,24 @@
+#pragma once
+// RGBA images read and written through VTK's PNG reader and writer.
+// Pixel (i, j) has its centre at (i + 0.5, j + 0.5): x to the right, y up
+// (VTK's image convention: row 0 is the bottom row of the picture).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace warpfem::io {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;  ///< width * height * 4, row-major from the bottom row
+  std::uint8_t* pixel(int i, int j) { return &rgba[4 * (static_cast<std::size_t>(j) * width + i)]; }
+  const std::uint8_t* pixel(int i, int j) const { return &rgba[4 * (static_cast<std::size_t>(j) * width + i)]; }
+};
+
+/// Reads any PNG (gray, RGB, RGBA; converted to RGBA); throws warpfem::Error naming the file.
+Image read_png(const std::string& path);
+/// Writes an RGBA PNG atomically.
+void write_png(const std::string& path, const Image& image);
+
+}  // namespace warpfem::io
