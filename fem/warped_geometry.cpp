@@ -19,7 +19,7 @@ WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& ce
   Jacobians<2> JG(n, 4);
   for (Index i = 0; i < num_cells(); ++i) simple_cell_geometry(mesh, cells_[i], rule.points, N, dN, x0_, JG, i * nq_);
 
-  Jacobians<2> Jf;
+  Jacobians<2>& Jf = Jf_;
   map.eval_with_jacobian(x0_, x_, Jf);  // the one batched map evaluation
 
   J_.resize(n, 4);

@@ -32,6 +32,7 @@ class WarpedGeometry {
   const Jacobians<2>& inverse_transpose() const { return JinvT_; }
   const VectorX& det() const { return detJ_; }
   const VectorX& map_det() const { return detJf_; }  ///< det J_f alone
+  const Jacobians<2>& map_jacobian() const { return Jf_; }  ///< J_f alone
   const VectorX& JxW() const { return JxW_; }        ///< w_q |det J|
 
  private:
@@ -39,7 +40,7 @@ class WarpedGeometry {
   QuadratureRule<2> rule_;
   Index nq_ = 0;
   Points<2> x0_, x_;
-  Jacobians<2> J_, JinvT_;
+  Jacobians<2> J_, JinvT_, Jf_;
   VectorX detJ_, detJf_, JxW_;
 };
 

@@ -60,7 +60,7 @@ Polygon parse_polygon(const ConfigNode& node, const std::string& key, const std:
 mapping::MapSpec parse_map_spec(const ConfigNode& node) {
   mapping::MapSpec spec;
   spec.origin = node.file();
-  spec.type = node.get_choice("type", "identity", {"identity", "barycentric", "composite_mean_value"});
+  spec.type = node.get_choice("type", "identity", {"identity", "barycentric", "composite_mean_value", "composite_harmonic"});
   if (!node.has("source"))
     throw node.error("source", "missing required field: the source polygon Ω0 (an array of [x, y])",
                      "add \"source\": [[0,0], [1,0], [1,1], [0,1]]");
@@ -86,6 +86,25 @@ mapping::MapSpec parse_map_spec(const ConfigNode& node) {
   spec.times = node.get_doubles("times");
   spec.sample_resolution = static_cast<int>(node.get_int("sample_resolution", spec.sample_resolution, 4, 8192));
   spec.min_interval = node.get_double("min_interval", spec.min_interval, 1e-12, 1.0);
+  spec.harmonic_method = node.get_choice("harmonic_method", spec.harmonic_method, {"fem", "bem", "mfs"});
+  spec.intermediate = node.get_choice("intermediate", spec.intermediate, {"regular", "cyclic", "optimized"});
+  spec.boundary_nodes = static_cast<int>(node.get_int("boundary_nodes", spec.boundary_nodes, 3, 100000));
+  spec.fem_max_edge_length = node.get_double("fem_max_edge_length", spec.fem_max_edge_length, 0.0);
+  spec.distortion_energy = node.get_choice("distortion_energy", spec.distortion_energy, {"conformal", "isometric"});
+  for (const std::string key : {"source_edge_speeds", "target_edge_speeds"}) {
+    if (!node.has(key)) continue;
+    auto& out = key == "source_edge_speeds" ? spec.source_edge_speeds : spec.target_edge_speeds;
+    const nlohmann::json& list = node.raw(key);
+    if (!list.is_array()) throw node.error(key, "expected an array of edge speeds, got " + json_excerpt(list));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const auto& s = list[i];
+      if (!s.is_string() || (s != "linear" && s != "quadratic" && s != "quadratic_reversed"))
+        throw node.error(key + "/" + std::to_string(i), "expected \"linear\", \"quadratic\" or \"quadratic_reversed\", got " + json_excerpt(s));
+      out.push_back(s.get<std::string>());
+    }
+    if (static_cast<Index>(out.size()) != spec.source->size())
+      throw node.error(key, "expected one speed per edge (" + std::to_string(spec.source->size()) + "), got " + std::to_string(out.size()));
+  }
   if (spec.partition == "explicit" && spec.times.size() < 2)
     throw node.error("times", "partition \"explicit\" needs the list of times 0 = t0 < t1 < ... < tm = 1",
                      "add \"times\": [0, 0.5, 1]");

@@ -6,6 +6,7 @@
 #include "mapping/adaptive_partition.hpp"
 #include "mapping/barycentric_map.hpp"
 #include "mapping/composite_mean_value_map.hpp"
+#include "mapping/harmonic/make_harmonic_map.hpp"
 
 namespace warpfem::mapping {
 namespace {
@@ -35,11 +36,12 @@ const Polygon& require_polygon(const MapSpec& spec, const std::optional<Polygon>
 
 MapPtr<2> make_map(const MapSpec& spec) {
   if (spec.type == "identity") return std::make_shared<IdentityMap<2>>();
+  if (spec.type == "composite_harmonic") return make_harmonic_map(spec);
   if (spec.type != "composite_mean_value" && spec.type != "barycentric")
     throw Error("unknown map type \"" + spec.type + "\"",
                 {.file = spec.origin,
                  .key_path = "/map/type",
-                 .hint = "use \"identity\", \"barycentric\" or \"composite_mean_value\""});
+                 .hint = "use \"identity\", \"barycentric\", \"composite_mean_value\" or \"composite_harmonic\""});
 
   const Polygon& source = require_polygon(spec, spec.source, "/map/source");
   const Polygon& target = require_polygon(spec, spec.target, "/map/target");

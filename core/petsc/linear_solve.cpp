@@ -5,6 +5,8 @@
 #include "core/petsc/handles.hpp"
 #include "core/timer.hpp"
 
+#include <limits>
+
 namespace warpfem::petsc {
 
 LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOptions& options) {
@@ -53,6 +55,37 @@ LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOpti
                  .hint = "raise /solver/max_iterations, loosen /solver/rtol, or choose another solver in "
                          "/solver/petsc_options (e.g. \"-ksp_type gmres -pc_type lu\")"});
   return report;
+}
+
+}  // namespace warpfem::petsc
+
+namespace warpfem::petsc {
+
+double estimate_condition_number(Mat A, int max_iterations) {
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  LinearSolver ksp;
+  WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp.out()));
+  WARPFEM_PETSC_CHECK(KSPSetOperators(ksp.get(), A, A));
+  WARPFEM_PETSC_CHECK(KSPSetType(ksp.get(), KSPCG));
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(ksp.get(), &pc));
+  WARPFEM_PETSC_CHECK(PCSetType(pc, PCNONE));
+  WARPFEM_PETSC_CHECK(KSPSetComputeSingularValues(ksp.get(), PETSC_TRUE));
+  WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp.get(), 1e-10, 1e-50, PETSC_DEFAULT, max_iterations));
+  Vector b, x;
+  WARPFEM_PETSC_CHECK(MatCreateVecs(A, x.out(), b.out()));
+  PetscRandom rnd;
+  WARPFEM_PETSC_CHECK(PetscRandomCreate(comm, &rnd));
+  WARPFEM_PETSC_CHECK(PetscRandomSetSeed(rnd, 12345));
+  WARPFEM_PETSC_CHECK(PetscRandomSeed(rnd));
+  WARPFEM_PETSC_CHECK(VecSetRandom(b.get(), rnd));
+  WARPFEM_PETSC_CHECK(PetscRandomDestroy(&rnd));
+  WARPFEM_PETSC_CHECK(VecSet(x.get(), 0.0));
+  WARPFEM_PETSC_CHECK(KSPSolve(ksp.get(), b.get(), x.get()));
+  PetscReal smax = 0, smin = 0;
+  WARPFEM_PETSC_CHECK(KSPComputeExtremeSingularValues(ksp.get(), &smax, &smin));
+  return smin > 0 ? smax / smin : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace warpfem::petsc

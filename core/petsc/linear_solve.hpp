@@ -30,3 +30,12 @@ struct LinearSolveReport {
 LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOptions& options);
 
 }  // namespace warpfem::petsc
+
+namespace warpfem::petsc {
+
+/// Estimate of the spectral condition number σmax/σmin of the (SPD) matrix A
+/// from the Lanczos information of an unpreconditioned CG solve (PETSc's
+/// KSPComputeExtremeSingularValues) with a random right-hand side.
+double estimate_condition_number(Mat A, int max_iterations = 20000);
+
+}  // namespace warpfem::petsc

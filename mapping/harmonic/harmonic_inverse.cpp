@@ -1,0 +1,110 @@
+#include "mapping/harmonic/harmonic_inverse.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "mapping/harmonic/fem_harmonic_map.hpp"
+
+namespace warpfem::mapping {
+namespace {
+
+Point<2> row(const Points<2>& P, Index i) {
+  return P.row(i).transpose();
+}
+
+/// Barycentric coordinates of p in triangle t of mesh (not clamped).
+Eigen::Vector3d barycentric(const TriangleMesh& m, Index t, const Point<2>& p) {
+  const auto& T = m.triangles[static_cast<std::size_t>(t)];
+  const Point<2> a = row(m.vertices, T[0]), b = row(m.vertices, T[1]) - a, c = row(m.vertices, T[2]) - a,
+                 q = p - a;
+  const Real det = b.x() * c.y() - b.y() * c.x();
+  const Real l1 = (q.x() * c.y() - q.y() * c.x()) / det, l2 = (b.x() * q.y() - b.y() * q.x()) / det;
+  return {1 - l1 - l2, l1, l2};
+}
+
+}  // namespace
+
+HarmonicInverse::HarmonicInverse(HarmonicMapPtr phi, Real seed_max_edge_length) : phi_(std::move(phi)) {
+  if (const auto* fem = dynamic_cast<const FemHarmonicMap*>(phi_.get())) {
+    mesh_ = std::shared_ptr<const TriangleMesh>(phi_, &fem->mesh());  // aliasing: lives as long as phi
+    images_ = fem->vertex_images();
+  } else {
+    mesh_ = std::make_shared<const TriangleMesh>(mesh_polygon(phi_->domain(), seed_max_edge_length));
+    phi_->eval(mesh_->vertices, images_);
+  }
+  locator_ = std::make_unique<TriangleLocator>(images_, mesh_->triangles);
+  tol_ = 1e-13 * diameter(phi_->image());
+}
+
+HarmonicInverse::Result HarmonicInverse::apply(const Point<2>& z, Point<2>& y, Matrix<2>* J) const {
+  const TriangleMesh& m = *mesh_;
+  const TriangleLocator::Hit hit = locator_->locate(z);
+  Index t = hit.triangle;
+  const auto& T0 = m.triangles[static_cast<std::size_t>(t)];
+  y = hit.bary[0] * row(m.vertices, T0[0]) + hit.bary[1] * row(m.vertices, T0[1]) +
+      hit.bary[2] * row(m.vertices, T0[2]);
+  Result result;
+  if (phi_->is_piecewise_linear()) {
+    if (J)
+      *J = affine_jacobian(row(m.vertices, T0[0]), row(m.vertices, T0[1]), row(m.vertices, T0[2]),
+                           row(images_, T0[0]), row(images_, T0[1]), row(images_, T0[2]));
+    return result;
+  }
+
+  Point<2> phi;
+  Matrix<2> Jy;
+  phi_->eval_point(y, phi, &Jy);
+  Real res = (phi - z).norm();
+  for (int it = 0; it < 50 && res > tol_; ++it) {
+    ++result.iterations;
+    Point<2> step = -(Jy.inverse() * (phi - z));
+    if (!step.allFinite()) break;
+    bool accepted = false;
+    for (int half = 0; half < 12 && !accepted; ++half, step *= 0.5) {
+      // clip the step to triangle t; remember the edge it leaves through
+      Point<2> s = step;
+      Real alpha = 1;
+      int exit = -1;
+      for (int attempt = 0; attempt < 2; ++attempt) {
+        const Eigen::Vector3d b0 = barycentric(m, t, y), b1 = barycentric(m, t, y + s);
+        alpha = 1;
+        exit = -1;
+        for (int i = 0; i < 3; ++i)
+          if (b1(i) < 0) {
+            const Real a = std::max(b0(i), Real{0}) / (b0(i) - b1(i));
+            if (a < alpha) alpha = a, exit = i;
+          }
+        if (exit < 0 || m.neighbors[static_cast<std::size_t>(t)][exit] >= 0) break;
+        // leaving Ω: slide along the boundary edge instead
+        const auto& T = m.triangles[static_cast<std::size_t>(t)];
+        const Point<2> e =
+            (row(m.vertices, T[(exit + 2) % 3]) - row(m.vertices, T[(exit + 1) % 3])).normalized();
+        s = e * e.dot(s);
+      }
+      const Point<2> candidate = y + alpha * s;
+      Point<2> phi_c;
+      Matrix<2> J_c;
+      phi_->eval_point(candidate, phi_c, &J_c);
+      const Real res_c = (phi_c - z).norm();
+      if (res_c < res) {
+        y = candidate;
+        phi = phi_c;
+        Jy = J_c;
+        res = res_c;
+        accepted = true;
+        if (exit >= 0 && alpha < 1) {
+          const Index nb = m.neighbors[static_cast<std::size_t>(t)][exit];
+          if (nb >= 0) t = nb;
+        }
+      }
+    }
+    if (!accepted) break;
+  }
+  result.residual = res;
+  if (J) *J = Jy;
+  return result;
+}
+
+}  // namespace warpfem::mapping
