@@ -8,6 +8,7 @@
 namespace warpfem::apps {
 
 int run_command(const std::vector<std::string>& args);
+int study_command(const std::vector<std::string>& args);
 int map_command(const std::vector<std::string>& args);
 int warp_image_command(const std::vector<std::string>& args);
 

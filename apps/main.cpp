@@ -16,6 +16,7 @@ const char* kUsage =
     "\n"
     "commands:\n"
     "  run <config.json> [--output-dir DIR] [PETSc options]   solve the problem a config describes\n"
+    "  study <study.json> [--output-dir DIR]                  convergence study: warped vs standard FEM\n"
     "  map --config map.json [--points in.csv --out out.csv]  build a map, report bijectivity and distortion,\n"
     "                                                         write the warped grid, map your own points\n"
     "  warp-image --config warp.json [--input a.png] [--output b.png]   warp a picture without fold-overs\n"
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
   warpfem::Environment env(argc, argv);
   try {
     if (command == "run") return warpfem::apps::run_command(args);
+    if (command == "study") return warpfem::apps::study_command(args);
     if (command == "map") return warpfem::apps::map_command(args);
     if (command == "warp-image") return warpfem::apps::warp_image_command(args);
     std::cerr << "error: unknown command \"" << command << "\"\n\n" << kUsage;

@@ -1,5 +1,7 @@
 #include "fem/interpolated_map.hpp"
 
+#include <Eigen/LU>
+
 #include "core/error.hpp"
 #include "fem/lagrange_element.hpp"
 

@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev       # config files
   libmuparser-dev          # expressions in configs
   libgtest-dev libbenchmark-dev
+  gnuplot-nox              # PNG plots of convergence studies
 )
 
 missing=()

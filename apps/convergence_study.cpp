@@ -1,0 +1,258 @@
+#include "apps/convergence_study.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/petsc/linear_solve.hpp"
+#include "core/timer.hpp"
+#include "fem/interpolated_map.hpp"
+#include "fem/mesh_factory.hpp"
+#include "fem/poisson.hpp"
+#include "fem/reference_error.hpp"
+#include "io/atomic_file.hpp"
+#include "io/expression.hpp"
+#include "mapping/make_map.hpp"
+
+namespace warpfem::apps {
+namespace fs = std::filesystem;
+
+StudySpec parse_study_spec(const io::ConfigNode& node) {
+  StudySpec s;
+  s.levels = static_cast<int>(node.get_int("levels", s.levels, 2, 12));
+  if (node.has("discretizations")) {
+    const nlohmann::json& list = node.raw("discretizations");
+    if (!list.is_array() || list.empty())
+      throw node.error("discretizations", "expected a non-empty array, got " + io::json_excerpt(list));
+    s.discretizations.clear();
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_string() || (list[i] != "warped" && list[i] != "standard" && list[i] != "standard_recovered"))
+        throw node.error("discretizations/" + std::to_string(i), "unknown discretization " + io::json_excerpt(list[i]),
+                         "use \"warped\", \"standard\" or \"standard_recovered\"");
+      s.discretizations.push_back(list[i].get<std::string>());
+    }
+  }
+  s.reference_levels = static_cast<int>(node.get_int("reference_levels", s.reference_levels, 1, 4));
+  s.condition_number = node.get_bool("condition_number", s.condition_number);
+  s.condition_number_max_dofs = node.get_int("condition_number_max_dofs", s.condition_number_max_dofs, 0);
+  s.plot = node.get_bool("plot", s.plot);
+  node.finish();
+  return s;
+}
+
+namespace {
+
+std::string sci(double v, int precision = 3) {
+  std::ostringstream os;
+  os << std::scientific << std::setprecision(precision) << v;
+  return os.str();
+}
+std::string fixed(double v, int precision = 2) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(precision) << v;
+  return os.str();
+}
+
+fem::PoissonData poisson_data(const io::RunConfig& cfg) {
+  fem::PoissonData data;
+  data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
+  data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
+  data.neumann = io::make_boundary_conditions(cfg.poisson.neumann, cfg.file);
+  data.boundary_polygon = *cfg.map.source;
+  return data;
+}
+
+void write_plot(const StudySpec& spec, bool exact, const std::string& dir, std::string& plot_file) {
+  // gnuplot is optional: without it the script is still written for later use.
+  std::ostringstream gp;
+  const std::string png = (fs::path(dir) / "study_errors.png").string();
+  gp << "set terminal pngcairo size 900,650 font ',11' noenhanced\nset output '" << png << ".tmp'\n"
+     << "set logscale xy\nset format y '10^{%L}'\nset grid\nset key bottom left\n"
+     << "set xlabel 'degrees of freedom'\nset ylabel 'error'\n"
+     << "set title 'Convergence: warped (exact geometry) vs standard FEM'\n"
+     << "set datafile separator ','\nplot ";
+  const std::string csv = (fs::path(dir) / "study.csv").string();
+  bool first = true;
+  int style = 1;
+  for (const auto& d : spec.discretizations) {
+    // Column 5: L2 error (where a common parametrization with the reference exists);
+    // column 9: r(u_h) = | ‖u_h‖/‖u_ref‖ − 1 |, defined for every discretization.
+    for (const auto& [column, label] : {std::pair{5, "L2 error"}, std::pair{9, "r(u_h)"}}) {
+      if (column == 5 && !exact && d != "warped") continue;
+      gp << (first ? "" : ", \\\n     ") << "'" << csv << "' using (strcol(1) eq '" << d << "' ? $4 : 1/0):"
+         << column << " with linespoints lw 2 pt " << style << " title '" << d << " " << label << "'";
+      first = false;
+      ++style;
+    }
+  }
+  gp << "\n";
+  const std::string script = (fs::path(dir) / "study_errors.gp").string();
+  io::write_text_atomically(script, gp.str());
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    log::warning("gnuplot not found: wrote ", script, " but no PNG (install gnuplot-nox)");
+    return;
+  }
+  const std::string command = "gnuplot '" + script + "' 2>&1";
+  if (std::system(command.c_str()) != 0 || !fs::exists(png + ".tmp")) {
+    log::warning("gnuplot failed on ", script, "; no PNG written");
+    return;
+  }
+  fs::rename(png + ".tmp", png);
+  plot_file = png;
+}
+
+}  // namespace
+
+StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm comm, bool write_files) {
+  StudyResult result;
+  const mapping::MapPtr<2> f = mapping::make_map(cfg.map);
+  log::info("map: ", f->describe());
+  const bool exact = !cfg.poisson.exact_solution.empty();
+  const Polygon& domain = cfg.map.target ? *cfg.map.target : *cfg.map.source;
+  const double exact_area = domain.signed_area();
+  const int order = cfg.poisson.order;
+  const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree : fem::default_quadrature_degree(order);
+  const fem::PoissonData data = poisson_data(cfg);
+  const int first = cfg.mesh.refinements;
+  const int finest = first + spec.levels - 1;
+  const fem::MeshHierarchy hierarchy(fem::make_coarse_mesh(*cfg.map.source, cfg.mesh),
+                                     finest + (exact ? 0 : spec.reference_levels));
+
+  std::optional<io::Expression> u_exact;
+  if (exact) u_exact.emplace(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");
+  const fem::ScalarFunction u_fn = exact ? u_exact->as_function_2d() : fem::ScalarFunction{};
+  const fem::GradientFunction grad_fn = [&u_exact](const Point<2>& x, double t) { return u_exact->gradient<2>(x, t); };
+
+  // Reference: ‖u‖ from the exact solution, or the warped solution on the reference level.
+  std::unique_ptr<fem::PoissonProblem> reference;
+  double reference_norm = 0;
+  if (!exact) {
+    Stopwatch w;
+    reference = std::make_unique<fem::PoissonProblem>(comm, hierarchy.finest(), f, order, qdeg, data);
+    reference->assemble();
+    reference->solve(cfg.solver.linear);
+    reference_norm = reference->solution_l2_norm();
+    log::info("reference solution: level ", hierarchy.num_levels() - 1, ", ", reference->dofs().num_dofs(), " DOFs (",
+              format_seconds(w.seconds()), ")");
+  } else {
+    // ‖u‖ over the exact domain, integrated on the finest warped level (cells split round-robin over ranks).
+    int rank = 0, size = 1;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
+    std::vector<Index> cells;
+    for (Index c = rank; c < hierarchy.finest().num_cells(); c += size) cells.push_back(c);
+    const fem::WarpedGeometry g(hierarchy.finest(), cells, fem::cell_quadrature(hierarchy.finest().cell_type, qdeg), *f);
+    double local = 0;
+    for (Index p = 0; p < g.JxW().size(); ++p) local += g.JxW()(p) * std::pow(u_fn(g.physical_points().row(p).transpose(), 0.0), 2);
+    MPI_Allreduce(&local, &reference_norm, 1, MPI_DOUBLE, MPI_SUM, comm);
+    reference_norm = std::sqrt(reference_norm);
+  }
+
+  for (const std::string& d : spec.discretizations) {
+    std::shared_ptr<const mapping::Map<2>> coarse_interpolant;
+    if (d == "standard") coarse_interpolant = std::make_shared<fem::InterpolatedMap>(hierarchy.levels[first], *f);
+    for (int level = first; level <= finest; ++level) {
+      Stopwatch w;
+      const fem::Mesh<2>& mesh = hierarchy.levels[level];
+      mapping::MapPtr<2> map = f;
+      if (d == "standard") map = coarse_interpolant;
+      if (d == "standard_recovered") map = std::make_shared<fem::InterpolatedMap>(mesh, *f);
+      std::unique_ptr<fem::PoissonProblem> owned;
+      try {
+        owned = std::make_unique<fem::PoissonProblem>(comm, mesh, map, order, qdeg, data);
+      } catch (const Error& e) {
+        // Straight elements through mapped vertices can be inverted on coarse meshes of
+        // strongly curved domains: the standard discretization does not exist on this level.
+        log::warning(d, " level ", level, ": no valid discretization (", e.message(), ")");
+        StudyRow row;
+        row.discretization = d + " (inverted)";
+        row.level = level;
+        row.h = mesh.max_edge_length();
+        row.l2 = row.h1 = row.norm_ratio_error = row.area_error = std::nan("");
+        result.rows.push_back(row);
+        continue;
+      }
+      fem::PoissonProblem& problem = *owned;
+      problem.assemble();
+      const auto solve = problem.solve(cfg.solver.linear);
+      StudyRow row;
+      row.discretization = d;
+      row.level = level;
+      row.h = mesh.max_edge_length();
+      row.dofs = problem.dofs().num_dofs();
+      row.iterations = solve.iterations;
+      if (exact) {
+        const auto e = problem.errors(u_fn, grad_fn);
+        row.l2 = e.l2, row.h1 = e.h1_semi;
+      } else if (d == "warped") {
+        const auto e = fem::error_against_reference(problem, *reference);
+        row.l2 = e.l2, row.h1 = e.h1_semi;
+      } else {
+        row.l2 = row.h1 = std::nan("");  // no common parametrization with the reference: see r(u_h)
+      }
+      row.norm_ratio_error = std::abs(problem.solution_l2_norm() / reference_norm - 1);
+      row.area = problem.area();
+      row.area_error = std::abs(row.area - exact_area) / exact_area;
+      if (spec.condition_number && row.dofs <= spec.condition_number_max_dofs)
+        row.condition_number = petsc::estimate_condition_number(problem.matrix());
+      if (!result.rows.empty() && result.rows.back().discretization == d) {
+        const StudyRow& prev = result.rows.back();
+        const double hr = std::log(prev.h / row.h);
+        row.l2_rate = std::log(prev.l2 / row.l2) / hr;
+        row.h1_rate = std::log(prev.h1 / row.h1) / hr;
+      }
+      row.seconds = w.seconds();
+      log::info(std::setw(18), d, " level ", level, ": ", std::setw(8), row.dofs, " DOFs  L2 ", sci(row.l2), " (",
+                fixed(row.l2_rate), ")  H1 ", sci(row.h1), " (", fixed(row.h1_rate), ")  r(u_h) ",
+                sci(row.norm_ratio_error), "  area err ", sci(row.area_error), "  cond ",
+                row.condition_number > 0 ? sci(row.condition_number, 2) : std::string("-"), "  (",
+                format_seconds(row.seconds), ")");
+      result.rows.push_back(row);
+    }
+  }
+
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (!write_files || rank != 0) return result;
+  const std::string dir = cfg.output.directory;
+  io::ensure_directory(dir);
+  std::ostringstream csv;
+  csv << "discretization,level,h,dofs,l2_error,l2_rate,h1_error,h1_rate,r_uh,area,area_error,condition_number,iterations,seconds\n";
+  csv << std::setprecision(10);
+  for (const auto& r : result.rows)
+    csv << r.discretization << ',' << r.level << ',' << r.h << ',' << r.dofs << ',' << r.l2 << ',' << r.l2_rate << ','
+        << r.h1 << ',' << r.h1_rate << ',' << r.norm_ratio_error << ',' << r.area << ',' << r.area_error << ','
+        << r.condition_number << ',' << r.iterations << ',' << r.seconds << '\n';
+  result.csv_file = (fs::path(dir) / "study.csv").string();
+  io::write_text_atomically(result.csv_file, csv.str());
+
+  std::ostringstream md;
+  md << "# Convergence study: " << cfg.file << "\n\n"
+     << "Map: " << f->describe() << ". Elements: " << (hierarchy.levels[0].cell_type == fem::CellType::triangle ? "P" : "Q")
+     << order << ". Errors against " << (exact ? "the exact solution `" + cfg.poisson.exact_solution + "`"
+                                               : "the warped solution on level " + std::to_string(hierarchy.num_levels() - 1))
+     << ". Exact area of the domain: " << exact_area << ".\n\n"
+     << "| discretization | level | h | DOFs | L2 error | rate | H1 error | rate | r(u_h) | area error | cond(L) | CG its |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : result.rows)
+    md << "| " << r.discretization << " | " << r.level << " | " << sci(r.h, 2) << " | " << r.dofs << " | " << sci(r.l2)
+       << " | " << (r.l2_rate != 0 ? fixed(r.l2_rate) : "") << " | " << sci(r.h1) << " | "
+       << (r.h1_rate != 0 ? fixed(r.h1_rate) : "") << " | " << sci(r.norm_ratio_error) << " | " << sci(r.area_error)
+       << " | " << (r.condition_number > 0 ? sci(r.condition_number, 2) : "-") << " | " << r.iterations << " |\n";
+  md << "\nWarped: elements of the simple mesh warped by f (exact geometry). Standard: straight elements through the "
+        "mapped coarse vertices, kept under refinement (the domain stays the coarse polygonal approximation). "
+        "Standard recovered: straight elements through the mapped vertices of each level (boundary vertices moved "
+        "onto the exact boundary).\n";
+  result.markdown_file = (fs::path(dir) / "study.md").string();
+  if (spec.plot) write_plot(spec, exact, dir, result.plot_file);
+  if (!result.plot_file.empty()) md << "\n![errors](study_errors.png)\n";
+  io::write_text_atomically(result.markdown_file, md.str());
+  log::info("wrote ", result.csv_file, ", ", result.markdown_file, result.plot_file.empty() ? "" : ", " + result.plot_file);
+  return result;
+}
+
+}  // namespace warpfem::apps

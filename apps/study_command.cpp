@@ -1,0 +1,43 @@
+// warpfem study: convergence study of warped vs standard discretizations.
+
+#include <petscsys.h>
+
+#include "apps/commands.hpp"
+#include "apps/convergence_study.hpp"
+#include "core/environment.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+
+namespace warpfem::apps {
+
+int study_command(const std::vector<std::string>& args) {
+  const char* usage = "usage: warpfem study <study.json> [--output-dir DIR] [PETSc options]";
+  if (args.empty() || args[0].rfind("-", 0) == 0)
+    throw Error("missing study config (it must be the first argument)", {.file = "", .key_path = "", .hint = usage});
+  const std::string path = args[0];
+  std::string output_dir;
+  for (std::size_t i = 1; i < args.size(); ++i)
+    if (args[i] == "--output-dir") {
+      if (i + 1 >= args.size()) throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
+      output_dir = args[++i];
+    }
+  nlohmann::json json = io::ConfigNode::parse_file(path);
+  if (!json.is_object()) throw Error("expected a JSON object", {.file = path, .key_path = "/", .hint = ""});
+  const nlohmann::json study_json = json.contains("study") ? json["study"] : nlohmann::json::object();
+  json.erase("study");
+  StudySpec spec = parse_study_spec(io::ConfigNode(study_json, path, "/study"));
+  io::RunConfig cfg = io::parse_run_config(json, path);
+  if (!output_dir.empty()) cfg.output.directory = output_dir;
+  log::set_level(log::parse_level(cfg.verbosity));
+  Environment::insert_petsc_options(cfg.solver.petsc_options, path + ": /solver/petsc_options");
+  log::info("warpfem study ", path, ": ", spec.levels, " levels on ", Environment::size(), " rank(s)");
+  try {
+    run_study(cfg, spec, PETSC_COMM_WORLD);
+  } catch (const Error& e) {
+    if (e.context().file.empty() && !e.context().key_path.empty()) throw e.in_file(path);
+    throw;
+  }
+  return 0;
+}
+
+}  // namespace warpfem::apps
