@@ -1,6 +1,7 @@
 #include <petscsys.h>
 
 #include "apps/commands.hpp"
+#include "apps/elasticity_run.hpp"
 #include "apps/poisson_run.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
@@ -21,6 +22,8 @@ int run_command(const std::vector<std::string>& args) {
     }
     // Everything else is a PETSc option, already read by PetscInitialize.
   }
+  if (io::problem_type(io::ConfigNode::parse_file(config_path), config_path) == "elasticity")
+    return run_elasticity_command(config_path, output_dir);
   io::RunConfig cfg = io::load_run_config(config_path);
   if (!output_dir.empty()) cfg.output.directory = output_dir;
   log::set_level(log::parse_level(cfg.verbosity));

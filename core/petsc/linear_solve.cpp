@@ -15,12 +15,20 @@ LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOpti
   LinearSolver ksp;
   WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp.out()));
   WARPFEM_PETSC_CHECK(KSPSetOperators(ksp.get(), A, A));
-  WARPFEM_PETSC_CHECK(KSPSetType(ksp.get(), options.ksp_type.c_str()));
+  PetscInt rows = 0, cols = 0;
+  WARPFEM_PETSC_CHECK(MatGetSize(A, &rows, &cols));
+  const bool direct = rows < options.direct_below;
+  WARPFEM_PETSC_CHECK(KSPSetType(ksp.get(), direct ? KSPPREONLY : options.ksp_type.c_str()));
   PC pc = nullptr;
   WARPFEM_PETSC_CHECK(KSPGetPC(ksp.get(), &pc));
-  WARPFEM_PETSC_CHECK(PCSetType(pc, options.pc_type.c_str()));
+  WARPFEM_PETSC_CHECK(PCSetType(pc, direct ? PCLU : options.pc_type.c_str()));
+  if (direct) {
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    if (size > 1) WARPFEM_PETSC_CHECK(PCSetType(pc, PCREDUNDANT));
+  }
   WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp.get(), options.rtol, options.atol, PETSC_DEFAULT, options.max_iterations));
-  WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp.get(), PETSC_TRUE));
+  WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp.get(), direct ? PETSC_FALSE : PETSC_TRUE));
   if (!options.prefix.empty()) WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp.get(), options.prefix.c_str()));
   WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp.get()));
 

@@ -15,6 +15,9 @@ struct LinearSolveOptions {
   double atol = 1e-50;
   int max_iterations = 10000;
   std::string prefix;  ///< PETSc options prefix, e.g. "poisson_"
+  /// Systems with fewer unknowns are solved by LU (algebraic multigrid has nothing
+  /// to coarsen there and can fail on a handful of interior unknowns). 0 disables.
+  int direct_below = 500;
 };
 
 struct LinearSolveReport {

@@ -1,0 +1,37 @@
+#pragma once
+// Lumped L2 projection of quadrature-point data (stresses, det F) onto a
+// continuous P1/Q1 field of the same mesh and partition, for visualization:
+//   v_k = Σ_cells ∫ v φ_k dx / Σ_cells ∫ φ_k dx   (φ_k ≥ 0, so never divides by zero).
+// Uses only the cached WarpedGeometry.
+
+#include <vector>
+
+#include "fem/dof_distribution.hpp"
+#include "fem/dof_map.hpp"
+#include "fem/warped_geometry.hpp"
+
+namespace warpfem::fem {
+
+class NodalProjection {
+ public:
+  /// `geometry` must cover exactly this rank's cells of the partition of `mesh`.
+  NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry& geometry);
+  NodalProjection(const NodalProjection&) = delete;
+  NodalProjection& operator=(const NodalProjection&) = delete;
+
+  /// `values[i][q]`: value at quadrature point q of geometry cell i. Returns the projected
+  /// values at distribution().relevant_dofs(). Collective.
+  VectorX project(const std::vector<std::vector<double>>& values) const;
+
+  const DofMap& dofs() const { return dofs_; }
+  const DofDistribution& distribution() const { return dist_; }
+
+ private:
+  const WarpedGeometry& geometry_;
+  DofMap dofs_;
+  DofDistribution dist_;
+  MatrixX phi_;
+  petsc::Vector weights_;
+};
+
+}  // namespace warpfem::fem

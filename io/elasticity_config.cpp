@@ -1,0 +1,252 @@
+#include "io/elasticity_config.hpp"
+
+#include <sstream>
+
+#include "io/expression.hpp"
+
+namespace warpfem::io {
+namespace {
+
+std::string number_text(double v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << v;
+  return os.str();
+}
+
+/// [e0, e1]: numbers or expression strings; null marks a free component if allowed.
+VectorExpression parse_vector(const ConfigNode& node, const std::string& key, bool allow_null,
+                              const VectorExpression& fallback) {
+  if (!node.has(key)) return fallback;
+  const nlohmann::json& v = node.raw(key);
+  const std::string what = allow_null
+                               ? "[ux, uy] (numbers, expressions of x, y, t, or null for a free component)"
+                               : "[x, y] (numbers or expressions of x, y, t)";
+  if (!v.is_array() || v.size() != 2) throw node.error(key, "expected " + what + ", got " + json_excerpt(v));
+  VectorExpression out;
+  for (std::size_t c = 0; c < 2; ++c) {
+    const std::string path = node.path_of(key) + "/" + std::to_string(c);
+    if (v[c].is_number()) {
+      out[c] = number_text(v[c].get<double>());
+    } else if (v[c].is_string()) {
+      out[c] = v[c].get<std::string>();
+      Expression(out[c], node.file(), path);  // syntax check now
+    } else if (v[c].is_null() && allow_null) {
+      out[c] = "";
+    } else {
+      throw node.error(key + "/" + std::to_string(c),
+                       "expected a number or an expression, got " + json_excerpt(v[c]),
+                       allow_null ? "use null to leave this component free" : "");
+    }
+  }
+  return out;
+}
+
+std::vector<int> parse_edges(const ConfigNode& item, Index num_edges) {
+  std::vector<int> edges;
+  if (!item.has("edges")) return edges;
+  const nlohmann::json& e = item.raw("edges");
+  if (e.is_string() && e.get<std::string>() == "all") return edges;
+  if (!e.is_array())
+    throw item.error("edges", "expected \"all\" or an array of edge indices, got " + json_excerpt(e),
+                     "edge i joins target vertices i and i+1");
+  for (std::size_t k = 0; k < e.size(); ++k) {
+    if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_edges)
+      throw item.error(
+          "edges/" + std::to_string(k),
+          "expected an edge index in [0, " + std::to_string(num_edges - 1) + "], got " + json_excerpt(e[k]),
+          "edge i joins target vertices i and i+1");
+    edges.push_back(e[k].get<int>());
+  }
+  return edges;
+}
+
+std::vector<VectorBoundarySpec> parse_conditions(const ConfigNode& node, const std::string& key,
+                                                 const std::string& value_key, bool allow_null,
+                                                 Index num_edges) {
+  std::vector<VectorBoundarySpec> out;
+  if (!node.has(key)) return out;
+  const nlohmann::json& list = node.raw(key);
+  if (!list.is_array())
+    throw node.error(key, "expected an array of {\"edges\": ..., \"" + value_key +
+                              "\": [.., ..]} objects, got " + json_excerpt(list));
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const ConfigNode item(list[i], node.file(), node.path_of(key) + "/" + std::to_string(i));
+    VectorBoundarySpec bc;
+    bc.edges = parse_edges(item, num_edges);
+    if (!item.has(value_key))
+      throw item.error(value_key, "missing required field",
+                       "give [x, y] values, e.g. \"" + value_key + "\": [0, 0]");
+    bc.value = parse_vector(item, value_key, allow_null, {"0", "0"});
+    bc.key_path = item.path_of(value_key);
+    item.finish();
+    out.push_back(bc);
+  }
+  return out;
+}
+
+fem::Material parse_material(const ConfigNode& node) {
+  const std::string model = node.get_choice("model", "neo_hookean", {"neo_hookean", "linear_elastic"});
+  const bool young = node.has("E") || node.has("nu");
+  const bool lame = node.has("lambda") || node.has("mu");
+  if (young && lame)
+    throw node.error("lambda", "give either (E, nu) or (lambda, mu), not both", "remove one pair");
+  const double density = node.get_double("density", 1.0, 0.0);
+  fem::Material m;
+  if (lame) {
+    m.lambda = node.get_double("lambda", 1.0, 0.0);
+    m.mu = node.get_double("mu", 1.0);
+    if (!(m.mu > 0)) throw node.error("mu", "the shear modulus must be positive", "e.g. \"mu\": 1e3");
+  } else {
+    const double E = node.get_double("E", 1.0);
+    const double nu = node.get_double("nu", 0.3);
+    if (!(E > 0)) throw node.error("E", "Young's modulus must be positive", "e.g. \"E\": 1e5");
+    if (!(nu > -1 && nu < 0.5))
+      throw node.error("nu", "Poisson's ratio must lie in (-1, 0.5)",
+                       "e.g. \"nu\": 0.3 (0.5 is incompressible)");
+    m = fem::Material::from_young_poisson(fem::parse_material_model(model), E, nu, density);
+  }
+  m.model = fem::parse_material_model(model);
+  m.density = density;
+  node.finish();
+  return m;
+}
+
+}  // namespace
+
+std::string problem_type(const nlohmann::json& json, const std::string& file) {
+  if (!json.is_object() || !json.contains("problem") || !json["problem"].is_object() ||
+      !json["problem"].contains("type"))
+    return "poisson";
+  const nlohmann::json& t = json["problem"]["type"];
+  if (!t.is_string())
+    throw Error("expected a string, got " + json_excerpt(t),
+                {.file = file, .key_path = "/problem/type", .hint = "use \"poisson\" or \"elasticity\""});
+  return t.get<std::string>();
+}
+
+ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::string& file) {
+  ElasticityConfig cfg;
+  cfg.file = file;
+  const ConfigNode root(json, file);
+  cfg.verbosity = root.get_choice("verbosity", cfg.verbosity, {"quiet", "error", "warning", "info", "debug"});
+  if (!root.has("map"))
+    throw root.error("map", "missing required field: the map (at least its source polygon)",
+                     "add \"map\": {\"type\": \"identity\", \"source\": [[0,0],[1,0],[1,1],[0,1]]}");
+  cfg.map = parse_map_spec(root.child("map"));
+  const Index num_edges = cfg.map.source->size();
+  cfg.mesh = parse_mesh_spec(root.child("mesh"));
+
+  const ConfigNode problem = root.child("problem");
+  problem.get_choice("type", "elasticity", {"elasticity"});
+  auto& p = cfg.problem;
+  p.analysis = problem.get_choice("analysis", p.analysis, {"quasi_static", "transient"});
+  p.order = static_cast<int>(problem.get_int("order", p.order, 1, 2));
+  p.quadrature_degree = static_cast<int>(problem.get_int("quadrature_degree", 0, 0, 30));
+  if (!problem.has("material"))
+    throw problem.error("material", "missing required field: the material",
+                        "add \"material\": {\"model\": \"neo_hookean\", \"E\": 1e5, \"nu\": 0.3}");
+  p.material = parse_material(problem.child("material"));
+  if (problem.has("gravity")) {
+    const std::vector<double> g = problem.get_doubles("gravity");
+    if (g.size() != 2) throw problem.error("gravity", "expected [gx, gy]", "e.g. \"gravity\": [0, -9.81]");
+    p.gravity = {g[0], g[1]};
+  }
+  p.body_force = parse_vector(problem, "body_force", false, p.body_force);
+  p.dirichlet = parse_conditions(problem, "dirichlet", "displacement", true, num_edges);
+  p.neumann = parse_conditions(problem, "neumann", "traction", false, num_edges);
+  p.initial_velocity = parse_vector(problem, "initial_velocity", false, p.initial_velocity);
+  if (p.dirichlet.empty())
+    throw problem.error("dirichlet", "no displacement boundary condition: the body could move rigidly",
+                        "add \"dirichlet\": [{\"edges\": [0], \"displacement\": [0, 0]}]");
+  if (p.analysis == "quasi_static" && problem.has("initial_velocity"))
+    throw problem.error("initial_velocity", "an initial velocity needs \"analysis\": \"transient\"");
+  problem.finish();
+
+  const bool transient = p.analysis == "transient";
+  if (transient && root.has("load_stepping"))
+    throw root.error("load_stepping", "load stepping is for \"analysis\": \"quasi_static\"",
+                     "use \"time\": {\"step\": ..., \"end\": ...} for a transient run");
+  if (!transient && root.has("time"))
+    throw root.error("time", "time stepping is for \"analysis\": \"transient\"",
+                     "use \"load_stepping\": {\"steps\": ...} for a quasi-static run");
+  if (!transient) {
+    const ConfigNode ls = root.child("load_stepping");
+    cfg.load_stepping.steps = static_cast<int>(ls.get_int("steps", cfg.load_stepping.steps, 1, 100000));
+    cfg.load_stepping.min_increment =
+        ls.get_double("min_increment", cfg.load_stepping.min_increment, 1e-12, 1.0);
+    ls.finish();
+  } else {
+    const ConfigNode time = root.child("time");
+    cfg.time.step = time.get_double("step", cfg.time.step, 1e-300);
+    cfg.time.end = time.get_double("end", cfg.time.end, 1e-300);
+    cfg.time.rho_infinity = time.get_double("rho_infinity", cfg.time.rho_infinity, 0.0, 1.0);
+    cfg.time.damping = time.get_double("damping", cfg.time.damping, 0.0);
+    if (cfg.time.step > cfg.time.end)
+      throw time.error("step", "the time step is larger than the end time", "choose step <= end");
+    time.finish();
+  }
+
+  const ConfigNode solver = root.child("solver");
+  auto& s = cfg.solver;
+  s.rtol = solver.get_double("rtol", s.rtol, 0.0, 1.0);
+  s.atol = solver.get_double("atol", s.atol, 0.0);
+  s.max_iterations = static_cast<int>(solver.get_int("max_iterations", s.max_iterations, 1, 10000));
+  s.ksp_type = solver.get_string("ksp_type", s.ksp_type);
+  s.pc_type = solver.get_string("pc_type", s.pc_type);
+  s.factor_solver = solver.get_string("factor_solver", s.factor_solver);
+  s.petsc_options = solver.get_string("petsc_options", "");
+  solver.finish();
+
+  const ConfigNode output = root.child("output");
+  auto& o = cfg.output;
+  o.directory = output.get_string("directory", o.directory);
+  o.name = output.get_string("name", o.name);
+  if (o.name.empty() || o.name.find('/') != std::string::npos)
+    throw output.error("name", "expected a file name without '/', got \"" + o.name + "\"",
+                       "use e.g. \"gear\"");
+  o.vtk = output.get_bool("vtk", o.vtk);
+  o.vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
+  o.every = static_cast<int>(output.get_int("every", o.every, 1, 1000000));
+  output.finish();
+  root.finish();
+  return cfg;
+}
+
+ElasticityConfig load_elasticity_config(const std::string& path) {
+  const nlohmann::json json = ConfigNode::parse_file(path);
+  return parse_elasticity_config(json, path);
+}
+
+namespace {
+
+fem::ScalarFunction scalar(const std::string& text, const std::string& file, const std::string& key_path) {
+  if (text.empty()) return {};
+  const Expression e(text, file, key_path);
+  return [e](const Point<2>& x, double t) { return e.at<2>(x, t); };
+}
+
+fem::VectorFunction vector(const VectorExpression& v, const std::string& file, const std::string& key_path) {
+  const Expression ex(v[0], file, key_path + "/0"), ey(v[1], file, key_path + "/1");
+  return [ex, ey](const Point<2>& x, double t) { return Point<2>(ex.at<2>(x, t), ey.at<2>(x, t)); };
+}
+
+}  // namespace
+
+fem::ElasticityData make_elasticity_data(const ElasticityConfig& cfg) {
+  const auto& p = cfg.problem;
+  fem::ElasticityData data;
+  data.material = p.material;
+  data.gravity = Point<2>(p.gravity[0], p.gravity[1]);
+  if (p.body_force[0] != "0" || p.body_force[1] != "0")
+    data.body_force = vector(p.body_force, cfg.file, "/problem/body_force");
+  for (const auto& bc : p.dirichlet)
+    data.dirichlet.push_back({bc.edges,
+                              {scalar(bc.value[0], cfg.file, bc.key_path + "/0"),
+                               scalar(bc.value[1], cfg.file, bc.key_path + "/1")}});
+  for (const auto& bc : p.neumann)
+    data.neumann.push_back({bc.edges, vector(bc.value, cfg.file, bc.key_path)});
+  return data;
+}
+
+}  // namespace warpfem::io

@@ -1,0 +1,69 @@
+#pragma once
+// Small meshes, maps and helpers shared by the elasticity tests.
+
+#include <cmath>
+
+#include "core/petsc/check.hpp"
+#include "fem/elasticity/hyperelastic_operator.hpp"
+#include "fem/polygon_mesher.hpp"
+#include "fem/structured_mesher.hpp"
+#include "fem/uniform_refinement.hpp"
+#include "mapping/make_map.hpp"
+
+namespace warpfem::test {
+
+inline Polygon rectangle(double w, double h) {
+  return Polygon({Point<2>(0, 0), Point<2>(w, 0), Point<2>(w, h), Point<2>(0, h)}, "rectangle");
+}
+
+/// Structured triangle or quadrilateral mesh of [0, w] x [0, h], refined `refinements` times.
+inline fem::Mesh<2> block_mesh(double w, double h, int nx, int ny, fem::CellType type, int refinements = 0) {
+  fem::Mesh<2> mesh = fem::structured_mesh(rectangle(w, h), nx, ny, type);
+  for (int r = 0; r < refinements; ++r) mesh = fem::refine_uniformly(mesh).mesh;
+  return mesh;
+}
+
+/// A smooth non-affine warp of the unit square onto a quadrilateral-ish domain (barycentric map).
+inline mapping::MapPtr<2> warped_square_map() {
+  mapping::MapSpec spec;
+  spec.type = "barycentric";
+  spec.source = rectangle(1, 1);
+  spec.target =
+      Polygon({Point<2>(0, 0), Point<2>(1.1, 0.1), Point<2>(1.2, 1.0), Point<2>(-0.1, 0.9)}, "target");
+  return mapping::make_map(spec);
+}
+
+inline mapping::MapPtr<2> identity_map() {
+  return std::make_shared<mapping::IdentityMap<2>>();
+}
+
+/// Global vector values as an Eigen vector (owned entries gathered to every rank).
+inline VectorX to_eigen(const fem::VectorSpace& space, Vec v) {
+  return space.gather_all(v);
+}
+
+/// L2 norm over the warped domain of u_h - u_exact.
+inline double l2_error(const fem::HyperelasticOperator& op, Vec u, const fem::VectorFunction& exact) {
+  const VectorX ur = op.space().gather_relevant(u);
+  const auto& geo = op.geometry();
+  const auto& phi = op.shape_values();
+  const auto& cd = op.space().dofs().cell_dofs();
+  double local = 0;
+  for (Index i = 0; i < geo.num_cells(); ++i) {
+    const Index c = geo.cells()[static_cast<std::size_t>(i)];
+    for (Index q = 0; q < geo.points_per_cell(); ++q) {
+      const Index p = geo.at(i, q);
+      Point<2> uh = Point<2>::Zero();
+      for (Index k = 0; k < phi.cols(); ++k) {
+        const Index r = op.space().nodes().relevant_index(cd(c, k));
+        uh += phi(q, k) * ur.segment<2>(2 * r);
+      }
+      local += geo.JxW()(p) * (uh - exact(geo.physical_points().row(p).transpose(), 0.0)).squaredNorm();
+    }
+  }
+  double global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, op.space().comm());
+  return std::sqrt(global);
+}
+
+}  // namespace warpfem::test
