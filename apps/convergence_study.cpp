@@ -117,6 +117,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   const int order = cfg.poisson.order;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree : fem::default_quadrature_degree(order);
   const fem::PoissonData data = poisson_data(cfg);
+  petsc::LinearSolveOptions linear = cfg.solver.linear;
+  if (linear.pc_type == "mg") linear.pc_type = "gamg";  // the study solves each level on its own
   const int first = cfg.mesh.refinements;
   const int finest = first + spec.levels - 1;
   const fem::MeshHierarchy hierarchy(fem::make_coarse_mesh(*cfg.map.source, cfg.mesh),
@@ -134,7 +136,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     Stopwatch w;
     reference = std::make_unique<fem::PoissonProblem>(comm, hierarchy.finest(), f, order, qdeg, data);
     reference->assemble();
-    reference->solve(cfg.solver.linear);
+    reference->solve(linear);
     reference_norm = reference->solution_l2_norm();
     log::info("reference solution: level ", hierarchy.num_levels() - 1, ", ", reference->dofs().num_dofs(), " DOFs (",
               format_seconds(w.seconds()), ")");
@@ -178,7 +180,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
       }
       fem::PoissonProblem& problem = *owned;
       problem.assemble();
-      const auto solve = problem.solve(cfg.solver.linear);
+      const auto solve = problem.solve(linear);
       StudyRow row;
       row.discretization = d;
       row.level = level;

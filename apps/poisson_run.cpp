@@ -12,6 +12,7 @@
 #include "io/expression.hpp"
 #include "io/vtk_writer.hpp"
 #include "mapping/make_map.hpp"
+#include "multigrid/poisson_multigrid.hpp"
 
 namespace warpfem::apps {
 
@@ -25,16 +26,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   const mapping::MapPtr<2> map = mapping::make_map(cfg.map);
   log::info("map: ", map->describe(), " (", format_seconds(watch.seconds()), ")");
 
-  watch.reset();
   const Polygon& source = *cfg.map.source;
-  fem::Mesh<2> mesh = fem::make_coarse_mesh(source, cfg.mesh);
-  for (int r = 0; r < cfg.mesh.refinements; ++r) mesh = fem::refine_uniformly(mesh).mesh;
-  result.num_cells = mesh.num_cells();
-  result.h = mesh.max_edge_length();
-  log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
-            " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements, ",
-            format_seconds(watch.seconds()), ")");
-
   fem::PoissonData data;
   data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
   data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
@@ -42,20 +34,48 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   data.boundary_polygon = source;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
                                                      : fem::default_quadrature_degree(cfg.poisson.order);
+  // Geometric multigrid on the nested hierarchy (default) needs at least one refinement;
+  // otherwise the single level is solved with the configured (or algebraic) preconditioner.
+  const bool use_mg = cfg.solver.linear.pc_type == "mg" && cfg.mesh.refinements > 0;
   watch.reset();
-  fem::PoissonProblem problem(comm, mesh, map, cfg.poisson.order, qdeg, data);
+  std::unique_ptr<multigrid::PoissonMultigridSolver> mg;
+  std::unique_ptr<fem::Mesh<2>> single_mesh;
+  std::unique_ptr<fem::PoissonProblem> single;
+  if (use_mg) {
+    multigrid::PoissonMultigridOptions mg_options;
+    mg_options.linear = cfg.solver.linear;
+    mg = std::make_unique<multigrid::PoissonMultigridSolver>(comm, fem::make_coarse_mesh(source, cfg.mesh),
+                                                             cfg.mesh.refinements, map, cfg.poisson.order, qdeg,
+                                                             data, mg_options);
+  } else {
+    single_mesh = std::make_unique<fem::Mesh<2>>(fem::make_coarse_mesh(source, cfg.mesh));
+    for (int r = 0; r < cfg.mesh.refinements; ++r) *single_mesh = fem::refine_uniformly(*single_mesh).mesh;
+    single = std::make_unique<fem::PoissonProblem>(comm, *single_mesh, map, cfg.poisson.order, qdeg, data);
+    single->assemble();
+  }
+  fem::PoissonProblem& problem = use_mg ? mg->finest() : *single;
+  const fem::Mesh<2>& mesh = problem.mesh();
+  result.num_cells = mesh.num_cells();
+  result.h = mesh.max_edge_length();
   result.num_dofs = problem.dofs().num_dofs();
-  log::info("warped geometry: ", problem.geometry().num_cells() * problem.geometry().points_per_cell(),
-            " quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
-  watch.reset();
-  problem.assemble();
-  log::info("assembled P", cfg.poisson.order, " Poisson: ", result.num_dofs, " DOFs on ", size, " rank(s) (",
-            format_seconds(watch.seconds()), ")");
+  log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
+            " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements)");
+  log::info("assembled P", cfg.poisson.order, " Poisson", use_mg ? " on every level" : "", ": ", result.num_dofs,
+            " DOFs on ", size, " rank(s), ", problem.geometry().num_cells() * problem.geometry().points_per_cell(),
+            " warped quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
 
-  result.solve = problem.solve(cfg.solver.linear);
-  log::info("solved with ", result.solve.ksp_type, "/", result.solve.pc_type, ": ", result.solve.iterations,
-            " iterations, residual ", std::scientific, std::setprecision(2), result.solve.residual_norm, " (setup ",
-            format_seconds(result.solve.setup_seconds), ", solve ", format_seconds(result.solve.solve_seconds), ")");
+  if (use_mg) {
+    result.solve = mg->solve().linear;
+  } else {
+    petsc::LinearSolveOptions linear = cfg.solver.linear;
+    if (linear.pc_type == "mg") linear.pc_type = "gamg";  // one level: nothing to build a geometric hierarchy from
+    result.solve = problem.solve(linear);
+  }
+  log::info("solved with ", result.solve.ksp_type, "/", result.solve.pc_type,
+            use_mg ? " (" + std::to_string(cfg.mesh.refinements + 1) + " levels)" : std::string(), ": ",
+            result.solve.iterations, " iterations, residual ", std::scientific, std::setprecision(2),
+            result.solve.residual_norm, " (setup ", format_seconds(result.solve.setup_seconds), ", solve ",
+            format_seconds(result.solve.solve_seconds), ")");
 
   result.area = problem.area();
   if (!cfg.poisson.exact_solution.empty()) {

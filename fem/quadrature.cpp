@@ -44,6 +44,35 @@ QuadratureRule<2> cell_quadrature(CellType type, int degree) {
     return rule;
   }
   require(type == CellType::triangle, "cell_quadrature: unsupported cell type " + to_string(type));
+  if (degree <= 5) {
+    // Symmetric rules with fewer points than the collapsed Gauss rule (Strang–Fix / Dunavant):
+    // every quadrature point costs one evaluation of the map, so this is what matters for WarpedGeometry.
+    struct Orbit {
+      double a, weight;  // points (a, a), (1 - 2a, a), (a, 1 - 2a); a = 1/3 is the centroid
+    };
+    std::vector<Orbit> orbits;
+    if (degree <= 1) orbits = {{1.0 / 3.0, 1.0}};
+    else if (degree == 2) orbits = {{1.0 / 6.0, 1.0 / 3.0}};
+    else if (degree <= 4) orbits = {{0.445948490915965, 0.223381589678011}, {0.091576213509771, 0.109951743655322}};
+    else orbits = {{1.0 / 3.0, 0.225}, {0.470142064105115, 0.132394152788506}, {0.101286507323456, 0.125939180544827}};
+    std::vector<std::array<double, 3>> pts;  // x, y, weight on the unit-area-normalized triangle
+    for (const auto& o : orbits) {
+      if (o.a == 1.0 / 3.0) {
+        pts.push_back({o.a, o.a, o.weight});
+      } else {
+        pts.push_back({o.a, o.a, o.weight});
+        pts.push_back({1 - 2 * o.a, o.a, o.weight});
+        pts.push_back({o.a, 1 - 2 * o.a, o.weight});
+      }
+    }
+    rule.points.resize(static_cast<Index>(pts.size()), 2);
+    rule.weights.resize(static_cast<Index>(pts.size()));
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      rule.points.row(static_cast<Index>(k)) << pts[k][0], pts[k][1];
+      rule.weights(static_cast<Index>(k)) = 0.5 * pts[k][2];  // reference triangle area 1/2
+    }
+    return rule;
+  }
   // Collapsed coordinates: (u, v) in [0,1]^2 -> (x, y) = (u (1 - v), v), Jacobian (1 - v).
   // Gauss in both directions with one extra point in v for the Jacobian factor.
   const auto gu = gauss_legendre(degree / 2 + 1);

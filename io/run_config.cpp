@@ -215,7 +215,7 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   const ConfigNode solver = root.child("solver");
   auto& lin = cfg.solver.linear;
   lin.ksp_type = solver.get_string("ksp_type", lin.ksp_type);
-  lin.pc_type = solver.get_string("pc_type", lin.pc_type);
+  lin.pc_type = solver.get_string("pc_type", "mg");  // geometric multigrid on the nested hierarchy
   lin.rtol = solver.get_double("rtol", lin.rtol, 0.0, 1.0);
   lin.atol = solver.get_double("atol", lin.atol, 0.0);
   lin.max_iterations = static_cast<int>(solver.get_int("max_iterations", lin.max_iterations, 1));

@@ -39,6 +39,8 @@ class BarycentricStep {
   Real max_displacement() const;
 
  private:
+  /// The body of apply(); compiled for several instruction sets (see barycentric_step.cpp).
+  void apply_kernel(const Real* x, const Real* y, int cnt, Real* fx, Real* fy, Real* J) const;
   Coordinates coordinates_;
   PolygonArrays source_;
   std::vector<Real> ux_, uy_;  ///< w_i − v_i

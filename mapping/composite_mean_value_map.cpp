@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 
 namespace warpfem::mapping {
 namespace {
@@ -26,7 +27,8 @@ std::vector<Polygon> path_polygons(const VertexPath& path, const std::vector<Rea
 
 }  // namespace
 
-CompositeMeanValueMap::CompositeMeanValueMap(const VertexPath& path, std::vector<Real> times, Coordinates coordinates)
+CompositeMeanValueMap::CompositeMeanValueMap(const VertexPath& path, std::vector<Real> times,
+                                             Coordinates coordinates)
     : CompositeMeanValueMap(path_polygons(path, times), times, coordinates) {}
 
 CompositeMeanValueMap::CompositeMeanValueMap(std::vector<Polygon> polygons, std::vector<Real> times,
@@ -41,49 +43,54 @@ CompositeMeanValueMap::CompositeMeanValueMap(std::vector<Polygon> polygons, std:
     steps_.emplace_back(polygons_[k], polygons_[k + 1].vertices(), coordinates_);
 }
 
-void CompositeMeanValueMap::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J, MatrixX* det_steps) const {
+void CompositeMeanValueMap::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J,
+                                MatrixX* det_steps) const {
   const Index N = x0.rows();
   const int B = kStepBlock;
   const bool need_J = J != nullptr || det_steps != nullptr;
   if (x) x->resize(N, 2);
   if (J) J->resize(N, 4);
   if (det_steps) det_steps->resize(N, steps());
-  alignas(64) Real cx[kStepBlock], cy[kStepBlock], nx[kStepBlock], ny[kStepBlock];
-  alignas(64) Real A[4 * kStepBlock], P[4 * kStepBlock];  // step Jacobian, product
-  for (Index p0 = 0; p0 < N; p0 += B) {
-    const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
-    std::copy(x0.data() + p0, x0.data() + p0 + cnt, cx);
-    std::copy(x0.data() + N + p0, x0.data() + N + p0 + cnt, cy);
-    for (int p = 0; p < cnt; ++p) {
-      P[p] = P[3 * B + p] = 1;
-      P[B + p] = P[2 * B + p] = 0;
-    }
-    for (std::size_t k = 0; k < steps_.size(); ++k) {
-      steps_[k].apply(cx, cy, cnt, nx, ny, need_J ? A : nullptr);
-      if (need_J) {
-        for (int p = 0; p < cnt; ++p) {  // P ← A P
-          const Real a = A[p], b = A[B + p], c = A[2 * B + p], d = A[3 * B + p];
-          const Real p00 = P[p], p01 = P[B + p], p10 = P[2 * B + p], p11 = P[3 * B + p];
-          P[p] = a * p00 + b * p10;
-          P[B + p] = a * p01 + b * p11;
-          P[2 * B + p] = c * p00 + d * p10;
-          P[3 * B + p] = c * p01 + d * p11;
-        }
-        if (det_steps) {
-          Real* col = det_steps->data() + static_cast<Index>(k) * N + p0;
-          for (int p = 0; p < cnt; ++p) col[p] = A[p] * A[3 * B + p] - A[B + p] * A[2 * B + p];
-        }
+  // Blocks are independent: split them over threads (core/threads.hpp).
+  const Index blocks = (N + B - 1) / B;
+  parallel_for(blocks, 4, [&](Index first_block, Index last_block) {
+    alignas(64) Real cx[kStepBlock], cy[kStepBlock], nx[kStepBlock], ny[kStepBlock];
+    alignas(64) Real A[4 * kStepBlock], P[4 * kStepBlock];  // step Jacobian, product
+    for (Index p0 = first_block * B; p0 < std::min(N, last_block * B); p0 += B) {
+      const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
+      std::copy(x0.data() + p0, x0.data() + p0 + cnt, cx);
+      std::copy(x0.data() + N + p0, x0.data() + N + p0 + cnt, cy);
+      for (int p = 0; p < cnt; ++p) {
+        P[p] = P[3 * B + p] = 1;
+        P[B + p] = P[2 * B + p] = 0;
       }
-      std::copy(nx, nx + cnt, cx);
-      std::copy(ny, ny + cnt, cy);
+      for (std::size_t k = 0; k < steps_.size(); ++k) {
+        steps_[k].apply(cx, cy, cnt, nx, ny, need_J ? A : nullptr);
+        if (need_J) {
+          for (int p = 0; p < cnt; ++p) {  // P ← A P
+            const Real a = A[p], b = A[B + p], c = A[2 * B + p], d = A[3 * B + p];
+            const Real p00 = P[p], p01 = P[B + p], p10 = P[2 * B + p], p11 = P[3 * B + p];
+            P[p] = a * p00 + b * p10;
+            P[B + p] = a * p01 + b * p11;
+            P[2 * B + p] = c * p00 + d * p10;
+            P[3 * B + p] = c * p01 + d * p11;
+          }
+          if (det_steps) {
+            Real* col = det_steps->data() + static_cast<Index>(k) * N + p0;
+            for (int p = 0; p < cnt; ++p) col[p] = A[p] * A[3 * B + p] - A[B + p] * A[2 * B + p];
+          }
+        }
+        std::copy(nx, nx + cnt, cx);
+        std::copy(ny, ny + cnt, cy);
+      }
+      if (x) {
+        std::copy(cx, cx + cnt, x->data() + p0);
+        std::copy(cy, cy + cnt, x->data() + N + p0);
+      }
+      if (J)
+        for (int c = 0; c < 4; ++c) std::copy(P + c * B, P + c * B + cnt, J->data() + c * N + p0);
     }
-    if (x) {
-      std::copy(cx, cx + cnt, x->data() + p0);
-      std::copy(cy, cy + cnt, x->data() + N + p0);
-    }
-    if (J)
-      for (int c = 0; c < 4; ++c) std::copy(P + c * B, P + c * B + cnt, J->data() + c * N + p0);
-  }
+  });
 }
 
 void CompositeMeanValueMap::eval(const Points<2>& x0, Points<2>& x) const {
@@ -95,7 +102,9 @@ void CompositeMeanValueMap::eval(const Points<2>& x0, Points<2>& x) const {
   }
 }
 
-void CompositeMeanValueMap::jacobian(const Points<2>& x0, Jacobians<2>& J) const { run(x0, nullptr, &J, nullptr); }
+void CompositeMeanValueMap::jacobian(const Points<2>& x0, Jacobians<2>& J) const {
+  run(x0, nullptr, &J, nullptr);
+}
 
 void CompositeMeanValueMap::eval_with_jacobian(const Points<2>& x0, Points<2>& x, Jacobians<2>& J) const {
   if (&x0 == &x) {

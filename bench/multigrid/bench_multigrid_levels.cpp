@@ -1,0 +1,158 @@
+// Level study of geometric multigrid (PCMG with our nested prolongations)
+// against PETSc GAMG and hypre BoomerAMG, on the same matrices, right-hand
+// sides and initial guesses: CG to a 1e-8 relative (unpreconditioned) residual.
+//
+//   build/bench/multigrid/bench_multigrid_levels -order 1 -max_refinements 6 -map composite
+//   mpiexec -n 2 build/bench/multigrid/bench_multigrid_levels -order 1 -min_refinements 6 -max_refinements 6
+//
+// Options: -order 1|2, -cells triangle|quad, -coarse_h <h> (0.3), -min_refinements/-max_refinements,
+// -map identity|composite (L-shape to an L-shape with a pulled re-entrant corner; -target x0,y0,...,x5,y5
+// gives another target hexagon), -amg 0|1, -galerkin 0|1,
+// -quadrature_degree <q> (default fem::default_quadrature_degree(order)).
+// MG set-up = refinement + per-level problems + assembly of every level + prolongations + KSPSetUp.
+// AMG set-up = KSPSetUp only (the finest matrix is shared, its assembly is the "fine asm" column).
+// Any PETSc option applies (-log_view, -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...).
+
+#include <cstdio>
+#include <string>
+
+#include "core/environment.hpp"
+#include "core/petsc/check.hpp"
+#include "core/timer.hpp"
+#include "fem/polygon_mesher.hpp"
+#include "fem/structured_mesher.hpp"
+#include "mapping/make_map.hpp"
+#include "multigrid/poisson_multigrid.hpp"
+
+using namespace warpfem;
+
+namespace {
+
+struct AmgResult {
+  double setup = 0, solve = 0;
+  int iterations = 0;
+};
+
+AmgResult solve_amg(Mat A, Vec b, Vec x0, const char* pc_type) {
+  AmgResult r;
+  MPI_Comm comm;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  petsc::Vector x;
+  WARPFEM_PETSC_CHECK(VecDuplicate(x0, x.out()));
+  WARPFEM_PETSC_CHECK(VecCopy(x0, x.get()));
+  petsc::LinearSolver ksp;
+  WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp.out()));
+  WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp.get(), "amg_"));
+  WARPFEM_PETSC_CHECK(KSPSetOperators(ksp.get(), A, A));
+  WARPFEM_PETSC_CHECK(KSPSetType(ksp.get(), KSPCG));
+  WARPFEM_PETSC_CHECK(KSPSetNormType(ksp.get(), KSP_NORM_UNPRECONDITIONED));
+  WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp.get(), 1e-8, 1e-50, PETSC_DEFAULT, 1000));
+  WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp.get(), PETSC_TRUE));
+  PC pc;
+  WARPFEM_PETSC_CHECK(KSPGetPC(ksp.get(), &pc));
+  WARPFEM_PETSC_CHECK(PCSetType(pc, pc_type));
+  if (std::string(pc_type) == PCHYPRE) WARPFEM_PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+  WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp.get()));
+  Stopwatch watch;
+  WARPFEM_PETSC_CHECK(KSPSetUp(ksp.get()));
+  r.setup = watch.seconds();
+  watch.reset();
+  WARPFEM_PETSC_CHECK(KSPSolve(ksp.get(), b, x.get()));
+  r.solve = watch.seconds();
+  PetscInt its = 0;
+  WARPFEM_PETSC_CHECK(KSPGetIterationNumber(ksp.get(), &its));
+  KSPConvergedReason reason;
+  WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp.get(), &reason));
+  r.iterations = reason > 0 ? static_cast<int>(its) : -static_cast<int>(its);
+  return r;
+}
+
+PetscInt int_option(const char* name, PetscInt fallback) {
+  PetscInt v = fallback;
+  WARPFEM_PETSC_CHECK(PetscOptionsGetInt(nullptr, nullptr, name, &v, nullptr));
+  return v;
+}
+
+std::string string_option(const char* name, const char* fallback) {
+  char buf[64] = {0};
+  PetscBool set = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(PetscOptionsGetString(nullptr, nullptr, name, buf, sizeof buf, &set));
+  return set ? buf : fallback;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Environment env(argc, argv);
+  log::set_level(log::Level::warning);
+  const int order = static_cast<int>(int_option("-order", 1));
+  const int rmin = static_cast<int>(int_option("-min_refinements", 1));
+  const int rmax = static_cast<int>(int_option("-max_refinements", 5));
+  const bool amg = int_option("-amg", 1) != 0;
+  const bool galerkin = int_option("-galerkin", 0) != 0;
+  const std::string map_type = string_option("-map", "identity");
+  const bool quads = string_option("-cells", "triangle") == "quad";
+  const int qdeg = static_cast<int>(int_option("-quadrature_degree", fem::default_quadrature_degree(order)));
+  PetscReal coarse_h = 0.3;
+  WARPFEM_PETSC_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-coarse_h", &coarse_h, nullptr));
+
+  // 1. Geometry: the L-shape Ω0 and a map (identity, or a composite mean value map to a bent L).
+  const Polygon source = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L-shape");
+  mapping::MapSpec spec;
+  spec.type = map_type == "composite" ? "composite_mean_value" : "identity";
+  spec.source = source;
+  PetscReal t[12] = {0, 0, 2, 0, 2.2, 1.4, 1.3, 0.8, 1.1, 2, -0.2, 1.8};
+  PetscInt nt = 12;
+  WARPFEM_PETSC_CHECK(PetscOptionsGetRealArray(nullptr, nullptr, "-target", t, &nt, nullptr));
+  std::vector<Point<2>> target;
+  for (int i = 0; i < 6; ++i) target.emplace_back(t[2 * i], t[2 * i + 1]);
+  spec.target = Polygon::checked(target, "target L");
+  Stopwatch watch;
+  const mapping::MapPtr<2> map = mapping::make_map(spec);
+  const double map_seconds = watch.seconds();
+  fem::Mesh<2> coarse = fem::mesh_polygon(source, {.max_edge_length = coarse_h});
+  if (quads) coarse = fem::split_into_quadrilaterals(coarse);
+
+  // 2. Problem: −Δu = 1 on f(Ω0), u = 0 on the whole boundary.
+  fem::PoissonData data;
+  data.source = [](const Point<2>&, double) { return 1.0; };
+  data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>&, double) { return 0.0; }});
+
+  if (Environment::rank() == 0) {
+    std::printf(
+        "# %s%d, map %s (built in %.3f s), %d rank(s), coarse h %.3g, quadrature degree %d, "
+        "CG to 1e-8 relative residual\n",
+        quads ? "Q" : "P", order, map->describe().c_str(), map_seconds, Environment::size(), coarse_h, qdeg);
+    std::printf("%6s %10s | %8s %8s %8s %8s %8s %8s %4s %9s | %8s %8s %4s | %8s %8s %4s\n", "levels", "DOFs",
+                "refine", "problems", "assembly", "fine asm", "transfer", "pcsetup", "its", "solve",
+                "gamg set", "solve", "its", "hypre st", "solve", "its");
+  }
+  for (int r = rmin; r <= rmax; ++r) {
+    multigrid::PoissonMultigridOptions options;
+    if (galerkin) options.multigrid.coarse_operators = multigrid::MultigridSettings::CoarseOperators::galerkin;
+    multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, r, map, order, qdeg, data, options);
+    fem::PoissonProblem& fine = mg.finest();
+    petsc::Vector u0;
+    WARPFEM_PETSC_CHECK(VecDuplicate(fine.solution(), u0.out()));
+    WARPFEM_PETSC_CHECK(VecCopy(fine.solution(), u0.get()));
+    const auto rep = mg.solve();
+    const auto& t = rep.timings;
+    AmgResult gamg, hypre;
+    if (amg) {
+      gamg = solve_amg(fine.matrix(), fine.rhs(), u0.get(), PCGAMG);
+      hypre = solve_amg(fine.matrix(), fine.rhs(), u0.get(), PCHYPRE);
+    }
+    if (Environment::rank() == 0) {
+      std::printf(
+          "%6d %10lld | %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %4d %9.4f | %8.3f %8.3f %4d | %8.3f %8.3f %4d\n",
+          rep.levels, static_cast<long long>(rep.level_dofs.back()), t.hierarchy, t.problems, t.assembly,
+          t.finest_assembly, t.transfers, t.pc_setup, rep.linear.iterations, rep.linear.solve_seconds,
+          gamg.setup, gamg.solve, gamg.iterations, hypre.setup, hypre.solve, hypre.iterations);
+      std::printf("%17s MG total set-up %.3f s, set-up + solve %.3f s, solve per DOF %.1f ns\n", "",
+                  t.setup(), t.setup() + rep.linear.solve_seconds,
+                  1e9 * rep.linear.solve_seconds / static_cast<double>(rep.level_dofs.back()));
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,78 @@
+#include "multigrid/pcmg.hpp"
+
+#include <string>
+
+#include "core/error.hpp"
+#include "core/petsc/check.hpp"
+
+namespace warpfem::multigrid {
+namespace {
+
+void configure_smoother(KSP smoother, const MultigridSettings& s) {
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
+  if (s.smoother == MultigridSettings::Smoother::chebyshev_jacobi) {
+    WARPFEM_PETSC_CHECK(KSPSetType(smoother, KSPCHEBYSHEV));
+    WARPFEM_PETSC_CHECK(PCSetType(pc, PCJACOBI));
+    // Target [0.1, 1.1] λmax of D⁻¹A, λmax from a few CG iterations at set-up.
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.1, 0.0, 1.1));
+    KSP est = nullptr;
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigGetKSP(smoother, &est));
+    if (est) WARPFEM_PETSC_CHECK(KSPSetType(est, KSPCG));
+  } else {
+    WARPFEM_PETSC_CHECK(KSPSetType(smoother, KSPRICHARDSON));
+    WARPFEM_PETSC_CHECK(PCSetType(pc, PCSOR));
+    WARPFEM_PETSC_CHECK(PCSORSetSymmetric(pc, SOR_LOCAL_SYMMETRIC_SWEEP));
+  }
+}
+
+}  // namespace
+
+void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::vector<Mat>& operators,
+                    const MultigridSettings& settings) {
+  const int levels = static_cast<int>(interpolations.size()) + 1;
+  const bool galerkin = settings.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
+  if (operators.empty() || (!galerkin && static_cast<int>(operators.size()) != levels))
+    throw Error("configure_pcmg: " + std::to_string(operators.size()) + " level operators for " +
+                    std::to_string(levels) + " levels",
+                {.file = "",
+                 .key_path = "",
+                 .hint = "pass one operator per level, or only the finest with Galerkin coarse operators"});
+  require(settings.smoothing_steps >= 1, "configure_pcmg: smoothing_steps must be >= 1");
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(ksp), &comm));
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+
+  Mat finest = operators.back();
+  WARPFEM_PETSC_CHECK(KSPSetOperators(ksp, finest, finest));
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(ksp, &pc));
+  WARPFEM_PETSC_CHECK(PCSetType(pc, PCMG));
+  WARPFEM_PETSC_CHECK(PCMGSetLevels(pc, levels, nullptr));
+  WARPFEM_PETSC_CHECK(
+      PCMGSetType(pc, settings.cycle == MultigridSettings::Cycle::f ? PC_MG_FULL : PC_MG_MULTIPLICATIVE));
+  WARPFEM_PETSC_CHECK(
+      PCMGSetCycleType(pc, settings.cycle == MultigridSettings::Cycle::w ? PC_MG_CYCLE_W : PC_MG_CYCLE_V));
+  WARPFEM_PETSC_CHECK(PCMGSetGalerkin(pc, galerkin ? PC_MG_GALERKIN_BOTH : PC_MG_GALERKIN_NONE));
+  WARPFEM_PETSC_CHECK(PCMGSetNumberSmooth(pc, settings.smoothing_steps));
+  for (int l = 1; l < levels; ++l) WARPFEM_PETSC_CHECK(PCMGSetInterpolation(pc, l, interpolations[l - 1]));
+
+  for (int l = 1; l < levels; ++l) {
+    KSP smoother = nullptr;
+    WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, l, &smoother));
+    if (!galerkin) WARPFEM_PETSC_CHECK(KSPSetOperators(smoother, operators[l], operators[l]));
+    configure_smoother(smoother, settings);
+  }
+  KSP coarse = nullptr;
+  WARPFEM_PETSC_CHECK(PCMGGetCoarseSolve(pc, &coarse));
+  if (!galerkin && levels > 1) WARPFEM_PETSC_CHECK(KSPSetOperators(coarse, operators[0], operators[0]));
+  WARPFEM_PETSC_CHECK(KSPSetType(coarse, KSPPREONLY));
+  PC coarse_pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(coarse, &coarse_pc));
+  // Serial: LU (the eliminated Dirichlet rows keep the coarse matrix SPD and nonsingular).
+  // Parallel: every rank factors a full copy (the coarse level is small).
+  WARPFEM_PETSC_CHECK(PCSetType(coarse_pc, size == 1 ? PCLU : PCREDUNDANT));
+}
+
+}  // namespace warpfem::multigrid

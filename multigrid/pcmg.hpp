@@ -1,0 +1,36 @@
+#pragma once
+// PETSc PCMG set-up from a nested hierarchy: our interpolation matrices, level
+// operators by rediscretization (or Galerkin PᵀAP), Chebyshev–Jacobi smoothing
+// and a direct coarse solve. The settings below are only defaults written
+// into the KSP; every one of them is overridden by the options database under
+// the KSP's prefix, e.g. -mg_levels_ksp_type richardson -mg_levels_pc_type sor,
+// -pc_mg_cycle_type w, -pc_mg_type full, -mg_coarse_pc_type lu, -pc_mg_log.
+
+#include <petscksp.h>
+
+#include <vector>
+
+namespace warpfem::multigrid {
+
+struct MultigridSettings {
+  enum class Cycle { v, w, f };
+  enum class Smoother { chebyshev_jacobi, sor };
+  enum class CoarseOperators { rediscretization, galerkin };
+  Cycle cycle = Cycle::v;  ///< -pc_mg_cycle_type v|w; f is -pc_mg_type full
+  Smoother smoother = Smoother::chebyshev_jacobi;
+  CoarseOperators coarse_operators = CoarseOperators::rediscretization;  ///< -pc_mg_galerkin
+  int smoothing_steps = 2;  ///< pre- and post-smoothing steps; override: -mg_levels_ksp_max_it
+};
+
+/// Makes the preconditioner of `ksp` a PCMG with interpolations.size() + 1
+/// levels (level 0 coarsest). `interpolations[l]` maps level l to level l + 1
+/// (rows: level l + 1). `operators` is either one matrix per level (coarse to
+/// fine) or, with Galerkin coarse operators, possibly only the finest one; the
+/// finest becomes the KSP's operator. The caller keeps the matrices alive as
+/// long as the KSP (PETSc takes references). Call KSPSetFromOptions afterwards
+/// so the options database can override these defaults.
+/// Throws warpfem::Error for inconsistent sizes, PETSc failures via WARPFEM_PETSC_CHECK.
+void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::vector<Mat>& operators,
+                    const MultigridSettings& settings = {});
+
+}  // namespace warpfem::multigrid

@@ -1,0 +1,118 @@
+#include "multigrid/poisson_multigrid.hpp"
+
+#include "core/error.hpp"
+#include "core/petsc/check.hpp"
+#include "core/timer.hpp"
+#include "multigrid/dirichlet_dofs.hpp"
+#include "multigrid/prolongation.hpp"
+
+namespace warpfem::multigrid {
+namespace {
+fem::MeshHierarchy timed_hierarchy(fem::Mesh<2> coarse, int refinements, double& seconds) {
+  if (refinements < 0)
+    throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
+                {.file = "", .key_path = "/mesh/refinements", .hint = "use 0 or more refinements"});
+  Stopwatch watch;
+  fem::MeshHierarchy h(std::move(coarse), refinements);
+  seconds = watch.seconds();
+  return h;
+}
+}  // namespace
+
+PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coarse, int refinements,
+                                               mapping::MapPtr<2> map, int order, int quadrature_degree,
+                                               fem::PoissonData data, const PoissonMultigridOptions& options)
+    : hierarchy_(timed_hierarchy(std::move(coarse), refinements, timings_.hierarchy)) {
+  Stopwatch watch;
+  MultigridTimings& t = timings_;
+  const int levels = hierarchy_.num_levels();
+  const bool galerkin = options.multigrid.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
+  report_.levels = levels;
+
+  // 1. One PoissonProblem (DOF map, distribution, cached warped geometry) per level.
+  watch.reset();
+  for (int l = 0; l < levels; ++l) {
+    problems_.push_back(std::make_unique<fem::PoissonProblem>(
+        comm, hierarchy_.levels[static_cast<std::size_t>(l)], map, order, quadrature_degree, data));
+    report_.level_dofs.push_back(problems_.back()->dofs().num_dofs());
+  }
+  t.problems = watch.seconds();
+
+  // 2. Level operators: rediscretization on every level, or the finest only (Galerkin).
+  watch.reset();
+  for (int l = galerkin ? levels - 1 : 0; l < levels; ++l) {
+    Stopwatch level_watch;
+    problems_[l]->assemble();
+    if (l == levels - 1) t.finest_assembly = level_watch.seconds();
+  }
+  t.assembly = watch.seconds();
+
+  // 3. Prolongations, consistent with the eliminated Dirichlet rows and columns.
+  watch.reset();
+  std::vector<LevelSpace> spaces(static_cast<std::size_t>(levels));
+  for (int l = 0; l < levels; ++l) {
+    const fem::PoissonProblem& p = *problems_[l];
+    spaces[l] = {.dofs = &p.dofs(),
+                 .distribution = &p.distribution(),
+                 .dirichlet = dirichlet_dofs(p.mesh(), p.dofs(), data)};
+  }
+  for (int l = 1; l < levels; ++l)
+    prolongations_.push_back(assemble_prolongation(hierarchy_, l, spaces[l - 1], spaces[l]));
+  t.transfers = watch.seconds();
+
+  // 4. KSP + PCMG; the options database overrides every default.
+  watch.reset();
+  std::vector<Mat> interpolations, operators;
+  for (const auto& P : prolongations_) interpolations.push_back(P.get());
+  for (int l = galerkin ? levels - 1 : 0; l < levels; ++l) operators.push_back(problems_[l]->matrix());
+  const petsc::LinearSolveOptions& lin = options.linear;
+  WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp_.out()));
+  if (!lin.prefix.empty()) WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp_.get(), lin.prefix.c_str()));
+  WARPFEM_PETSC_CHECK(KSPSetType(ksp_.get(), lin.ksp_type.c_str()));
+  WARPFEM_PETSC_CHECK(KSPSetNormType(ksp_.get(), KSP_NORM_UNPRECONDITIONED));
+  WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp_.get(), lin.rtol, lin.atol, PETSC_DEFAULT, lin.max_iterations));
+  WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_.get(), PETSC_TRUE));
+  configure_pcmg(ksp_.get(), interpolations, operators, options.multigrid);
+  WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp_.get()));
+  WARPFEM_PETSC_CHECK(KSPSetUp(ksp_.get()));
+  t.pc_setup = watch.seconds();
+}
+
+PoissonMultigridSolver::~PoissonMultigridSolver() = default;
+
+MultigridSolveReport PoissonMultigridSolver::solve() {
+  fem::PoissonProblem& p = finest();
+  Stopwatch watch;
+  WARPFEM_PETSC_CHECK(KSPSolve(ksp_.get(), p.rhs(), p.solution()));
+  petsc::LinearSolveReport& r = report_.linear;
+  r.solve_seconds = watch.seconds();
+  report_.timings = timings_;
+  r.setup_seconds = timings_.setup();
+  KSPConvergedReason reason;
+  PetscInt its = 0;
+  PetscReal rnorm = 0;
+  KSPType kt = nullptr;
+  PCType pt = nullptr;
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp_.get(), &reason));
+  WARPFEM_PETSC_CHECK(KSPGetIterationNumber(ksp_.get(), &its));
+  WARPFEM_PETSC_CHECK(KSPGetResidualNorm(ksp_.get(), &rnorm));
+  WARPFEM_PETSC_CHECK(KSPGetType(ksp_.get(), &kt));
+  WARPFEM_PETSC_CHECK(KSPGetPC(ksp_.get(), &pc));
+  WARPFEM_PETSC_CHECK(PCGetType(pc, &pt));
+  r.iterations = static_cast<int>(its);
+  r.residual_norm = rnorm;
+  r.ksp_type = kt ? kt : "";
+  r.pc_type = pt ? pt : "";
+  r.converged_reason = KSPConvergedReasons[reason];
+  if (reason < 0)
+    throw Error("multigrid-preconditioned " + r.ksp_type + " diverged after " + std::to_string(its) +
+                    " iterations: " + r.converged_reason + " (residual norm " + std::to_string(rnorm) + ")",
+                {.file = "",
+                 .key_path = "/solver",
+                 .hint = "check the level operators with -ksp_view, try -mg_levels_ksp_type richardson "
+                         "-mg_levels_pc_type sor, or raise /solver/max_iterations"});
+  return report_;
+}
+
+}  // namespace warpfem::multigrid

@@ -1,0 +1,91 @@
+#pragma once
+// Poisson on the warped domain solved by geometric multigrid over a nested
+// hierarchy: one fem::PoissonProblem (with its own cached WarpedGeometry) per
+// level, our prolongations between levels, PCMG as the preconditioner of the
+// Krylov method (CG by default).
+//
+//   multigrid::PoissonMultigridSolver mg(comm, coarse_mesh, refinements, map, order, qdeg, data);
+//   auto report = mg.solve();              // finest solution in mg.finest().solution()
+
+#include <memory>
+#include <vector>
+
+#include "core/petsc/handles.hpp"
+#include "core/petsc/linear_solve.hpp"
+#include "fem/mesh_factory.hpp"
+#include "fem/poisson.hpp"
+#include "multigrid/pcmg.hpp"
+
+namespace warpfem::multigrid {
+
+struct PoissonMultigridOptions {
+  MultigridSettings multigrid;
+  /// Outer Krylov method; pc_type is ignored (the preconditioner is PCMG, which
+  /// the options database may still replace with -<prefix>pc_type). The residual
+  /// norm is the unpreconditioned one unless -<prefix>ksp_norm_type says otherwise.
+  petsc::LinearSolveOptions linear = default_linear();
+
+  static petsc::LinearSolveOptions default_linear() {
+    petsc::LinearSolveOptions o;
+    o.pc_type = "mg";
+    o.rtol = 1e-8;
+    return o;
+  }
+};
+
+struct MultigridTimings {
+  double hierarchy = 0;        ///< uniform refinements of the coarse mesh
+  double problems = 0;         ///< PoissonProblem construction on every level (DOF maps, WarpedGeometry)
+  double assembly = 0;         ///< assembling every level (finest included; Galerkin: finest only)
+  double finest_assembly = 0;  ///< the finest level's share of `assembly`
+  double transfers = 0;        ///< prolongation matrices
+  double pc_setup = 0;         ///< KSPSetUp: smoother eigenvalue estimates, coarse LU (and PtAP if Galerkin)
+  double setup() const { return hierarchy + problems + assembly + transfers + pc_setup; }
+};
+
+struct MultigridSolveReport {
+  petsc::LinearSolveReport linear;  ///< setup_seconds = timings.setup(), solve_seconds = KSPSolve
+  MultigridTimings timings;
+  int levels = 0;
+  std::vector<Index> level_dofs;  ///< coarse to fine
+};
+
+class PoissonMultigridSolver {
+ public:
+  /// Builds the hierarchy (`refinements` uniform refinements of `coarse`), assembles
+  /// every level (only the finest with Galerkin coarse operators), the
+  /// prolongations and the PCMG preconditioner (KSPSetFromOptions + KSPSetUp).
+  /// `data` is shared by all levels: its Dirichlet list selects the eliminated
+  /// DOFs of every level. Throws warpfem::Error on bad input or PETSc failure.
+  PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coarse, int refinements, mapping::MapPtr<2> map,
+                         int order, int quadrature_degree, fem::PoissonData data,
+                         const PoissonMultigridOptions& options = {});
+  ~PoissonMultigridSolver();
+  PoissonMultigridSolver(const PoissonMultigridSolver&) = delete;
+  PoissonMultigridSolver& operator=(const PoissonMultigridSolver&) = delete;
+
+  /// Solves the finest problem (its solution() is the initial guess and the result).
+  /// Throws warpfem::Error if the Krylov method diverges.
+  MultigridSolveReport solve();
+
+  const fem::MeshHierarchy& hierarchy() const { return hierarchy_; }
+  /// The finest level's problem: matrix, rhs, solution, errors, output.
+  fem::PoissonProblem& finest() { return *problems_.back(); }
+  const fem::PoissonProblem& finest() const { return *problems_.back(); }
+  /// Problem of a level (only the finest is assembled with Galerkin coarse operators).
+  const fem::PoissonProblem& level(int l) const { return *problems_.at(static_cast<std::size_t>(l)); }
+  Mat prolongation(int fine_level) const {
+    return prolongations_.at(static_cast<std::size_t>(fine_level - 1)).get();
+  }
+  KSP ksp() const { return ksp_.get(); }
+
+ private:
+  MultigridTimings timings_;  // declared first: the hierarchy's construction is timed into it
+  fem::MeshHierarchy hierarchy_;
+  std::vector<std::unique_ptr<fem::PoissonProblem>> problems_;
+  std::vector<petsc::Matrix> prolongations_;
+  petsc::LinearSolver ksp_;
+  MultigridSolveReport report_;
+};
+
+}  // namespace warpfem::multigrid

@@ -1,0 +1,39 @@
+#pragma once
+// Prolongation between two nested levels of a MeshHierarchy for Lagrange
+// P1/P2/Q1/Q2: P(i, j) = φ_j^coarse(x_i^fine), evaluated in the reference
+// cell of the coarse parent of a fine cell containing node i. Everything
+// happens in Ω0: because every level is warped by the same f, the warped
+// spaces are nested and this is the exact embedding, with no map evaluation.
+
+#include <vector>
+
+#include "core/petsc/handles.hpp"
+#include "fem/dof_distribution.hpp"
+#include "fem/mesh_factory.hpp"
+
+namespace warpfem::multigrid {
+
+/// The Lagrange space of one level as the prolongation sees it.
+struct LevelSpace {
+  const fem::DofMap* dofs = nullptr;
+  const fem::DofDistribution* distribution = nullptr;
+  /// Per mesh DOF: 1 if its row and column were eliminated (Dirichlet); empty = none.
+  std::vector<char> dirichlet = {};
+};
+
+/// Parallel MATAIJ of size (fine DOFs) x (coarse DOFs) with the row layout of
+/// fine.distribution and the column layout of coarse.distribution, mapping
+/// level `fine_level - 1` to `fine_level`.
+///
+/// Dirichlet DOFs: the level operators are identity on eliminated rows and
+/// columns, so a fine Dirichlet row only injects from the coarse Dirichlet DOF
+/// at the same node (if any) and a free fine row never reads a coarse Dirichlet
+/// DOF. Then PᵀAP is block diagonal like the rediscretized coarse operator,
+/// with the identity on the coarse Dirichlet block.
+///
+/// Throws warpfem::Error if the two spaces differ in element, or do not belong
+/// to the meshes of the two levels.
+petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fine_level,
+                                    const LevelSpace& coarse, const LevelSpace& fine);
+
+}  // namespace warpfem::multigrid

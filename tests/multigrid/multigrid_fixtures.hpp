@@ -1,0 +1,36 @@
+#pragma once
+// Meshes and problems shared by the multigrid tests: the L-shape of the
+// shipped examples, triangles or quadrilaterals, and a Poisson problem with
+// Dirichlet data on part of the boundary.
+
+#include <cmath>
+#include <optional>
+
+#include "core/polygon.hpp"
+#include "fem/poisson.hpp"
+#include "fem/polygon_mesher.hpp"
+#include "fem/structured_mesher.hpp"
+
+namespace warpfem::multigrid::test {
+
+inline Polygon l_shape() {
+  return Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L-shape");
+}
+
+/// Coarse mesh of the L-shape: Delaunay triangles, or those split into quadrilaterals.
+inline fem::Mesh<2> coarse_l_shape(fem::CellType type, double h) {
+  fem::Mesh<2> m = fem::mesh_polygon(l_shape(), {.max_edge_length = h});
+  return type == fem::CellType::triangle ? m : fem::split_into_quadrilaterals(m);
+}
+
+/// −Δu = 1 + xy, u = x on edges 0, 1, 2 (re-entrant corner included), natural Neumann elsewhere.
+/// Boundary parts are selected per node on `polygon` (as apps/ does), by facet tag if it is empty.
+inline fem::PoissonData mixed_problem(std::optional<Polygon> polygon = l_shape()) {
+  fem::PoissonData data;
+  data.boundary_polygon = std::move(polygon);
+  data.source = [](const Point<2>& x, double) { return 1.0 + x.x() * x.y(); };
+  data.dirichlet.push_back({.edges = {0, 1, 2}, .value = [](const Point<2>& x, double) { return x.x(); }});
+  return data;
+}
+
+}  // namespace warpfem::multigrid::test

@@ -1,0 +1,134 @@
+// Prolongation between nested levels: exact for polynomials of the space,
+// and consistent with the eliminated Dirichlet rows (PᵀAP = rediscretized A).
+
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "core/petsc/check.hpp"
+#include "fem/dof_distribution.hpp"
+#include "fem/mesh_factory.hpp"
+#include "multigrid/dirichlet_dofs.hpp"
+#include "multigrid/prolongation.hpp"
+#include "multigrid_fixtures.hpp"
+
+using namespace warpfem;
+using multigrid::test::coarse_l_shape;
+
+namespace {
+
+using Polynomial = std::function<double(const Point<2>&)>;
+
+struct Case {
+  fem::CellType type;
+  int order;
+};
+
+std::string name(const ::testing::TestParamInfo<Case>& info) {
+  return (info.param.type == fem::CellType::triangle ? "P" : "Q") + std::to_string(info.param.order);
+}
+
+petsc::Vector interpolate(const fem::DofMap& dofs, const fem::DofDistribution& dist, const Polynomial& g) {
+  petsc::Vector v = dist.create_vector();
+  for (Index d = 0; d < dofs.num_dofs(); ++d)
+    if (dist.owns(d)) {
+      const PetscInt row = dist.global(d);
+      const PetscScalar value = g(dofs.dof_points().row(d).transpose());
+      WARPFEM_PETSC_CHECK(VecSetValues(v.get(), 1, &row, &value, INSERT_VALUES));
+    }
+  WARPFEM_PETSC_CHECK(VecAssemblyBegin(v.get()));
+  WARPFEM_PETSC_CHECK(VecAssemblyEnd(v.get()));
+  return v;
+}
+
+/// max_i |(P g_coarse)_i − g(x_i)| over the finest level of a 3-level hierarchy (both prolongations).
+double prolongation_error(const Case& c, const Polynomial& g) {
+  const fem::MeshHierarchy h(coarse_l_shape(c.type, 0.6), 2);
+  double worst = 0;
+  for (int l = 1; l < h.num_levels(); ++l) {
+    const fem::LagrangeElement element(c.type, c.order);
+    const fem::DofMap cdofs(h.levels[l - 1], element), fdofs(h.levels[l], element);
+    const fem::DofDistribution cdist(MPI_COMM_SELF, h.levels[l - 1], cdofs),
+        fdist(MPI_COMM_SELF, h.levels[l], fdofs);
+    const petsc::Matrix P = multigrid::assemble_prolongation(h, l, {.dofs = &cdofs, .distribution = &cdist},
+                                                             {.dofs = &fdofs, .distribution = &fdist});
+    const petsc::Vector uc = interpolate(cdofs, cdist, g), expected = interpolate(fdofs, fdist, g);
+    petsc::Vector uf = fdist.create_vector();
+    WARPFEM_PETSC_CHECK(MatMult(P.get(), uc.get(), uf.get()));
+    WARPFEM_PETSC_CHECK(VecAXPY(uf.get(), -1.0, expected.get()));
+    PetscReal e = 0;
+    WARPFEM_PETSC_CHECK(VecNorm(uf.get(), NORM_INFINITY, &e));
+    worst = std::max(worst, static_cast<double>(e));
+  }
+  return worst;
+}
+
+}  // namespace
+
+class Prolongation : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Prolongation, ReproducesLinearFunctionsExactly) {
+  const double e = prolongation_error(GetParam(), [](const Point<2>& x) { return 3 - x.x() + 2 * x.y(); });
+  EXPECT_LT(e, 1e-12);
+}
+
+TEST_P(Prolongation, ReproducesQuadraticsExactlyForOrderTwo) {
+  const Polynomial q = [](const Point<2>& x) {
+    return x.x() * x.x() - 3 * x.x() * x.y() + 0.5 * x.y() * x.y() + x.y();
+  };
+  const double e = prolongation_error(GetParam(), q);
+  if (GetParam().order == 2)
+    EXPECT_LT(e, 1e-12);
+  else
+    EXPECT_GT(e, 1e-3) << "order 1 cannot reproduce quadratics: the test would not detect anything";
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, Prolongation,
+                         ::testing::Values(Case{fem::CellType::triangle, 1}, Case{fem::CellType::triangle, 2},
+                                           Case{fem::CellType::quadrilateral, 1},
+                                           Case{fem::CellType::quadrilateral, 2}),
+                         name);
+
+class GalerkinConsistency : public ::testing::TestWithParam<Case> {};
+
+// With the identity map on triangles and rectangles, integration is exact and the
+// spaces are nested, so PᵀA_fP must equal the rediscretized coarse matrix,
+// Dirichlet block included. This fails if Dirichlet rows/columns of P are wrong.
+TEST_P(GalerkinConsistency, GalerkinCoarseOperatorEqualsRediscretization) {
+  const Case c = GetParam();
+  // Quadrilaterals: rectangles (a structured grid), so that the integrands are polynomials.
+  const bool triangles = c.type == fem::CellType::triangle;
+  const Polygon rectangle = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {0, 1}});
+  const fem::Mesh<2> mesh =
+      triangles ? coarse_l_shape(c.type, 0.5) : fem::structured_mesh(rectangle, 5, 3, c.type);
+  const fem::MeshHierarchy h(mesh, 1);
+  const auto map = std::make_shared<mapping::IdentityMap<2>>();
+  // Triangles: boundary parts selected by facet tag; rectangles: per node on the polygon (as apps/ does).
+  const fem::PoissonData data =
+      multigrid::test::mixed_problem(triangles ? std::nullopt : std::optional(rectangle));
+  fem::PoissonProblem coarse(MPI_COMM_SELF, h.levels[0], map, c.order, 2 * c.order + 2, data);
+  fem::PoissonProblem fine(MPI_COMM_SELF, h.levels[1], map, c.order, 2 * c.order + 2, data);
+  coarse.assemble();
+  fine.assemble();
+  const std::vector<char> cmask = multigrid::dirichlet_dofs(coarse.mesh(), coarse.dofs(), data);
+  const std::vector<char> fmask = multigrid::dirichlet_dofs(fine.mesh(), fine.dofs(), data);
+  const petsc::Matrix P = multigrid::assemble_prolongation(
+      h, 1, {.dofs = &coarse.dofs(), .distribution = &coarse.distribution(), .dirichlet = cmask},
+      {.dofs = &fine.dofs(), .distribution = &fine.distribution(), .dirichlet = fmask});
+  petsc::Matrix galerkin;
+  WARPFEM_PETSC_CHECK(MatPtAP(fine.matrix(), P.get(), MAT_INITIAL_MATRIX, 2.0, galerkin.out()));
+  PetscReal scale = 0, diff = 0;
+  WARPFEM_PETSC_CHECK(MatNorm(coarse.matrix(), NORM_INFINITY, &scale));
+  WARPFEM_PETSC_CHECK(MatAXPY(galerkin.get(), -1.0, coarse.matrix(), DIFFERENT_NONZERO_PATTERN));
+  WARPFEM_PETSC_CHECK(MatNorm(galerkin.get(), NORM_INFINITY, &diff));
+  EXPECT_LT(diff, 1e-12 * scale) << "‖PᵀAP − A_coarse‖∞ = " << diff;
+  // Both Dirichlet masks must be non-trivial, otherwise the test proves nothing about them.
+  EXPECT_GT(std::count(cmask.begin(), cmask.end(), 1), 0);
+  EXPECT_LT(std::count(cmask.begin(), cmask.end(), 1), static_cast<long>(cmask.size()));
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, GalerkinConsistency,
+                         ::testing::Values(Case{fem::CellType::triangle, 1}, Case{fem::CellType::triangle, 2},
+                                           Case{fem::CellType::quadrilateral, 1},
+                                           Case{fem::CellType::quadrilateral, 2}),
+                         name);
