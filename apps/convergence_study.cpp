@@ -30,8 +30,10 @@ StudySpec parse_study_spec(const io::ConfigNode& node) {
       throw node.error("discretizations", "expected a non-empty array, got " + io::json_excerpt(list));
     s.discretizations.clear();
     for (std::size_t i = 0; i < list.size(); ++i) {
-      if (!list[i].is_string() || (list[i] != "warped" && list[i] != "standard" && list[i] != "standard_recovered"))
-        throw node.error("discretizations/" + std::to_string(i), "unknown discretization " + io::json_excerpt(list[i]),
+      if (!list[i].is_string() ||
+          (list[i] != "warped" && list[i] != "standard" && list[i] != "standard_recovered"))
+        throw node.error("discretizations/" + std::to_string(i),
+                         "unknown discretization " + io::json_excerpt(list[i]),
                          "use \"warped\", \"standard\" or \"standard_recovered\"");
       s.discretizations.push_back(list[i].get<std::string>());
     }
@@ -83,8 +85,9 @@ void write_plot(const StudySpec& spec, bool exact, const std::string& dir, std::
     // column 9: r(u_h) = | ‖u_h‖/‖u_ref‖ − 1 |, defined for every discretization.
     for (const auto& [column, label] : {std::pair{5, "L2 error"}, std::pair{9, "r(u_h)"}}) {
       if (column == 5 && !exact && d != "warped") continue;
-      gp << (first ? "" : ", \\\n     ") << "'" << csv << "' using (strcol(1) eq '" << d << "' ? $4 : 1/0):"
-         << column << " with linespoints lw 2 pt " << style << " title '" << d << " " << label << "'";
+      gp << (first ? "" : ", \\\n     ") << "'" << csv << "' using (strcol(1) eq '" << d
+         << "' ? $4 : 1/0):" << column << " with linespoints lw 2 pt " << style << " title '" << d << " "
+         << label << "'";
       first = false;
       ++style;
     }
@@ -115,7 +118,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   const Polygon& domain = cfg.map.target ? *cfg.map.target : *cfg.map.source;
   const double exact_area = domain.signed_area();
   const int order = cfg.poisson.order;
-  const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree : fem::default_quadrature_degree(order);
+  const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
+                                                     : fem::default_quadrature_degree(order);
   const fem::PoissonData data = poisson_data(cfg);
   petsc::LinearSolveOptions linear = cfg.solver.linear;
   if (linear.pc_type == "mg") linear.pc_type = "gamg";  // the study solves each level on its own
@@ -127,7 +131,9 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   std::optional<io::Expression> u_exact;
   if (exact) u_exact.emplace(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");
   const fem::ScalarFunction u_fn = exact ? u_exact->as_function_2d() : fem::ScalarFunction{};
-  const fem::GradientFunction grad_fn = [&u_exact](const Point<2>& x, double t) { return u_exact->gradient<2>(x, t); };
+  const fem::GradientFunction grad_fn = [&u_exact](const Point<2>& x, double t) {
+    return u_exact->gradient<2>(x, t);
+  };
 
   // Reference: ‖u‖ from the exact solution, or the warped solution on the reference level.
   std::unique_ptr<fem::PoissonProblem> reference;
@@ -138,8 +144,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     reference->assemble();
     reference->solve(linear);
     reference_norm = reference->solution_l2_norm();
-    log::info("reference solution: level ", hierarchy.num_levels() - 1, ", ", reference->dofs().num_dofs(), " DOFs (",
-              format_seconds(w.seconds()), ")");
+    log::info("reference solution: level ", hierarchy.num_levels() - 1, ", ", reference->dofs().num_dofs(),
+              " DOFs (", format_seconds(w.seconds()), ")");
   } else {
     // ‖u‖ over the exact domain, integrated on the finest warped level (cells split round-robin over ranks).
     int rank = 0, size = 1;
@@ -147,16 +153,19 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     MPI_Comm_size(comm, &size);
     std::vector<Index> cells;
     for (Index c = rank; c < hierarchy.finest().num_cells(); c += size) cells.push_back(c);
-    const fem::WarpedGeometry g(hierarchy.finest(), cells, fem::cell_quadrature(hierarchy.finest().cell_type, qdeg), *f);
+    const fem::WarpedGeometry g(hierarchy.finest(), cells,
+                                fem::cell_quadrature(hierarchy.finest().cell_type, qdeg), *f);
     double local = 0;
-    for (Index p = 0; p < g.JxW().size(); ++p) local += g.JxW()(p) * std::pow(u_fn(g.physical_points().row(p).transpose(), 0.0), 2);
+    for (Index p = 0; p < g.JxW().size(); ++p)
+      local += g.JxW()(p) * std::pow(u_fn(g.physical_points().row(p).transpose(), 0.0), 2);
     MPI_Allreduce(&local, &reference_norm, 1, MPI_DOUBLE, MPI_SUM, comm);
     reference_norm = std::sqrt(reference_norm);
   }
 
   for (const std::string& d : spec.discretizations) {
     std::shared_ptr<const mapping::Map<2>> coarse_interpolant;
-    if (d == "standard") coarse_interpolant = std::make_shared<fem::InterpolatedMap>(hierarchy.levels[first], *f);
+    if (d == "standard")
+      coarse_interpolant = std::make_shared<fem::InterpolatedMap>(hierarchy.levels[first], *f);
     for (int level = first; level <= finest; ++level) {
       Stopwatch w;
       const fem::Mesh<2>& mesh = hierarchy.levels[level];
@@ -208,8 +217,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
         row.h1_rate = std::log(prev.h1 / row.h1) / hr;
       }
       row.seconds = w.seconds();
-      log::info(std::setw(18), d, " level ", level, ": ", std::setw(8), row.dofs, " DOFs  L2 ", sci(row.l2), " (",
-                fixed(row.l2_rate), ")  H1 ", sci(row.h1), " (", fixed(row.h1_rate), ")  r(u_h) ",
+      log::info(std::setw(18), d, " level ", level, ": ", std::setw(8), row.dofs, " DOFs  L2 ", sci(row.l2),
+                " (", fixed(row.l2_rate), ")  H1 ", sci(row.h1), " (", fixed(row.h1_rate), ")  r(u_h) ",
                 sci(row.norm_ratio_error), "  area err ", sci(row.area_error), "  cond ",
                 row.condition_number > 0 ? sci(row.condition_number, 2) : std::string("-"), "  (",
                 format_seconds(row.seconds), ")");
@@ -223,37 +232,46 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   const std::string dir = cfg.output.directory;
   io::ensure_directory(dir);
   std::ostringstream csv;
-  csv << "discretization,level,h,dofs,l2_error,l2_rate,h1_error,h1_rate,r_uh,area,area_error,condition_number,iterations,seconds\n";
+  csv << "discretization,level,h,dofs,l2_error,l2_rate,h1_error,h1_rate,r_uh,area,area_error,condition_"
+         "number,iterations,seconds\n";
   csv << std::setprecision(10);
   for (const auto& r : result.rows)
-    csv << r.discretization << ',' << r.level << ',' << r.h << ',' << r.dofs << ',' << r.l2 << ',' << r.l2_rate << ','
-        << r.h1 << ',' << r.h1_rate << ',' << r.norm_ratio_error << ',' << r.area << ',' << r.area_error << ','
-        << r.condition_number << ',' << r.iterations << ',' << r.seconds << '\n';
+    csv << r.discretization << ',' << r.level << ',' << r.h << ',' << r.dofs << ',' << r.l2 << ','
+        << r.l2_rate << ',' << r.h1 << ',' << r.h1_rate << ',' << r.norm_ratio_error << ',' << r.area << ','
+        << r.area_error << ',' << r.condition_number << ',' << r.iterations << ',' << r.seconds << '\n';
   result.csv_file = (fs::path(dir) / "study.csv").string();
   io::write_text_atomically(result.csv_file, csv.str());
 
   std::ostringstream md;
   md << "# Convergence study: " << cfg.file << "\n\n"
-     << "Map: " << f->describe() << ". Elements: " << (hierarchy.levels[0].cell_type == fem::CellType::triangle ? "P" : "Q")
-     << order << ". Errors against " << (exact ? "the exact solution `" + cfg.poisson.exact_solution + "`"
-                                               : "the warped solution on level " + std::to_string(hierarchy.num_levels() - 1))
+     << "Map: " << f->describe()
+     << ". Elements: " << (hierarchy.levels[0].cell_type == fem::CellType::triangle ? "P" : "Q") << order
+     << ". Errors against "
+     << (exact ? "the exact solution `" + cfg.poisson.exact_solution + "`"
+               : "the warped solution on level " + std::to_string(hierarchy.num_levels() - 1))
      << ". Exact area of the domain: " << exact_area << ".\n\n"
-     << "| discretization | level | h | DOFs | L2 error | rate | H1 error | rate | r(u_h) | area error | cond(L) | CG its |\n"
+     << "| discretization | level | h | DOFs | L2 error | rate | H1 error | rate | r(u_h) | area error | "
+        "cond(L) | CG its |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : result.rows)
-    md << "| " << r.discretization << " | " << r.level << " | " << sci(r.h, 2) << " | " << r.dofs << " | " << sci(r.l2)
-       << " | " << (r.l2_rate != 0 ? fixed(r.l2_rate) : "") << " | " << sci(r.h1) << " | "
-       << (r.h1_rate != 0 ? fixed(r.h1_rate) : "") << " | " << sci(r.norm_ratio_error) << " | " << sci(r.area_error)
-       << " | " << (r.condition_number > 0 ? sci(r.condition_number, 2) : "-") << " | " << r.iterations << " |\n";
-  md << "\nWarped: elements of the simple mesh warped by f (exact geometry). Standard: straight elements through the "
-        "mapped coarse vertices, kept under refinement (the domain stays the coarse polygonal approximation). "
-        "Standard recovered: straight elements through the mapped vertices of each level (boundary vertices moved "
+    md << "| " << r.discretization << " | " << r.level << " | " << sci(r.h, 2) << " | " << r.dofs << " | "
+       << sci(r.l2) << " | " << (r.l2_rate != 0 ? fixed(r.l2_rate) : "") << " | " << sci(r.h1) << " | "
+       << (r.h1_rate != 0 ? fixed(r.h1_rate) : "") << " | " << sci(r.norm_ratio_error) << " | "
+       << sci(r.area_error) << " | " << (r.condition_number > 0 ? sci(r.condition_number, 2) : "-") << " | "
+       << r.iterations << " |\n";
+  md << "\nWarped: elements of the simple mesh warped by f (exact geometry). Standard: straight elements "
+        "through the "
+        "mapped coarse vertices, kept under refinement (the domain stays the coarse polygonal "
+        "approximation). "
+        "Standard recovered: straight elements through the mapped vertices of each level (boundary vertices "
+        "moved "
         "onto the exact boundary).\n";
   result.markdown_file = (fs::path(dir) / "study.md").string();
   if (spec.plot) write_plot(spec, exact, dir, result.plot_file);
   if (!result.plot_file.empty()) md << "\n![errors](study_errors.png)\n";
   io::write_text_atomically(result.markdown_file, md.str());
-  log::info("wrote ", result.csv_file, ", ", result.markdown_file, result.plot_file.empty() ? "" : ", " + result.plot_file);
+  log::info("wrote ", result.csv_file, ", ", result.markdown_file,
+            result.plot_file.empty() ? "" : ", " + result.plot_file);
   return result;
 }
 

@@ -16,7 +16,7 @@ namespace warpfem::apps {
 struct StudySpec {
   int levels = 4;  ///< refinement levels, starting at the config's mesh.refinements
   std::vector<std::string> discretizations{"warped", "standard"};  ///< warped | standard | standard_recovered
-  int reference_levels = 1;   ///< extra refinements for the reference solution when no exact solution is given
+  int reference_levels = 1;  ///< extra refinements for the reference solution when no exact solution is given
   bool condition_number = true;
   Index condition_number_max_dofs = 200000;
   bool plot = true;
@@ -27,11 +27,11 @@ struct StudyRow {
   int level = 0;
   double h = 0;
   Index dofs = 0;
-  double l2 = 0, h1 = 0;          ///< errors (exact solution, or the reference solution for "warped")
+  double l2 = 0, h1 = 0;  ///< errors (exact solution, or the reference solution for "warped")
   double l2_rate = 0, h1_rate = 0;
-  double norm_ratio_error = 0;    ///< r(u_h) = | ‖u_h‖ / ‖u_ref‖ − 1 |
+  double norm_ratio_error = 0;  ///< r(u_h) = | ‖u_h‖ / ‖u_ref‖ − 1 |
   double area = 0, area_error = 0;
-  double condition_number = 0;    ///< 0 if not computed
+  double condition_number = 0;  ///< 0 if not computed
   int iterations = 0;
   double seconds = 0;
 };
@@ -45,6 +45,7 @@ struct StudyResult {
 StudySpec parse_study_spec(const io::ConfigNode& node);
 
 /// Runs the study; writes CSV, Markdown and (if gnuplot is available) PNG plots into config.output.directory.
-StudyResult run_study(const io::RunConfig& config, const StudySpec& spec, MPI_Comm comm, bool write_files = true);
+StudyResult run_study(const io::RunConfig& config, const StudySpec& spec, MPI_Comm comm,
+                      bool write_files = true);
 
 }  // namespace warpfem::apps

@@ -22,8 +22,9 @@ void sample_bilinear(const io::Image& img, double x, double y, std::uint8_t* out
 }
 }  // namespace
 
-WarpReport warp_image(const io::Image& input, const mapping::Map<2>& f, const Polygon& source, const Polygon& target,
-                      io::Image& output, const std::array<std::uint8_t, 4>& background) {
+WarpReport warp_image(const io::Image& input, const mapping::Map<2>& f, const Polygon& source,
+                      const Polygon& target, io::Image& output,
+                      const std::array<std::uint8_t, 4>& background) {
   if (output.width <= 0 || output.height <= 0) output.width = input.width, output.height = input.height;
   output.rgba.resize(static_cast<std::size_t>(output.width) * output.height * 4);
   for (std::size_t p = 0; p < output.rgba.size(); ++p) output.rgba[p] = background[p % 4];
@@ -44,7 +45,8 @@ WarpReport warp_image(const io::Image& input, const mapping::Map<2>& f, const Po
   const auto inv = mapping::invert<2>(f, y, x, {.tolerance = 1e-10, .max_iterations = 60});
   report.unconverged = report.pixels - inv.converged;
   report.max_residual = inv.max_residual;
-  for (Index p = 0; p < report.pixels; ++p) sample_bilinear(input, x(p, 0), x(p, 1), output.pixel(pixels[p][0], pixels[p][1]));
+  for (Index p = 0; p < report.pixels; ++p)
+    sample_bilinear(input, x(p, 0), x(p, 1), output.pixel(pixels[p][0], pixels[p][1]));
   return report;
 }
 

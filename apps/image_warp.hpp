@@ -14,13 +14,14 @@
 namespace warpfem::apps {
 
 struct WarpReport {
-  Index pixels = 0;      ///< output pixels inside the target polygon
-  Index unconverged = 0; ///< pixels where Newton did not reach the tolerance
+  Index pixels = 0;       ///< output pixels inside the target polygon
+  Index unconverged = 0;  ///< pixels where Newton did not reach the tolerance
   double max_residual = 0;
 };
 
 /// Pixel coordinates: pixel (i, j) has centre (i + 0.5, j + 0.5), y up.
-WarpReport warp_image(const io::Image& input, const mapping::Map<2>& f, const Polygon& source, const Polygon& target,
-                      io::Image& output, const std::array<std::uint8_t, 4>& background);
+WarpReport warp_image(const io::Image& input, const mapping::Map<2>& f, const Polygon& source,
+                      const Polygon& target, io::Image& output,
+                      const std::array<std::uint8_t, 4>& background);
 
 }  // namespace warpfem::apps

@@ -17,7 +17,8 @@ const char* kUsage =
     "commands:\n"
     "  run <config.json> [--output-dir DIR] [PETSc options]   solve the problem a config describes\n"
     "  study <study.json> [--output-dir DIR]                  convergence study: warped vs standard FEM\n"
-    "  map --config map.json [--points in.csv --out out.csv]  build a map, report bijectivity and distortion,\n"
+    "  map --config map.json [--points in.csv --out out.csv]  build a map, report bijectivity and "
+    "distortion,\n"
     "                                                         write the warped grid, map your own points\n"
     "  warp-image --config warp.json [--input a.png] [--output b.png]   warp a picture without fold-overs\n"
     "  help                                                   show this text\n"
@@ -28,7 +29,8 @@ const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+  if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" ||
+      std::string(argv[1]) == "-h") {
     std::cout << kUsage;
     return argc < 2 ? 2 : 0;
   }

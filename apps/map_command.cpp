@@ -26,7 +26,8 @@
 namespace warpfem::apps {
 namespace {
 
-const char* kMapUsage = "usage: warpfem map --config map.json [--points in.csv --out out.csv] [--output-dir DIR]";
+const char* kMapUsage =
+    "usage: warpfem map --config map.json [--points in.csv --out out.csv] [--output-dir DIR]";
 
 std::string fmt(double v, int precision = 4) {
   std::ostringstream os;
@@ -51,9 +52,12 @@ Points<2> read_points_csv(const std::string& path) {
     std::istringstream fs(first);
     if (!(fs >> x)) {
       if (pts.empty() && number == 1) continue;  // header line such as "x,y"
-      throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"", {.file = path, .key_path = "", .hint = "one point per line"});
+      throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"",
+                  {.file = path, .key_path = "", .hint = "one point per line"});
     }
-    if (!(ls >> y)) throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"", {.file = path, .key_path = "", .hint = "one point per line"});
+    if (!(ls >> y))
+      throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"",
+                  {.file = path, .key_path = "", .hint = "one point per line"});
     pts.emplace_back(x, y);
   }
   Points<2> out(static_cast<Index>(pts.size()), 2);
@@ -69,15 +73,17 @@ void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec) {
     for (std::size_t k = 0; k < r.times.size(); ++k) times << (k ? ", " : "") << fmt(r.times[k], 6);
     log::info("partition (", r.steps(), " steps): ", times.str());
     for (Index k = 0; k < r.steps(); ++k)
-      log::info("  step ", k, " [", fmt(r.times[k], 6), ", ", fmt(r.times[k + 1], 6), "]: min det J_k along the sample ",
-                fmt(r.step_min_det_along[static_cast<std::size_t>(k)]));
-    log::info("composite: min det J_f = ", fmt(r.composite_min_det), " on ", r.samples, " samples (grid + points clustered at every vertex and edge)");
-    log::info("distortion: conformal mean ", fmt(r.distortion.conformal.mean), " max ", fmt(r.distortion.conformal.max),
-              "; isometric mean ", fmt(r.distortion.isometric.mean), " max ", fmt(r.distortion.isometric.max));
+      log::info("  step ", k, " [", fmt(r.times[k], 6), ", ", fmt(r.times[k + 1], 6),
+                "]: min det J_k along the sample ", fmt(r.step_min_det_along[static_cast<std::size_t>(k)]));
+    log::info("composite: min det J_f = ", fmt(r.composite_min_det), " on ", r.samples,
+              " samples (grid + points clustered at every vertex and edge)");
+    log::info("distortion: conformal mean ", fmt(r.distortion.conformal.mean), " max ",
+              fmt(r.distortion.conformal.max), "; isometric mean ", fmt(r.distortion.isometric.mean), " max ",
+              fmt(r.distortion.isometric.max));
     const Points<2> sample = mapping::bijectivity_sample(source, spec.sample_resolution);
     const mapping::CompositeMeanValueMap g = composite->backward();
-    log::info("backward map g (thesis §4.3): max |x - g(f(x))| = ", fmt(mapping::round_trip_error(map, g, sample)),
-              " over ", sample.rows(), " samples");
+    log::info("backward map g (thesis §4.3): max |x - g(f(x))| = ",
+              fmt(mapping::round_trip_error(map, g, sample)), " over ", sample.rows(), " samples");
     if (!(r.composite_min_det > 0))
       log::warning("the map folds (min det J_f <= 0); use \"partition\": \"adaptive\" for a bijective map");
     return;
@@ -88,8 +94,8 @@ void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec) {
   map.eval_with_jacobian(sample, x, J);
   const auto s = mapping::summarize_distortion<2>(J);
   log::info("min det J_f = ", fmt(s.min_det), " on ", s.samples, " samples; distortion: conformal mean ",
-            fmt(s.conformal.mean), " max ", fmt(s.conformal.max), "; isometric mean ", fmt(s.isometric.mean), " max ",
-            fmt(s.isometric.max));
+            fmt(s.conformal.mean), " max ", fmt(s.conformal.max), "; isometric mean ", fmt(s.isometric.mean),
+            " max ", fmt(s.isometric.max));
   if (!(s.min_det > 0)) log::warning("the map folds (min det J_f <= 0): it is not bijective");
 }
 
@@ -99,14 +105,20 @@ int map_command(const std::vector<std::string>& args) {
   std::string config_path, points_in, points_out, output_dir;
   for (std::size_t i = 0; i < args.size(); ++i) {
     auto value = [&](const char* flag) -> std::string {
-      if (i + 1 >= args.size()) throw Error(std::string(flag) + " needs a value", {.file = "", .key_path = "", .hint = kMapUsage});
+      if (i + 1 >= args.size())
+        throw Error(std::string(flag) + " needs a value", {.file = "", .key_path = "", .hint = kMapUsage});
       return args[++i];
     };
-    if (args[i] == "--config") config_path = value("--config");
-    else if (args[i] == "--points") points_in = value("--points");
-    else if (args[i] == "--out") points_out = value("--out");
-    else if (args[i] == "--output-dir") output_dir = value("--output-dir");
-    else if (config_path.empty() && args[i].rfind("-", 0) != 0) config_path = args[i];
+    if (args[i] == "--config")
+      config_path = value("--config");
+    else if (args[i] == "--points")
+      points_in = value("--points");
+    else if (args[i] == "--out")
+      points_out = value("--out");
+    else if (args[i] == "--output-dir")
+      output_dir = value("--output-dir");
+    else if (config_path.empty() && args[i].rfind("-", 0) != 0)
+      config_path = args[i];
   }
   if (config_path.empty()) throw Error("missing --config", {.file = "", .key_path = "", .hint = kMapUsage});
   if (points_in.empty() != points_out.empty())
@@ -114,7 +126,8 @@ int map_command(const std::vector<std::string>& args) {
 
   const nlohmann::json json = io::ConfigNode::parse_file(config_path);
   const io::ConfigNode root(json, config_path);
-  log::set_level(log::parse_level(root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"})));
+  log::set_level(
+      log::parse_level(root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"})));
   const mapping::MapSpec spec = io::parse_map_spec(root.child("map"));
   const io::ConfigNode out = root.child("output");
   std::string directory = out.get_string("directory", "output/map");
@@ -139,9 +152,10 @@ int map_command(const std::vector<std::string>& args) {
     const Points<2> x0 = read_points_csv(points_in);
     for (Index p = 0; p < x0.rows(); ++p)
       if (spec.source->side_of(x0.row(p).transpose()) < 0)
-        throw Error("point " + std::to_string(p + 1) + " (" + fmt(x0(p, 0), 10) + ", " + fmt(x0(p, 1), 10) +
-                        ") lies outside the source polygon",
-                    {.file = points_in, .key_path = "", .hint = "the map is defined on the source polygon only"});
+        throw Error(
+            "point " + std::to_string(p + 1) + " (" + fmt(x0(p, 0), 10) + ", " + fmt(x0(p, 1), 10) +
+                ") lies outside the source polygon",
+            {.file = points_in, .key_path = "", .hint = "the map is defined on the source polygon only"});
     Points<2> x;
     Jacobians<2> J;
     map->eval_with_jacobian(x0, x, J);
@@ -168,11 +182,14 @@ int map_command(const std::vector<std::string>& args) {
     mapping::distortion<2>(J, conformal, isometric);
     io::VtkOutput vtk;
     vtk.mesh = &grid;
-    auto field = [](const char* n, const VectorX& v) { return io::VtkField{n, 1, std::vector<double>(v.data(), v.data() + v.size())}; };
+    auto field = [](const char* n, const VectorX& v) {
+      return io::VtkField{n, 1, std::vector<double>(v.data(), v.data() + v.size())};
+    };
     vtk.point_fields = {field("det_Jf", grid.map_det), field("conformal_distortion", conformal),
                         field("isometric_distortion", isometric)};
     std::vector<double> x0(static_cast<std::size_t>(3 * grid.reference_points.rows()), 0.0);
-    for (Index p = 0; p < grid.reference_points.rows(); ++p) x0[3 * p] = grid.reference_points(p, 0), x0[3 * p + 1] = grid.reference_points(p, 1);
+    for (Index p = 0; p < grid.reference_points.rows(); ++p)
+      x0[3 * p] = grid.reference_points(p, 0), x0[3 * p + 1] = grid.reference_points(p, 1);
     vtk.point_fields.push_back({"x0", 3, std::move(x0)});
     const std::string file = io::write_vtk(MPI_COMM_WORLD, vtk, directory, name);
     log::info("wrote ", file, " (warped source grid: ", mesh.num_cells(), " curved triangles)");

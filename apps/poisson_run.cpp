@@ -5,9 +5,9 @@
 
 #include "core/log.hpp"
 #include "core/timer.hpp"
+#include "fem/mesh_factory.hpp"
 #include "fem/output_mesh.hpp"
 #include "fem/poisson.hpp"
-#include "fem/mesh_factory.hpp"
 #include "fem/uniform_refinement.hpp"
 #include "io/expression.hpp"
 #include "io/vtk_writer.hpp"
@@ -45,8 +45,8 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
     multigrid::PoissonMultigridOptions mg_options;
     mg_options.linear = cfg.solver.linear;
     mg = std::make_unique<multigrid::PoissonMultigridSolver>(comm, fem::make_coarse_mesh(source, cfg.mesh),
-                                                             cfg.mesh.refinements, map, cfg.poisson.order, qdeg,
-                                                             data, mg_options);
+                                                             cfg.mesh.refinements, map, cfg.poisson.order,
+                                                             qdeg, data, mg_options);
   } else {
     single_mesh = std::make_unique<fem::Mesh<2>>(fem::make_coarse_mesh(source, cfg.mesh));
     for (int r = 0; r < cfg.mesh.refinements; ++r) *single_mesh = fem::refine_uniformly(*single_mesh).mesh;
@@ -60,15 +60,17 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   result.num_dofs = problem.dofs().num_dofs();
   log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
             " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements)");
-  log::info("assembled P", cfg.poisson.order, " Poisson", use_mg ? " on every level" : "", ": ", result.num_dofs,
-            " DOFs on ", size, " rank(s), ", problem.geometry().num_cells() * problem.geometry().points_per_cell(),
+  log::info("assembled P", cfg.poisson.order, " Poisson", use_mg ? " on every level" : "", ": ",
+            result.num_dofs, " DOFs on ", size, " rank(s), ",
+            problem.geometry().num_cells() * problem.geometry().points_per_cell(),
             " warped quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
 
   if (use_mg) {
     result.solve = mg->solve().linear;
   } else {
     petsc::LinearSolveOptions linear = cfg.solver.linear;
-    if (linear.pc_type == "mg") linear.pc_type = "gamg";  // one level: nothing to build a geometric hierarchy from
+    if (linear.pc_type == "mg")
+      linear.pc_type = "gamg";  // one level: nothing to build a geometric hierarchy from
     result.solve = problem.solve(linear);
   }
   log::info("solved with ", result.solve.ksp_type, "/", result.solve.pc_type,
@@ -81,12 +83,14 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   if (!cfg.poisson.exact_solution.empty()) {
     const io::Expression exact(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");
     const auto u = exact.as_function_2d();
-    const fem::GradientFunction grad = [&exact](const Point<2>& x, double t) { return exact.gradient<2>(x, t); };
+    const fem::GradientFunction grad = [&exact](const Point<2>& x, double t) {
+      return exact.gradient<2>(x, t);
+    };
     const auto e = problem.errors(u, grad);
     result.l2_error = e.l2;
     result.h1_error = e.h1_semi;
-    log::info("error against exact solution: L2 ", std::scientific, std::setprecision(4), e.l2, ", H1-seminorm ",
-              e.h1_semi);
+    log::info("error against exact solution: L2 ", std::scientific, std::setprecision(4), e.l2,
+              ", H1-seminorm ", e.h1_semi);
   }
   if (options.gather_solution) result.solution = problem.distribution().gather_all(problem.solution());
 
@@ -100,10 +104,12 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
     io::VtkOutput vtk;
     vtk.mesh = &out;
     vtk.point_fields.push_back({"u", 1, std::vector<double>(u.data(), u.data() + u.size())});
-    vtk.point_fields.push_back({"det_Jf", 1, std::vector<double>(out.map_det.data(), out.map_det.data() + out.map_det.size())});
+    vtk.point_fields.push_back(
+        {"det_Jf", 1, std::vector<double>(out.map_det.data(), out.map_det.data() + out.map_det.size())});
     int rank = 0;
     MPI_Comm_rank(comm, &rank);
-    vtk.cell_fields.push_back({"rank", 1, std::vector<double>(static_cast<std::size_t>(out.cells.rows()), rank)});
+    vtk.cell_fields.push_back(
+        {"rank", 1, std::vector<double>(static_cast<std::size_t>(out.cells.rows()), rank)});
     result.output_file = io::write_vtk(comm, vtk, cfg.output.directory, cfg.output.name);
     log::info("wrote ", result.output_file, " (", format_seconds(watch.seconds()), ")");
   }

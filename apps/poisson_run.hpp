@@ -28,6 +28,7 @@ struct PoissonRunOptions {
   bool gather_solution = false;
 };
 
-PoissonRunResult run_poisson(const io::RunConfig& config, MPI_Comm comm, const PoissonRunOptions& options = {});
+PoissonRunResult run_poisson(const io::RunConfig& config, MPI_Comm comm,
+                             const PoissonRunOptions& options = {});
 
 }  // namespace warpfem::apps

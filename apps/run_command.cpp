@@ -12,12 +12,14 @@ namespace warpfem::apps {
 int run_command(const std::vector<std::string>& args) {
   const char* usage = "usage: warpfem run <config.json> [--output-dir DIR] [PETSc options]";
   if (args.empty() || args[0].rfind("-", 0) == 0)
-    throw Error("missing config file (it must be the first argument)", {.file = "", .key_path = "", .hint = usage});
+    throw Error("missing config file (it must be the first argument)",
+                {.file = "", .key_path = "", .hint = usage});
   const std::string config_path = args[0];
   std::string output_dir;
   for (std::size_t i = 1; i < args.size(); ++i) {
     if (args[i] == "--output-dir") {
-      if (i + 1 >= args.size()) throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
+      if (i + 1 >= args.size())
+        throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
       output_dir = args[++i];
     }
     // Everything else is a PETSc option, already read by PetscInitialize.

@@ -18,17 +18,22 @@ int warp_image_command(const std::vector<std::string>& args) {
   std::string config_path, input, output;
   for (std::size_t i = 0; i < args.size(); ++i) {
     auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw Error(args[i] + " needs a value", {.file = "", .key_path = "", .hint = usage});
+      if (i + 1 >= args.size())
+        throw Error(args[i] + " needs a value", {.file = "", .key_path = "", .hint = usage});
       return args[++i];
     };
-    if (args[i] == "--config") config_path = value();
-    else if (args[i] == "--input") input = value();
-    else if (args[i] == "--output") output = value();
+    if (args[i] == "--config")
+      config_path = value();
+    else if (args[i] == "--input")
+      input = value();
+    else if (args[i] == "--output")
+      output = value();
   }
   if (config_path.empty()) throw Error("missing --config", {.file = "", .key_path = "", .hint = usage});
   const nlohmann::json json = io::ConfigNode::parse_file(config_path);
   const io::ConfigNode root(json, config_path);
-  log::set_level(log::parse_level(root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"})));
+  log::set_level(
+      log::parse_level(root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"})));
   const mapping::MapSpec spec = io::parse_map_spec(root.child("map"));
   const io::ConfigNode image = root.child("image");
   if (input.empty()) {
@@ -39,14 +44,17 @@ int warp_image_command(const std::vector<std::string>& args) {
   } else {
     image.get_string("input", "");
   }
-  if (output.empty()) output = image.get_string("output", "output/warped.png");
-  else image.get_string("output", "");
+  if (output.empty())
+    output = image.get_string("output", "output/warped.png");
+  else
+    image.get_string("output", "");
   std::array<std::uint8_t, 4> background{255, 255, 255, 0};
   const std::vector<double> bg = image.get_doubles("background");
   if (!bg.empty()) {
     if (bg.size() != 4) throw image.error("background", "expected [r, g, b, a] with values 0..255");
     for (int c = 0; c < 4; ++c) {
-      if (bg[c] < 0 || bg[c] > 255) throw image.error("background", "expected [r, g, b, a] with values 0..255");
+      if (bg[c] < 0 || bg[c] > 255)
+        throw image.error("background", "expected [r, g, b, a] with values 0..255");
       background[c] = static_cast<std::uint8_t>(bg[c]);
     }
   }
@@ -55,8 +63,12 @@ int warp_image_command(const std::vector<std::string>& args) {
   image.finish();
   root.finish();
   if (input.empty())
-    throw Error("no input image", {.file = config_path, .key_path = "/image/input", .hint = "add \"input\": \"picture.png\" or pass --input"});
-  if (spec.type == "identity") throw Error("warp-image needs a target polygon", {.file = config_path, .key_path = "/map/type", .hint = "use \"composite_mean_value\""});
+    throw Error("no input image", {.file = config_path,
+                                   .key_path = "/image/input",
+                                   .hint = "add \"input\": \"picture.png\" or pass --input"});
+  if (spec.type == "identity")
+    throw Error("warp-image needs a target polygon",
+                {.file = config_path, .key_path = "/map/type", .hint = "use \"composite_mean_value\""});
 
   Stopwatch watch;
   mapping::MapPtr<2> map;
@@ -72,7 +84,8 @@ int warp_image_command(const std::vector<std::string>& args) {
   out.height = height > 0 ? height : in.height;
   watch.reset();
   const WarpReport r = warp_image(in, *map, *spec.source, *spec.target, out, background);
-  log::info("warped ", r.pixels, " pixels by inverse mapping (", format_seconds(watch.seconds()), "), max |f(x) - y| = ", r.max_residual);
+  log::info("warped ", r.pixels, " pixels by inverse mapping (", format_seconds(watch.seconds()),
+            "), max |f(x) - y| = ", r.max_residual);
   if (r.unconverged > 0) log::warning(r.unconverged, " pixels did not converge to the tolerance");
   if (Environment::rank() == 0) io::write_png(output, out);
   log::info("wrote ", output);

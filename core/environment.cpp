@@ -46,14 +46,15 @@ void Environment::insert_petsc_options(const std::string& options, const std::st
       throw Error("PETSc option string must start each option with '-', found \"" + name + "\"",
                   {.file = origin, .key_path = "", .hint = "write e.g. \"-ksp_type cg -pc_type gamg\""});
     std::string value;
-    if (i + 1 < tokens.size() && !(tokens[i + 1].size() > 1 && tokens[i + 1][0] == '-' &&
-                                   !std::isdigit(static_cast<unsigned char>(tokens[i + 1][1])) &&
-                                   tokens[i + 1][1] != '.'))
+    if (i + 1 < tokens.size() &&
+        !(tokens[i + 1].size() > 1 && tokens[i + 1][0] == '-' &&
+          !std::isdigit(static_cast<unsigned char>(tokens[i + 1][1])) && tokens[i + 1][1] != '.'))
       value = tokens[++i];
     PetscBool set = PETSC_FALSE;
     WARPFEM_PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set));
     if (!set)
-      WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, name.c_str(), value.empty() ? nullptr : value.c_str()));
+      WARPFEM_PETSC_CHECK(
+          PetscOptionsSetValue(nullptr, name.c_str(), value.empty() ? nullptr : value.c_str()));
   }
 }
 

@@ -22,8 +22,12 @@ int world_rank() {
 }
 }  // namespace
 
-void set_level(Level l) { g_level = l; }
-Level level() { return g_level; }
+void set_level(Level l) {
+  g_level = l;
+}
+Level level() {
+  return g_level;
+}
 
 Level parse_level(const std::string& name) {
   if (name == "quiet") return Level::quiet;

@@ -14,7 +14,9 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using KPoint = Kernel::Point_2;
 using KSegment = Kernel::Segment_2;
 
-KPoint to_cgal(const Point<2>& p) { return KPoint(p.x(), p.y()); }
+KPoint to_cgal(const Point<2>& p) {
+  return KPoint(p.x(), p.y());
+}
 
 std::string vertex_text(const Point<2>& p) {
   return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ")";
@@ -79,19 +81,22 @@ void Polygon::validate() const {
       if (bad)
         throw Error(name_ + " is not simple: edge " + std::to_string(std::min(i, j)) + " and edge " +
                         std::to_string(std::max(i, j)) + " intersect",
-                    {.file = "", .key_path = "",
+                    {.file = "",
+                     .key_path = "",
                      .hint = "move the vertices so that edges meet only at their shared endpoints"});
     }
   }
   if (signed_area() <= 0)
-    throw Error(name_ + " is oriented clockwise (signed area " + std::to_string(signed_area()) + ")",
-                {.file = "", .key_path = "", .hint = "reverse the vertex order to make it counter-clockwise"});
+    throw Error(
+        name_ + " is oriented clockwise (signed area " + std::to_string(signed_area()) + ")",
+        {.file = "", .key_path = "", .hint = "reverse the vertex order to make it counter-clockwise"});
 }
 
 bool Polygon::is_convex() const {
   const Index n = size();
   for (Index i = 0; i < n; ++i)
-    if (CGAL::orientation(to_cgal(vertex(i - 1)), to_cgal(vertex(i)), to_cgal(vertex(i + 1))) == CGAL::RIGHT_TURN)
+    if (CGAL::orientation(to_cgal(vertex(i - 1)), to_cgal(vertex(i)), to_cgal(vertex(i + 1))) ==
+        CGAL::RIGHT_TURN)
       return false;
   return true;
 }
@@ -147,7 +152,8 @@ void require_same_vertex_count(const Polygon& source, const Polygon& target) {
   if (source.size() != target.size())
     throw Error(source.name() + " has " + std::to_string(source.size()) + " vertices but " + target.name() +
                     " has " + std::to_string(target.size()),
-                {.file = "", .key_path = "",
+                {.file = "",
+                 .key_path = "",
                  .hint = "give both polygons the same number of vertices (add collinear vertices along the "
                          "source's edges, one per target vertex)"});
 }

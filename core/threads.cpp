@@ -31,10 +31,13 @@ int thread_count() {
   return g_threads;
 }
 
-void set_thread_count(int threads) { g_threads = std::max(1, threads); }
+void set_thread_count(int threads) {
+  g_threads = std::max(1, threads);
+}
 
 void parallel_for(Index n, Index grain, const std::function<void(Index, Index)>& body) {
-  const int threads = static_cast<int>(std::min<Index>(thread_count(), std::max<Index>(1, n / std::max<Index>(1, grain))));
+  const int threads =
+      static_cast<int>(std::min<Index>(thread_count(), std::max<Index>(1, n / std::max<Index>(1, grain))));
   if (threads <= 1) {
     if (n > 0) body(0, n);
     return;

@@ -39,7 +39,8 @@ CellLocator::CellLocator(const Mesh<2>& mesh) : mesh_(mesh) {
   std::vector<Index> fill(start_.begin(), start_.end() - 1);
   for (Index c = 0; c < nc; ++c)
     for (int j = range[c][2]; j <= range[c][3]; ++j)
-      for (int i = range[c][0]; i <= range[c][1]; ++i) items_[fill[static_cast<std::size_t>(j) * nx_ + i]++] = c;
+      for (int i = range[c][0]; i <= range[c][1]; ++i)
+        items_[fill[static_cast<std::size_t>(j) * nx_ + i]++] = c;
 }
 
 bool CellLocator::inside(Index c, const Point<2>& x, Point<2>& xi) const {

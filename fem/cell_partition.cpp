@@ -33,7 +33,8 @@ std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts) {
   std::vector<std::uint64_t> code(static_cast<std::size_t>(nc));
   for (Index c = 0; c < nc; ++c) {
     const auto q = [&](int d) {
-      return static_cast<std::uint32_t>(std::clamp((centroid(c, d) - lo(d)) / extent, 0.0, 1.0) * 4294967295.0);
+      return static_cast<std::uint32_t>(std::clamp((centroid(c, d) - lo(d)) / extent, 0.0, 1.0) *
+                                        4294967295.0);
     };
     code[c] = spread_bits(q(0)) | (spread_bits(q(1)) << 1);
   }

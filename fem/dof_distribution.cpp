@@ -56,8 +56,10 @@ VectorX DofDistribution::gather_relevant(Vec v) const {
     WARPFEM_PETSC_CHECK(VecCreateSeq(PETSC_COMM_SELF, n, relevant_values_.out()));
     WARPFEM_PETSC_CHECK(VecScatterCreate(v, is.get(), relevant_values_.get(), nullptr, scatter_.out()));
   }
-  WARPFEM_PETSC_CHECK(VecScatterBegin(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
-  WARPFEM_PETSC_CHECK(VecScatterEnd(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
+  WARPFEM_PETSC_CHECK(
+      VecScatterBegin(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
+  WARPFEM_PETSC_CHECK(
+      VecScatterEnd(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
   VectorX out(n);
   const PetscScalar* a = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArrayRead(relevant_values_.get(), &a));

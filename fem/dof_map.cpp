@@ -18,7 +18,8 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
     for (int k = 0; k < nvert; ++k) cell_dofs_(c, k) = mesh.cells(c, k);
     for (int e = 0; e < static_cast<int>(edges.size()) && per_edge > 0; ++e)
       cell_dofs_(c, nvert + e) = nv + edges_.cell_edge(c, e);
-    for (int k = 0; k < interior; ++k) cell_dofs_(c, nloc - interior + k) = nv + ne * per_edge + c * interior + k;
+    for (int k = 0; k < interior; ++k)
+      cell_dofs_(c, nloc - interior + k) = nv + ne * per_edge + c * interior + k;
   }
   // Node positions: map the reference nodes through the straight cell geometry.
   const LagrangeElement geo(mesh.cell_type, 1);

@@ -18,7 +18,9 @@ class EdgeNumbering {
   Index cell_edge(Index cell, int e) const { return cell_edge_(cell, e); }
   /// Edge id of the edge between vertices a and b; -1 if there is none.
   Index find(Index a, Index b) const;
-  const std::array<Index, 2>& vertices(Index edge) const { return edge_vertices_[static_cast<std::size_t>(edge)]; }
+  const std::array<Index, 2>& vertices(Index edge) const {
+    return edge_vertices_[static_cast<std::size_t>(edge)];
+  }
 
  private:
   static std::uint64_t key(Index a, Index b) {

@@ -14,7 +14,9 @@ namespace {
 class LineReader {
  public:
   explicit LineReader(const std::string& path) : path_(path), in_(path) {
-    if (!in_) throw Error("cannot open mesh file", {.file = path, .key_path = "/mesh/file", .hint = "check the path"});
+    if (!in_)
+      throw Error("cannot open mesh file",
+                  {.file = path, .key_path = "/mesh/file", .hint = "check the path"});
   }
   bool next(std::string& line) {
     while (std::getline(in_, line)) {
@@ -31,7 +33,9 @@ class LineReader {
   }
   [[noreturn]] void fail(const std::string& message) const {
     throw Error("line " + std::to_string(number_) + ": " + message,
-                {.file = path_, .key_path = "", .hint = "write the mesh as Gmsh ASCII format 2.2 or 4.1 (gmsh -format msh22)"});
+                {.file = path_,
+                 .key_path = "",
+                 .hint = "write the mesh as Gmsh ASCII format 2.2 or 4.1 (gmsh -format msh22)"});
   }
   void expect(const std::string& tag) {
     std::string line;
@@ -83,7 +87,8 @@ Mesh<2> read_gmsh(const std::string& path, const Polygon& source) {
           for (long i = 0; i < n; ++i) r.next_stream("a node tag") >> tags[i];
           for (long i = 0; i < n; ++i) {
             double x, y, z;
-            if (!(r.next_stream("node coordinates") >> x >> y >> z)) r.fail("expected three node coordinates");
+            if (!(r.next_stream("node coordinates") >> x >> y >> z))
+              r.fail("expected three node coordinates");
             node_index[tags[i]] = static_cast<Index>(nodes.size());
             nodes.emplace_back(x, y);
           }
@@ -104,7 +109,8 @@ Mesh<2> read_gmsh(const std::string& path, const Polygon& source) {
       auto add_cell = [&](int type, std::istringstream& in) {
         const int n = nodes_of_type(type);
         if (n == 0) return;
-        if (cell_nodes != 0 && cell_nodes != n) r.fail("mixed triangles and quadrilaterals are not supported");
+        if (cell_nodes != 0 && cell_nodes != n)
+          r.fail("mixed triangles and quadrilaterals are not supported");
         cell_nodes = n;
         std::vector<long> c(static_cast<std::size_t>(n));
         for (auto& v : c)
@@ -174,9 +180,10 @@ Mesh<2> read_gmsh(const std::string& path, const Polygon& source) {
     area += 0.5 * std::abs(a);
   }
   if (std::abs(area - source.signed_area()) > 1e-8 * source.signed_area())
-    throw Error("the mesh covers area " + std::to_string(area) + " but the source polygon has area " +
-                    std::to_string(source.signed_area()),
-                {.file = path, .key_path = "/mesh/file", .hint = "mesh exactly the source polygon of /map/source"});
+    throw Error(
+        "the mesh covers area " + std::to_string(area) + " but the source polygon has area " +
+            std::to_string(source.signed_area()),
+        {.file = path, .key_path = "/mesh/file", .hint = "mesh exactly the source polygon of /map/source"});
   m.boundary_facets = find_boundary_facets(m);
   try {
     tag_boundary_facets(m, source);

@@ -24,7 +24,9 @@ class LagrangeElement {
   const Points<2>& nodes() const { return nodes_; }
   int num_vertex_dofs() const { return vertices_per_cell(type_); }
   int dofs_per_edge() const { return order_ - 1; }
-  int interior_dofs() const { return num_dofs() - num_vertex_dofs() - static_cast<int>(cell_edges(type_).size()) * dofs_per_edge(); }
+  int interior_dofs() const {
+    return num_dofs() - num_vertex_dofs() - static_cast<int>(cell_edges(type_).size()) * dofs_per_edge();
+  }
 
   /// Shape function values at reference points: (points x num_dofs).
   MatrixX values(const Points<2>& xi) const;

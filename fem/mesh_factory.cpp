@@ -11,11 +11,12 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const MeshSpec& spec) {
   if (spec.type == "structured") return structured_mesh(source, spec.nx, spec.ny, spec.cell_type);
   if (spec.type == "gmsh") return read_gmsh(spec.file, source);
   if (spec.type != "delaunay" && spec.type != "quad_split")
-    throw Error("unknown mesh type \"" + spec.type + "\"",
-                {.file = "", .key_path = "/mesh/type", .hint = "use delaunay, quad_split, structured or gmsh"});
+    throw Error(
+        "unknown mesh type \"" + spec.type + "\"",
+        {.file = "", .key_path = "/mesh/type", .hint = "use delaunay, quad_split, structured or gmsh"});
   PolygonMeshOptions options;
-  options.max_edge_length = spec.max_edge_length > 0 ? spec.max_edge_length
-                                                     : 0.1 * (source.bbox_max() - source.bbox_min()).norm();
+  options.max_edge_length =
+      spec.max_edge_length > 0 ? spec.max_edge_length : 0.1 * (source.bbox_max() - source.bbox_min()).norm();
   options.shape_bound = spec.shape_bound;
   Mesh<2> triangles = mesh_polygon(source, options);
   return spec.type == "quad_split" ? split_into_quadrilaterals(triangles) : triangles;

@@ -4,7 +4,8 @@
 
 namespace warpfem::fem {
 
-OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, const mapping::Map<2>& map, int order) {
+OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, const mapping::Map<2>& map,
+                            int order) {
   OutputMesh out;
   out.cell_type = mesh.cell_type;
   out.order = order;
@@ -30,7 +31,8 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
   return out;
 }
 
-VectorX OutputMesh::interpolate(const DofMap& dofs, const DofDistribution& dist, const VectorX& relevant_values) const {
+VectorX OutputMesh::interpolate(const DofMap& dofs, const DofDistribution& dist,
+                                const VectorX& relevant_values) const {
   const LagrangeElement out_element(cell_type, order);
   const MatrixX phi = dofs.element().values(out_element.nodes());  // output nodes x element dofs
   VectorX values(static_cast<Index>(node_source_.size()));
@@ -38,7 +40,8 @@ VectorX OutputMesh::interpolate(const DofMap& dofs, const DofDistribution& dist,
     const auto [cell_index, k] = node_source_[i];
     const Index c = cell_ids[static_cast<std::size_t>(cell_index)];
     double v = 0;
-    for (Index j = 0; j < phi.cols(); ++j) v += phi(k, j) * relevant_values(dist.relevant_index(dofs.cell_dofs()(c, j)));
+    for (Index j = 0; j < phi.cols(); ++j)
+      v += phi(k, j) * relevant_values(dist.relevant_index(dofs.cell_dofs()(c, j)));
     values(static_cast<Index>(i)) = v;
   }
   return values;

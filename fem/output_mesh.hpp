@@ -15,11 +15,11 @@ namespace warpfem::fem {
 struct OutputMesh {
   CellType cell_type = CellType::triangle;
   int order = 1;
-  Points<2> reference_points;  ///< node positions in Ω0
-  Points<2> points;            ///< node positions f(x0) in Ω1
-  VectorX map_det;             ///< det J_f at the nodes
-  IndexTable cells;            ///< local cells x nodes, VTK Lagrange node order
-  std::vector<Index> cell_ids; ///< mesh cell id of every output cell
+  Points<2> reference_points;   ///< node positions in Ω0
+  Points<2> points;             ///< node positions f(x0) in Ω1
+  VectorX map_det;              ///< det J_f at the nodes
+  IndexTable cells;             ///< local cells x nodes, VTK Lagrange node order
+  std::vector<Index> cell_ids;  ///< mesh cell id of every output cell
 
   /// Values at the nodes of the FE function with coefficients `relevant_values`
   /// (ordered as dist.relevant_dofs()).
@@ -32,6 +32,7 @@ struct OutputMesh {
 
 /// Builds the output mesh of the cells owned by this rank. `order` 0 picks
 /// max(element order, 1 if f is affine else 2).
-OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, const mapping::Map<2>& map, int order);
+OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, const mapping::Map<2>& map,
+                            int order);
 
 }  // namespace warpfem::fem

@@ -75,7 +75,8 @@ void PoissonProblem::assemble() {
   std::vector<PetscScalar> values;
   assemble_neumann(rows, values);
   if (!rows.empty())
-    WARPFEM_PETSC_CHECK(VecSetValues(b_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), ADD_VALUES));
+    WARPFEM_PETSC_CHECK(
+        VecSetValues(b_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), ADD_VALUES));
   WARPFEM_PETSC_CHECK(MatAssemblyBegin(A_.get(), MAT_FINAL_ASSEMBLY));
   WARPFEM_PETSC_CHECK(MatAssemblyEnd(A_.get(), MAT_FINAL_ASSEMBLY));
   WARPFEM_PETSC_CHECK(VecAssemblyBegin(b_.get()));
@@ -97,7 +98,8 @@ void PoissonProblem::assemble_neumann(std::vector<PetscInt>& rows, std::vector<P
   for (std::size_t i = 0; i < facets.size(); ++i) {
     const Point<2> a = mesh_.vertex(mesh_.boundary_facets(facets[i], 0));
     const Point<2> b = mesh_.vertex(mesh_.boundary_facets(facets[i], 1));
-    for (Index q = 0; q < nq; ++q) s0.row(static_cast<Index>(i) * nq + q) = (a + rule.points(q, 0) * (b - a)).transpose();
+    for (Index q = 0; q < nq; ++q)
+      s0.row(static_cast<Index>(i) * nq + q) = (a + rule.points(q, 0) * (b - a)).transpose();
   }
   Points<2> s;
   Jacobians<2> Jf;
@@ -137,14 +139,17 @@ void PoissonProblem::apply_dirichlet() {
       seen[d] = 1;
       const Index r = dist_.relevant_index(d);
       rows.push_back(dist_.global(d));
-      values.push_back(data_.dirichlet[static_cast<std::size_t>(k)].value(relevant_x_.row(r).transpose(), 0.0));
+      values.push_back(
+          data_.dirichlet[static_cast<std::size_t>(k)].value(relevant_x_.row(r).transpose(), 0.0));
     }
   }
-  WARPFEM_PETSC_CHECK(VecSetValues(u_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES));
+  WARPFEM_PETSC_CHECK(
+      VecSetValues(u_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES));
   WARPFEM_PETSC_CHECK(VecAssemblyBegin(u_.get()));
   WARPFEM_PETSC_CHECK(VecAssemblyEnd(u_.get()));
   // Symmetric elimination keeps the matrix SPD for CG: b -= A_{:,D} u_D, rows/cols D -> identity.
-  WARPFEM_PETSC_CHECK(MatZeroRowsColumns(A_.get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0, u_.get(), b_.get()));
+  WARPFEM_PETSC_CHECK(
+      MatZeroRowsColumns(A_.get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0, u_.get(), b_.get()));
   PetscInt total = 0, local = static_cast<PetscInt>(rows.size());
   MPI_Allreduce(&local, &total, 1, MPIU_INT, MPI_SUM, comm_);
   if (total == 0 && data_.neumann.empty())

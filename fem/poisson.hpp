@@ -75,8 +75,8 @@ class PoissonProblem {
   DofMap dofs_;
   DofDistribution dist_;
   WarpedGeometry geometry_;
-  MatrixX shape_values_;                 // quadrature points x dofs per cell
-  std::array<MatrixX, 2> shape_grads_;   // reference gradients
+  MatrixX shape_values_;                // quadrature points x dofs per cell
+  std::array<MatrixX, 2> shape_grads_;  // reference gradients
   Points<2> relevant_x_;
   petsc::Matrix A_;
   petsc::Vector b_, u_;

@@ -34,7 +34,8 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options) 
   const Index n = polygon.size();
   Cdt cdt;
   std::vector<Cdt::Vertex_handle> corners;
-  for (Index i = 0; i < n; ++i) corners.push_back(cdt.insert(Cdt::Point(polygon.vertex(i).x(), polygon.vertex(i).y())));
+  for (Index i = 0; i < n; ++i)
+    corners.push_back(cdt.insert(Cdt::Point(polygon.vertex(i).x(), polygon.vertex(i).y())));
   for (Index i = 0; i < n; ++i) cdt.insert_constraint(corners[i], corners[polygon.wrap(i + 1)]);
 
   // A seed-free refinement meshes every bounded component; the polygon is
@@ -61,11 +62,13 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options) 
     tris.push_back(t);  // CGAL faces are counter-clockwise
   }
   if (tris.empty())
-    throw Error(polygon.name() + ": meshing produced no triangles",
-                {.file = "", .key_path = "", .hint = "check the polygon (it must be simple and counter-clockwise)"});
+    throw Error(
+        polygon.name() + ": meshing produced no triangles",
+        {.file = "", .key_path = "", .hint = "check the polygon (it must be simple and counter-clockwise)"});
 
   mesh.vertices.resize(static_cast<Index>(verts.size()), 2);
-  for (std::size_t i = 0; i < verts.size(); ++i) mesh.vertices.row(static_cast<Index>(i)) = verts[i].transpose();
+  for (std::size_t i = 0; i < verts.size(); ++i)
+    mesh.vertices.row(static_cast<Index>(i)) = verts[i].transpose();
   mesh.cells.resize(static_cast<Index>(tris.size()), 3);
   for (std::size_t c = 0; c < tris.size(); ++c)
     for (int k = 0; k < 3; ++k) mesh.cells(static_cast<Index>(c), k) = tris[c][k];

@@ -51,10 +51,15 @@ QuadratureRule<2> cell_quadrature(CellType type, int degree) {
       double a, weight;  // points (a, a), (1 - 2a, a), (a, 1 - 2a); a = 1/3 is the centroid
     };
     std::vector<Orbit> orbits;
-    if (degree <= 1) orbits = {{1.0 / 3.0, 1.0}};
-    else if (degree == 2) orbits = {{1.0 / 6.0, 1.0 / 3.0}};
-    else if (degree <= 4) orbits = {{0.445948490915965, 0.223381589678011}, {0.091576213509771, 0.109951743655322}};
-    else orbits = {{1.0 / 3.0, 0.225}, {0.470142064105115, 0.132394152788506}, {0.101286507323456, 0.125939180544827}};
+    if (degree <= 1)
+      orbits = {{1.0 / 3.0, 1.0}};
+    else if (degree == 2)
+      orbits = {{1.0 / 6.0, 1.0 / 3.0}};
+    else if (degree <= 4)
+      orbits = {{0.445948490915965, 0.223381589678011}, {0.091576213509771, 0.109951743655322}};
+    else
+      orbits = {
+          {1.0 / 3.0, 0.225}, {0.470142064105115, 0.132394152788506}, {0.101286507323456, 0.125939180544827}};
     std::vector<std::array<double, 3>> pts;  // x, y, weight on the unit-area-normalized triangle
     for (const auto& o : orbits) {
       if (o.a == 1.0 / 3.0) {
@@ -89,6 +94,8 @@ QuadratureRule<2> cell_quadrature(CellType type, int degree) {
   return rule;
 }
 
-int default_quadrature_degree(int order) { return 2 * order + 2; }
+int default_quadrature_degree(int order) {
+  return 2 * order + 2;
+}
 
 }  // namespace warpfem::fem

@@ -32,7 +32,8 @@ IndexTable find_boundary_facets(const Mesh<2>& mesh) {
       if (count[edges.cell_edge(c, static_cast<int>(e))] == 1)
         facets.push_back({mesh.cells(c, local[e][0]), mesh.cells(c, local[e][1])});  // cells are CCW
   IndexTable out(static_cast<Index>(facets.size()), 2);
-  for (std::size_t f = 0; f < facets.size(); ++f) out.row(static_cast<Index>(f)) << facets[f][0], facets[f][1];
+  for (std::size_t f = 0; f < facets.size(); ++f)
+    out.row(static_cast<Index>(f)) << facets[f][0], facets[f][1];
   return out;
 }
 
@@ -40,20 +41,28 @@ void tag_boundary_facets(Mesh<2>& mesh, const Polygon& polygon) {
   const BoundaryLocator locator(polygon);
   mesh.facet_tags.resize(static_cast<std::size_t>(mesh.num_boundary_facets()));
   for (Index f = 0; f < mesh.num_boundary_facets(); ++f) {
-    const Point<2> mid = 0.5 * (mesh.vertex(mesh.boundary_facets(f, 0)) + mesh.vertex(mesh.boundary_facets(f, 1)));
+    const Point<2> mid =
+        0.5 * (mesh.vertex(mesh.boundary_facets(f, 0)) + mesh.vertex(mesh.boundary_facets(f, 1)));
     const int e = locator.edge_at(mid);
     if (e < 0)
-      throw Error("boundary facet " + std::to_string(f) + " of the mesh does not lie on the polygon " + polygon.name(),
-                  {.file = "", .key_path = "/mesh", .hint = "the mesh must cover exactly the source polygon"});
+      throw Error(
+          "boundary facet " + std::to_string(f) + " of the mesh does not lie on the polygon " +
+              polygon.name(),
+          {.file = "", .key_path = "/mesh", .hint = "the mesh must cover exactly the source polygon"});
     mesh.facet_tags[f] = e;
   }
 }
 
 Mesh<2> structured_mesh(const Polygon& rectangle, int nx, int ny, CellType type) {
   if (!is_axis_aligned_rectangle(rectangle))
-    throw Error("a structured mesh needs an axis-aligned rectangular source polygon; " + rectangle.name() + " is not one",
-                {.file = "", .key_path = "/mesh/type", .hint = "use \"delaunay\" or \"quad_split\" for general polygons"});
-  if (nx < 1 || ny < 1) throw Error("structured mesh needs at least one cell per direction", {.file = "", .key_path = "/mesh/cells", .hint = "give [nx, ny] >= [1, 1]"});
+    throw Error("a structured mesh needs an axis-aligned rectangular source polygon; " + rectangle.name() +
+                    " is not one",
+                {.file = "",
+                 .key_path = "/mesh/type",
+                 .hint = "use \"delaunay\" or \"quad_split\" for general polygons"});
+  if (nx < 1 || ny < 1)
+    throw Error("structured mesh needs at least one cell per direction",
+                {.file = "", .key_path = "/mesh/cells", .hint = "give [nx, ny] >= [1, 1]"});
   require(type == CellType::triangle || type == CellType::quadrilateral, "structured_mesh: 2D cells only");
   const Point<2> lo = rectangle.bbox_min(), hi = rectangle.bbox_max();
   Mesh<2> m;
@@ -70,7 +79,8 @@ Mesh<2> structured_mesh(const Polygon& rectangle, int nx, int ny, CellType type)
     m.cells.resize(static_cast<Index>(nx) * ny, 4);
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i)
-        m.cells.row(static_cast<Index>(j) * nx + i) << vid(i, j), vid(i + 1, j), vid(i + 1, j + 1), vid(i, j + 1);
+        m.cells.row(static_cast<Index>(j) * nx + i) << vid(i, j), vid(i + 1, j), vid(i + 1, j + 1),
+            vid(i, j + 1);
   } else {
     m.cells.resize(2 * static_cast<Index>(nx) * ny, 3);
     for (int j = 0; j < ny; ++j)
@@ -94,11 +104,13 @@ Mesh<2> split_into_quadrilaterals(const Mesh<2>& tri) {
   q.vertices.resize(nv + ne + nc, 2);
   q.vertices.topRows(nv) = tri.vertices;
   for (Index e = 0; e < ne; ++e)
-    q.vertices.row(nv + e) = 0.5 * (tri.vertices.row(edges.vertices(e)[0]) + tri.vertices.row(edges.vertices(e)[1]));
+    q.vertices.row(nv + e) =
+        0.5 * (tri.vertices.row(edges.vertices(e)[0]) + tri.vertices.row(edges.vertices(e)[1]));
   q.cells.resize(3 * nc, 4);
   for (Index c = 0; c < nc; ++c) {
     const Index v0 = tri.cells(c, 0), v1 = tri.cells(c, 1), v2 = tri.cells(c, 2);
-    const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1), m20 = nv + edges.cell_edge(c, 2);
+    const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1),
+                m20 = nv + edges.cell_edge(c, 2);
     const Index centre = nv + ne + c;
     q.vertices.row(centre) = (tri.vertices.row(v0) + tri.vertices.row(v1) + tri.vertices.row(v2)) / 3.0;
     q.cells.row(3 * c) << v0, m01, centre, m20;

@@ -32,7 +32,8 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
     const Index* v = &coarse.cells(c, 0);
     for (int k = 0; k < 4; ++k) out.cell_parent[4 * c + k] = c;
     if (!quads) {
-      const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1), m20 = nv + edges.cell_edge(c, 2);
+      const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1),
+                  m20 = nv + edges.cell_edge(c, 2);
       fine.cells.row(4 * c + 0) << v[0], m01, m20;
       fine.cells.row(4 * c + 1) << m01, v[1], m12;
       fine.cells.row(4 * c + 2) << m20, m12, v[2];

@@ -8,8 +8,8 @@
 
 namespace warpfem::fem {
 
-WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& cells, const QuadratureRule<2>& rule,
-                               const mapping::Map<2>& map)
+WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& cells,
+                               const QuadratureRule<2>& rule, const mapping::Map<2>& map)
     : cells_(cells), rule_(rule), nq_(rule.size()) {
   const Index n = num_cells() * nq_;
   const LagrangeElement geo(mesh.cell_type, 1);
@@ -17,7 +17,8 @@ WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& ce
   const auto dN = geo.gradients(rule.points);
   x0_.resize(n, 2);
   Jacobians<2> JG(n, 4);
-  for (Index i = 0; i < num_cells(); ++i) simple_cell_geometry(mesh, cells_[i], rule.points, N, dN, x0_, JG, i * nq_);
+  for (Index i = 0; i < num_cells(); ++i)
+    simple_cell_geometry(mesh, cells_[i], rule.points, N, dN, x0_, JG, i * nq_);
 
   Jacobians<2>& Jf = Jf_;
   map.eval_with_jacobian(x0_, x_, Jf);  // the one batched map evaluation
@@ -36,9 +37,10 @@ WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& ce
     if (!(det > 0)) {
       const Index i = p / nq_;
       std::ostringstream os;
-      os << "the warped cell " << cells_[i] << " is inverted or degenerate: det J = " << det << " (det J_f = "
-         << detJf_(p) << ") at x0 = (" << x0_(p, 0) << ", " << x0_(p, 1) << ")";
-      throw Error(os.str(), {.file = "", .key_path = "",
+      os << "the warped cell " << cells_[i] << " is inverted or degenerate: det J = " << det
+         << " (det J_f = " << detJf_(p) << ") at x0 = (" << x0_(p, 0) << ", " << x0_(p, 1) << ")";
+      throw Error(os.str(), {.file = "",
+                             .key_path = "",
                              .hint = "the map is not bijective there; refine the map's partition (smaller "
                                      "min_interval, higher sample_resolution) or check the polygons"});
     }

@@ -27,13 +27,13 @@ class WarpedGeometry {
   const QuadratureRule<2>& rule() const { return rule_; }
 
   const Points<2>& reference_points() const { return x0_; }  ///< x0 in Ω0
-  const Points<2>& physical_points() const { return x_; }     ///< f(x0) in Ω1
-  const Jacobians<2>& jacobian() const { return J_; }         ///< J = J_f J_G
+  const Points<2>& physical_points() const { return x_; }    ///< f(x0) in Ω1
+  const Jacobians<2>& jacobian() const { return J_; }        ///< J = J_f J_G
   const Jacobians<2>& inverse_transpose() const { return JinvT_; }
   const VectorX& det() const { return detJ_; }
-  const VectorX& map_det() const { return detJf_; }  ///< det J_f alone
+  const VectorX& map_det() const { return detJf_; }         ///< det J_f alone
   const Jacobians<2>& map_jacobian() const { return Jf_; }  ///< J_f alone
-  const VectorX& JxW() const { return JxW_; }        ///< w_q |det J|
+  const VectorX& JxW() const { return JxW_; }               ///< w_q |det J|
 
  private:
   std::vector<Index> cells_;

@@ -27,7 +27,8 @@ void write_atomically(const std::string& path, const std::function<void(const st
                        ("." + final_path.filename().string() + ".tmp-" + std::to_string(::getpid()));
   try {
     write(tmp.string());
-    if (!fs::exists(tmp)) throw Error("the writer produced no file", {.file = path, .key_path = "", .hint = ""});
+    if (!fs::exists(tmp))
+      throw Error("the writer produced no file", {.file = path, .key_path = "", .hint = ""});
     fs::rename(tmp, final_path);
   } catch (...) {
     std::error_code ec;
@@ -41,7 +42,9 @@ void write_text_atomically(const std::string& path, const std::string& content) 
     std::ofstream out(tmp, std::ios::binary);
     out << content;
     out.close();
-    if (!out) throw Error("cannot write file", {.file = path, .key_path = "", .hint = "check disk space and permissions"});
+    if (!out)
+      throw Error("cannot write file",
+                  {.file = path, .key_path = "", .hint = "check disk space and permissions"});
   });
 }
 

@@ -49,8 +49,7 @@ ConfigNode::ConfigNode(const nlohmann::json& json, std::string file, std::string
 
 nlohmann::json ConfigNode::parse_file(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in)
-    throw Error("cannot open config file", {.file = file, .key_path = "", .hint = "check the path"});
+  if (!in) throw Error("cannot open config file", {.file = file, .key_path = "", .hint = "check the path"});
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
@@ -64,8 +63,9 @@ nlohmann::json ConfigNode::parse_file(const std::string& file) {
     std::string what = e.what();
     const auto colon = what.find("error: ");
     if (colon != std::string::npos) what = what.substr(colon + 7);
-    throw Error("invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what,
-                {.file = file, .key_path = "", .hint = "fix the JSON syntax (missing comma, quote or bracket?)"});
+    throw Error(
+        "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what,
+        {.file = file, .key_path = "", .hint = "fix the JSON syntax (missing comma, quote or bracket?)"});
   }
 }
 
@@ -89,7 +89,8 @@ ConfigNode ConfigNode::child(const std::string& key) const {
   const nlohmann::json* v = find(key);
   static const nlohmann::json empty = nlohmann::json::object();
   if (!v) return ConfigNode(empty, file_, path_of(key));
-  if (!v->is_object()) throw error(key, "expected an object ({ ... }), got " + type_name(*v) + " " + json_excerpt(*v));
+  if (!v->is_object())
+    throw error(key, "expected an object ({ ... }), got " + type_name(*v) + " " + json_excerpt(*v));
   return ConfigNode(*v, file_, path_of(key));
 }
 
@@ -114,9 +115,9 @@ long ConfigNode::get_int(const std::string& key, long fallback, long min, long m
   if (min == 1 && max == std::numeric_limits<long>::max()) expected = "a positive integer";
   if (min != std::numeric_limits<long>::min() && max != std::numeric_limits<long>::max())
     expected = "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
-  const bool integral = v->is_number_integer() ||
-                        (v->is_number_float() && std::floor(v->get<double>()) == v->get<double>() &&
-                         std::abs(v->get<double>()) < 1e15);
+  const bool integral =
+      v->is_number_integer() || (v->is_number_float() && std::floor(v->get<double>()) == v->get<double>() &&
+                                 std::abs(v->get<double>()) < 1e15);
   if (!integral) throw error(key, "expected " + expected + ", got " + json_excerpt(*v));
   const long value = v->is_number_integer() ? v->get<long>() : static_cast<long>(v->get<double>());
   if (value < min || value > max) throw error(key, "expected " + expected + ", got " + json_excerpt(*v));

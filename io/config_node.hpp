@@ -7,7 +7,6 @@
 //   run.json: /mesh/refinements: expected a non-negative integer, got "two"
 
 #include <nlohmann/json.hpp>
-
 #include <optional>
 #include <set>
 #include <string>

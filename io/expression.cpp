@@ -32,7 +32,8 @@ Expression::Expression(const std::string& text, const std::string& file, const s
                   {.file = file, .key_path = key_path, .hint = "check for division by zero"});
   } catch (const mu::Parser::exception_type& e) {
     throw Error("cannot parse expression \"" + text + "\": " + e.GetMsg(),
-                {.file = file, .key_path = key_path,
+                {.file = file,
+                 .key_path = key_path,
                  .hint = "use the variables x, y, z, t, the constants pi and e, and functions such as sin, "
                          "exp, sqrt, abs, ^ for powers"});
   }

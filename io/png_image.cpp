@@ -27,7 +27,8 @@ Image read_png(const std::string& path) {
   data->GetDimensions(dims);
   const int comps = data->GetNumberOfScalarComponents();
   if (dims[0] <= 0 || dims[1] <= 0 || comps < 1 || comps > 4 || data->GetScalarType() != VTK_UNSIGNED_CHAR)
-    throw Error("unsupported PNG (need 8-bit gray, gray+alpha, RGB or RGBA)", {.file = path, .key_path = "", .hint = ""});
+    throw Error("unsupported PNG (need 8-bit gray, gray+alpha, RGB or RGBA)",
+                {.file = path, .key_path = "", .hint = ""});
   Image img;
   img.width = dims[0];
   img.height = dims[1];
@@ -58,7 +59,8 @@ void write_png(const std::string& path, const Image& image) {
     writer->SetFileName(tmp.c_str());
     writer->Write();
     if (writer->GetErrorCode() != 0)
-      throw Error("VTK could not write the PNG", {.file = path, .key_path = "", .hint = "check disk space and permissions"});
+      throw Error("VTK could not write the PNG",
+                  {.file = path, .key_path = "", .hint = "check disk space and permissions"});
   });
 }
 

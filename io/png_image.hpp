@@ -13,7 +13,9 @@ struct Image {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgba;  ///< width * height * 4, row-major from the bottom row
   std::uint8_t* pixel(int i, int j) { return &rgba[4 * (static_cast<std::size_t>(j) * width + i)]; }
-  const std::uint8_t* pixel(int i, int j) const { return &rgba[4 * (static_cast<std::size_t>(j) * width + i)]; }
+  const std::uint8_t* pixel(int i, int j) const {
+    return &rgba[4 * (static_cast<std::size_t>(j) * width + i)];
+  }
 };
 
 /// Reads any PNG (gray, RGB, RGBA; converted to RGBA); throws warpfem::Error naming the file.

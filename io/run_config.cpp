@@ -13,9 +13,12 @@ namespace fs = std::filesystem;
 namespace {
 
 /// Reads a polygon file: one vertex per line, "x,y" or "x y"; '#' starts a comment.
-std::vector<Point<2>> read_polygon_file(const std::string& path, const ConfigNode& node, const std::string& key) {
+std::vector<Point<2>> read_polygon_file(const std::string& path, const ConfigNode& node,
+                                        const std::string& key) {
   std::ifstream in(path);
-  if (!in) throw node.error(key, "cannot open polygon file \"" + path + "\"", "check the path (relative paths start at the config file's directory)");
+  if (!in)
+    throw node.error(key, "cannot open polygon file \"" + path + "\"",
+                     "check the path (relative paths start at the config file's directory)");
   std::vector<Point<2>> pts;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
@@ -60,14 +63,16 @@ Polygon parse_polygon(const ConfigNode& node, const std::string& key, const std:
 mapping::MapSpec parse_map_spec(const ConfigNode& node) {
   mapping::MapSpec spec;
   spec.origin = node.file();
-  spec.type = node.get_choice("type", "identity", {"identity", "barycentric", "composite_mean_value", "composite_harmonic"});
+  spec.type = node.get_choice("type", "identity",
+                              {"identity", "barycentric", "composite_mean_value", "composite_harmonic"});
   if (!node.has("source"))
     throw node.error("source", "missing required field: the source polygon Ω0 (an array of [x, y])",
                      "add \"source\": [[0,0], [1,0], [1,1], [0,1]]");
   spec.source = parse_polygon(node, "source", "source polygon");
   if (spec.type != "identity") {
     if (!node.has("target"))
-      throw node.error("target", "missing required field: the target polygon Ω1 for map type \"" + spec.type + "\"",
+      throw node.error("target",
+                       "missing required field: the target polygon Ω1 for map type \"" + spec.type + "\"",
                        "add \"target\": [[x, y], ...] with as many vertices as the source");
     spec.target = parse_polygon(node, "target", "target polygon");
     try {
@@ -79,31 +84,38 @@ mapping::MapSpec parse_map_spec(const ConfigNode& node) {
     throw node.error("target", "the identity map takes no target polygon",
                      "remove \"target\" or set \"type\": \"composite_mean_value\"");
   }
-  spec.coordinates = node.get_choice("coordinates", spec.coordinates, {"mean_value", "wachspress", "discrete_harmonic"});
+  spec.coordinates =
+      node.get_choice("coordinates", spec.coordinates, {"mean_value", "wachspress", "discrete_harmonic"});
   spec.vertex_path = node.get_choice("vertex_path", spec.vertex_path, {"linear", "intrinsic"});
   spec.partition = node.get_choice("partition", spec.partition, {"adaptive", "uniform", "explicit"});
   spec.steps = static_cast<int>(node.get_int("steps", spec.steps, 1, 100000));
   spec.times = node.get_doubles("times");
-  spec.sample_resolution = static_cast<int>(node.get_int("sample_resolution", spec.sample_resolution, 4, 8192));
+  spec.sample_resolution =
+      static_cast<int>(node.get_int("sample_resolution", spec.sample_resolution, 4, 8192));
   spec.min_interval = node.get_double("min_interval", spec.min_interval, 1e-12, 1.0);
   spec.harmonic_method = node.get_choice("harmonic_method", spec.harmonic_method, {"fem", "bem", "mfs"});
   spec.intermediate = node.get_choice("intermediate", spec.intermediate, {"regular", "cyclic", "optimized"});
   spec.boundary_nodes = static_cast<int>(node.get_int("boundary_nodes", spec.boundary_nodes, 3, 100000));
   spec.fem_max_edge_length = node.get_double("fem_max_edge_length", spec.fem_max_edge_length, 0.0);
-  spec.distortion_energy = node.get_choice("distortion_energy", spec.distortion_energy, {"conformal", "isometric"});
+  spec.distortion_energy =
+      node.get_choice("distortion_energy", spec.distortion_energy, {"conformal", "isometric"});
   for (const std::string key : {"source_edge_speeds", "target_edge_speeds"}) {
     if (!node.has(key)) continue;
     auto& out = key == "source_edge_speeds" ? spec.source_edge_speeds : spec.target_edge_speeds;
     const nlohmann::json& list = node.raw(key);
-    if (!list.is_array()) throw node.error(key, "expected an array of edge speeds, got " + json_excerpt(list));
+    if (!list.is_array())
+      throw node.error(key, "expected an array of edge speeds, got " + json_excerpt(list));
     for (std::size_t i = 0; i < list.size(); ++i) {
       const auto& s = list[i];
       if (!s.is_string() || (s != "linear" && s != "quadratic" && s != "quadratic_reversed"))
-        throw node.error(key + "/" + std::to_string(i), "expected \"linear\", \"quadratic\" or \"quadratic_reversed\", got " + json_excerpt(s));
+        throw node.error(
+            key + "/" + std::to_string(i),
+            "expected \"linear\", \"quadratic\" or \"quadratic_reversed\", got " + json_excerpt(s));
       out.push_back(s.get<std::string>());
     }
     if (static_cast<Index>(out.size()) != spec.source->size())
-      throw node.error(key, "expected one speed per edge (" + std::to_string(spec.source->size()) + "), got " + std::to_string(out.size()));
+      throw node.error(key, "expected one speed per edge (" + std::to_string(spec.source->size()) +
+                                "), got " + std::to_string(out.size()));
   }
   if (spec.partition == "explicit" && spec.times.size() < 2)
     throw node.error("times", "partition \"explicit\" needs the list of times 0 = t0 < t1 < ... < tm = 1",
@@ -119,7 +131,8 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
   if (!node.has(key)) return out;
   const nlohmann::json& list = node.raw(key);
   if (!list.is_array())
-    throw node.error(key, "expected an array of {\"edges\": ..., \"value\": ...} objects, got " + json_excerpt(list));
+    throw node.error(
+        key, "expected an array of {\"edges\": ..., \"value\": ...} objects, got " + json_excerpt(list));
   for (std::size_t i = 0; i < list.size(); ++i) {
     const ConfigNode item(list[i], node.file(), node.path_of(key) + "/" + std::to_string(i));
     BoundarySpec bc;
@@ -131,7 +144,8 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
         for (std::size_t k = 0; k < e.size(); ++k) {
           if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_edges)
             throw item.error("edges/" + std::to_string(k),
-                             "expected an edge index in [0, " + std::to_string(num_edges - 1) + "], got " + json_excerpt(e[k]),
+                             "expected an edge index in [0, " + std::to_string(num_edges - 1) + "], got " +
+                                 json_excerpt(e[k]),
                              "edge i joins target vertices i and i+1");
           bc.edges.push_back(e[k].get<int>());
         }
@@ -139,7 +153,8 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
         throw item.error("edges", "expected \"all\" or an array of edge indices, got " + json_excerpt(e));
       }
     }
-    if (!item.has("value")) throw item.error("value", "missing required field", "give a number or an expression of x, y");
+    if (!item.has("value"))
+      throw item.error("value", "missing required field", "give a number or an expression of x, y");
     bc.value = item.get_expression("value", "0");
     Expression(bc.value, node.file(), bc.key_path);  // syntax check now
     item.finish();
@@ -156,11 +171,12 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
   spec.max_edge_length = mesh.get_double("max_edge_length", spec.max_edge_length, 0.0);
   spec.shape_bound = mesh.get_double("shape_bound", spec.shape_bound, 0.125);
   spec.refinements = static_cast<int>(mesh.get_int("refinements", spec.refinements, 0, 12));
-  const std::string cell = mesh.get_choice("cell_type", spec.type == "structured" ? "quadrilateral" : "triangle",
-                                           {"triangle", "quadrilateral"});
+  const std::string cell = mesh.get_choice(
+      "cell_type", spec.type == "structured" ? "quadrilateral" : "triangle", {"triangle", "quadrilateral"});
   spec.cell_type = cell == "triangle" ? fem::CellType::triangle : fem::CellType::quadrilateral;
   if (spec.type == "delaunay" && spec.cell_type != fem::CellType::triangle)
-    throw mesh.error("cell_type", "delaunay meshes are made of triangles", "use \"type\": \"quad_split\" for quadrilaterals");
+    throw mesh.error("cell_type", "delaunay meshes are made of triangles",
+                     "use \"type\": \"quad_split\" for quadrilaterals");
   if (spec.type == "quad_split") spec.cell_type = fem::CellType::quadrilateral;
   if (mesh.has("cells")) {
     const nlohmann::json& c = mesh.raw("cells");
@@ -171,12 +187,14 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
       spec.nx = c[0].get<int>();
       spec.ny = c[1].get<int>();
     } else {
-      throw mesh.error("cells", "expected a positive integer or [nx, ny], got " + json_excerpt(c), "e.g. \"cells\": [4, 4]");
+      throw mesh.error("cells", "expected a positive integer or [nx, ny], got " + json_excerpt(c),
+                       "e.g. \"cells\": [4, 4]");
     }
   }
   spec.file = mesh.get_string("file", "");
   if (spec.type == "gmsh") {
-    if (spec.file.empty()) throw mesh.error("file", "mesh type \"gmsh\" needs a .msh file", "add \"file\": \"domain.msh\"");
+    if (spec.file.empty())
+      throw mesh.error("file", "mesh type \"gmsh\" needs a .msh file", "add \"file\": \"domain.msh\"");
     std::filesystem::path p(spec.file);
     if (p.is_relative()) spec.file = (std::filesystem::path(mesh.file()).parent_path() / p).string();
   }
@@ -206,7 +224,8 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   cfg.poisson.dirichlet = parse_boundary(problem, "dirichlet", num_edges);
   cfg.poisson.neumann = parse_boundary(problem, "neumann", num_edges);
   cfg.poisson.exact_solution = problem.get_expression("exact_solution", "");
-  if (!cfg.poisson.exact_solution.empty()) Expression(cfg.poisson.exact_solution, file, problem.path_of("exact_solution"));
+  if (!cfg.poisson.exact_solution.empty())
+    Expression(cfg.poisson.exact_solution, file, problem.path_of("exact_solution"));
   if (cfg.poisson.dirichlet.empty() && cfg.poisson.neumann.empty())
     throw problem.error("dirichlet", "no boundary condition given",
                         "add \"dirichlet\": [{\"edges\": \"all\", \"value\": 0}]");
@@ -226,7 +245,8 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   cfg.output.directory = output.get_string("directory", cfg.output.directory);
   cfg.output.name = output.get_string("name", cfg.output.name);
   if (cfg.output.name.empty() || cfg.output.name.find('/') != std::string::npos)
-    throw output.error("name", "expected a file name without '/', got \"" + cfg.output.name + "\"", "use e.g. \"solution\"");
+    throw output.error("name", "expected a file name without '/', got \"" + cfg.output.name + "\"",
+                       "use e.g. \"solution\"");
   cfg.output.vtk = output.get_bool("vtk", cfg.output.vtk);
   cfg.output.vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
   output.finish();
@@ -242,7 +262,8 @@ RunConfig load_run_config(const std::string& path) {
 std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
                                                              const std::string& file) {
   std::vector<fem::BoundaryCondition> out;
-  for (const auto& s : specs) out.push_back({s.edges, Expression(s.value, file, s.key_path).as_function_2d()});
+  for (const auto& s : specs)
+    out.push_back({s.edges, Expression(s.value, file, s.key_path).as_function_2d()});
   return out;
 }
 

@@ -22,9 +22,9 @@ struct BoundarySpec {
 };
 
 struct PoissonSpec {
-  int order = 1;                      ///< Lagrange order (1 or 2)
-  int quadrature_degree = 0;          ///< 0: fem::default_quadrature_degree(order)
-  std::string source = "0";           ///< g in −Δu = g
+  int order = 1;              ///< Lagrange order (1 or 2)
+  int quadrature_degree = 0;  ///< 0: fem::default_quadrature_degree(order)
+  std::string source = "0";   ///< g in −Δu = g
   std::vector<BoundarySpec> dirichlet;
   std::vector<BoundarySpec> neumann;  ///< ∂u/∂n = h (outward normal)
   std::string exact_solution;         ///< optional: report L2/H1 errors against it

@@ -63,12 +63,15 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VtkOutput& output) {
 }
 
 void check_written(int ok, const std::string& path) {
-  if (!ok) throw Error("VTK could not write the file", {.file = path, .key_path = "", .hint = "check disk space and permissions"});
+  if (!ok)
+    throw Error("VTK could not write the file",
+                {.file = path, .key_path = "", .hint = "check disk space and permissions"});
 }
 
 }  // namespace
 
-std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory, const std::string& name) {
+std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory,
+                      const std::string& name) {
   require(output.mesh != nullptr, "write_vtk: no mesh");
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -103,7 +106,9 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
     error = ec ? 1 : 0;
   }
   MPI_Bcast(&error, 1, MPI_INT, 0, comm);
-  if (error) throw Error("cannot create output directory", {.file = directory, .key_path = "", .hint = "choose a writable /output/directory"});
+  if (error)
+    throw Error("cannot create output directory",
+                {.file = directory, .key_path = "", .hint = "choose a writable /output/directory"});
 
   MPI_Comm dup = comm;
   vtkMPICommunicatorOpaqueComm opaque(&dup);
@@ -136,7 +141,9 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
     fs::remove_all(staging, ec);
   }
   MPI_Barrier(comm);
-  if (!all_moved) throw Error("VTK could not write the parallel output", {.file = path, .key_path = "", .hint = "check disk space and permissions"});
+  if (!all_moved)
+    throw Error("VTK could not write the parallel output",
+                {.file = path, .key_path = "", .hint = "check disk space and permissions"});
   return path;
 }
 

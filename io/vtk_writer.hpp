@@ -28,7 +28,8 @@ struct VtkOutput {
 /// Writes `<directory>/<name>.vtu` (one rank) or `<directory>/<name>.pvtu` with
 /// pieces `<directory>/<name>/<name>_<rank>.vtu` (several ranks). Collective.
 /// Returns the path of the file to open in ParaView.
-std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory, const std::string& name);
+std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory,
+                      const std::string& name);
 
 /// VTK cell type id used for a cell type and order (VTK_TRIANGLE, VTK_LAGRANGE_TRIANGLE, ...).
 int vtk_cell_type(fem::CellType type, int order);

@@ -28,8 +28,8 @@ Real step_min_det(const Polygon& from, const Polygon& to, const AdaptiveOptions&
   std::ostringstream os;
   os.precision(17);
   os << "composite map is not bijective: " << where << " the step on [" << a << ", " << b
-     << "] still has min det J = " << det << " and the interval has reached the minimum length epsilon = "
-     << o.min_interval;
+     << "] still has min det J = " << det
+     << " and the interval has reached the minimum length epsilon = " << o.min_interval;
   throw Error(os.str(), {.file = "",
                          .key_path = "/map/min_interval",
                          .hint = "decrease /map/min_interval, raise /map/sample_resolution, or try another "
@@ -110,11 +110,11 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
       // per-step min det on each Ω_{t_k}'s own sample, for the report
       for (std::size_t k = 0; k + 1 < times.size(); ++k) {
         const auto it = known.find({times[k], times[k + 1]});
-        r.step_min_det.push_back(it != known.end() ? it->second
-                                                   : step_min_det(map->polygons()[k], map->polygons()[k + 1], o));
+        r.step_min_det.push_back(
+            it != known.end() ? it->second : step_min_det(map->polygons()[k], map->polygons()[k + 1], o));
       }
-      log::debug("adaptive composite: ", map->steps(), " steps, ", round, " rounds, min det J_f = ",
-                 r.composite_min_det);
+      log::debug("adaptive composite: ", map->steps(), " steps, ", round,
+                 " rounds, min det J_f = ", r.composite_min_det);
       return {map, std::move(r)};
     }
     times = std::move(refined);

@@ -29,13 +29,13 @@ struct AdaptiveOptions {
 
 /// Why a composite map is bijective, in numbers.
 struct CompositeReport {
-  std::vector<Real> times;              ///< partition t_0 = 0 < … < t_m = 1
-  std::vector<Real> step_min_det;       ///< per step: min det J_k on the sample of Ω_{t_k} (Algorithm 1)
-  std::vector<Real> step_min_det_along; ///< per step: min det J_k along the pushed-forward Ω0 sample
-  Real composite_min_det = 0;           ///< min det J_f over the Ω0 sample
-  DistortionSummary distortion;         ///< conformal / isometric distortion of f over the Ω0 sample
-  Index samples = 0;                    ///< size of the Ω0 sample
-  int rounds = 0;                       ///< composite checks performed (1 = first one passed)
+  std::vector<Real> times;               ///< partition t_0 = 0 < … < t_m = 1
+  std::vector<Real> step_min_det;        ///< per step: min det J_k on the sample of Ω_{t_k} (Algorithm 1)
+  std::vector<Real> step_min_det_along;  ///< per step: min det J_k along the pushed-forward Ω0 sample
+  Real composite_min_det = 0;            ///< min det J_f over the Ω0 sample
+  DistortionSummary distortion;          ///< conformal / isometric distortion of f over the Ω0 sample
+  Index samples = 0;                     ///< size of the Ω0 sample
+  int rounds = 0;                        ///< composite checks performed (1 = first one passed)
   Index steps() const { return static_cast<Index>(times.size()) - 1; }
 };
 

@@ -10,8 +10,9 @@ Coordinates parse_coordinates(const std::string& name) {
   if (name == "mean_value") return Coordinates::mean_value;
   if (name == "wachspress") return Coordinates::wachspress;
   if (name == "discrete_harmonic") return Coordinates::discrete_harmonic;
-  throw Error("unknown barycentric coordinates \"" + name + "\"",
-              {.file = "", .key_path = "", .hint = "use \"mean_value\", \"wachspress\" or \"discrete_harmonic\""});
+  throw Error(
+      "unknown barycentric coordinates \"" + name + "\"",
+      {.file = "", .key_path = "", .hint = "use \"mean_value\", \"wachspress\" or \"discrete_harmonic\""});
 }
 
 std::string to_string(Coordinates c) {

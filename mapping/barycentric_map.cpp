@@ -7,7 +7,9 @@
 namespace warpfem::mapping {
 
 BarycentricMap::BarycentricMap(const Polygon& source, const Polygon& target, Coordinates coordinates)
-    : step_(source, target.vertices(), coordinates), source_name_(source.name()), target_name_(target.name()) {}
+    : step_(source, target.vertices(), coordinates),
+      source_name_(source.name()),
+      target_name_(target.name()) {}
 
 void BarycentricMap::jacobian(const Points<2>& x0, Jacobians<2>& J) const {
   Points<2> x;

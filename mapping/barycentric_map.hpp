@@ -16,7 +16,8 @@ class BarycentricMap final : public Map<2> {
  public:
   /// Throws warpfem::Error on differing vertex counts or (Wachspress, discrete
   /// harmonic) a non-convex source.
-  BarycentricMap(const Polygon& source, const Polygon& target, Coordinates coordinates = Coordinates::mean_value);
+  BarycentricMap(const Polygon& source, const Polygon& target,
+                 Coordinates coordinates = Coordinates::mean_value);
 
   void eval(const Points<2>& x0, Points<2>& x) const override { step_.apply(x0, x, nullptr); }
   void jacobian(const Points<2>& x0, Jacobians<2>& J) const override;

@@ -46,8 +46,8 @@ void BarycentricStep::apply(const Real* x, const Real* y, int cnt, Real* fx, Rea
   apply_kernel(x, y, cnt, fx, fy, J);
 }
 
-WARPFEM_KERNEL_CLONES void BarycentricStep::apply_kernel(const Real* x, const Real* y, int cnt, Real* fx, Real* fy,
-                                                         Real* J) const {
+WARPFEM_KERNEL_CLONES void BarycentricStep::apply_kernel(const Real* x, const Real* y, int cnt, Real* fx,
+                                                         Real* fy, Real* J) const {
   const Index n = source_.size();
   std::vector<Real> buf, work;
   auto robust_point = [&](int p) {  // φ, ∇φ by the scalar formula, then f and J
@@ -152,7 +152,8 @@ void BarycentricStep::apply(const Points<2>& x0, Points<2>& x, Jacobians<2>* J) 
     std::copy(x0.data() + N + p0, x0.data() + N + p0 + cnt, yb);
     apply(xb, yb, cnt, x.data() + p0, x.data() + N + p0, J ? jb : nullptr);
     if (J)
-      for (int c = 0; c < 4; ++c) std::copy(jb + c * kStepBlock, jb + c * kStepBlock + cnt, J->data() + c * N + p0);
+      for (int c = 0; c < 4; ++c)
+        std::copy(jb + c * kStepBlock, jb + c * kStepBlock + cnt, J->data() + c * N + p0);
   }
 }
 

@@ -8,11 +8,10 @@
 // In 2D the singular values have the closed form σ1,2 = |q ± r| with
 // q = |(a+d, c−b)|/2, r = |(a−d, c+b)|/2 for J = [[a, b], [c, d]].
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/Eigenvalues>
 
 #include "core/types.hpp"
 

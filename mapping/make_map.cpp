@@ -38,10 +38,11 @@ MapPtr<2> make_map(const MapSpec& spec) {
   if (spec.type == "identity") return std::make_shared<IdentityMap<2>>();
   if (spec.type == "composite_harmonic") return make_harmonic_map(spec);
   if (spec.type != "composite_mean_value" && spec.type != "barycentric")
-    throw Error("unknown map type \"" + spec.type + "\"",
-                {.file = spec.origin,
-                 .key_path = "/map/type",
-                 .hint = "use \"identity\", \"barycentric\", \"composite_mean_value\" or \"composite_harmonic\""});
+    throw Error(
+        "unknown map type \"" + spec.type + "\"",
+        {.file = spec.origin,
+         .key_path = "/map/type",
+         .hint = "use \"identity\", \"barycentric\", \"composite_mean_value\" or \"composite_harmonic\""});
 
   const Polygon& source = require_polygon(spec, spec.source, "/map/source");
   const Polygon& target = require_polygon(spec, spec.target, "/map/target");
@@ -50,18 +51,21 @@ MapPtr<2> make_map(const MapSpec& spec) {
     target.validate();
     require_same_vertex_count(source, target);
   });
-  const Coordinates coords = with_context(spec, "/map/coordinates", [&] { return parse_coordinates(spec.coordinates); });
+  const Coordinates coords =
+      with_context(spec, "/map/coordinates", [&] { return parse_coordinates(spec.coordinates); });
 
   if (spec.type == "barycentric")
     return with_context(spec, "/map/coordinates",
                         [&] { return std::make_shared<const BarycentricMap>(source, target, coords); });
 
-  const VertexPathType vp = with_context(spec, "/map/vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
+  const VertexPathType vp =
+      with_context(spec, "/map/vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
   const VertexPath path(source, target, vp);
   if (spec.partition == "adaptive") {
     if (spec.sample_resolution < 2)
-      throw Error("sample_resolution must be at least 2, got " + std::to_string(spec.sample_resolution),
-                  {.file = spec.origin, .key_path = "/map/sample_resolution", .hint = "64 is a good default"});
+      throw Error(
+          "sample_resolution must be at least 2, got " + std::to_string(spec.sample_resolution),
+          {.file = spec.origin, .key_path = "/map/sample_resolution", .hint = "64 is a good default"});
     if (!(spec.min_interval > 0 && spec.min_interval < 1))
       throw Error("min_interval must lie in (0, 1)",
                   {.file = spec.origin, .key_path = "/map/min_interval", .hint = "1e-4 is a good default"});
@@ -80,10 +84,13 @@ MapPtr<2> make_map(const MapSpec& spec) {
     });
   }
   if (spec.partition == "explicit")
-    return with_context(spec, "/map/times",
-                        [&] { return std::make_shared<const CompositeMeanValueMap>(path, spec.times, coords); });
+    return with_context(spec, "/map/times", [&] {
+      return std::make_shared<const CompositeMeanValueMap>(path, spec.times, coords);
+    });
   throw Error("unknown partition \"" + spec.partition + "\"",
-              {.file = spec.origin, .key_path = "/map/partition", .hint = "use \"adaptive\", \"uniform\" or \"explicit\""});
+              {.file = spec.origin,
+               .key_path = "/map/partition",
+               .hint = "use \"adaptive\", \"uniform\" or \"explicit\""});
 }
 
 }  // namespace warpfem::mapping

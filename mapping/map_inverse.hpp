@@ -22,6 +22,7 @@ struct InverseReport {
 /// On entry `x` holds initial guesses, on exit f(x) ≈ y. Points whose Newton
 /// step would leave the region where det J_f > 0 are damped (step halving).
 template <int dim>
-InverseReport invert(const Map<dim>& f, const Points<dim>& y, Points<dim>& x, const InverseOptions& options = {});
+InverseReport invert(const Map<dim>& f, const Points<dim>& y, Points<dim>& x,
+                     const InverseOptions& options = {});
 
 }  // namespace warpfem::mapping

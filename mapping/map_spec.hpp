@@ -19,22 +19,23 @@ struct MapSpec {
   std::optional<Polygon> target;
 
   // Composite mean value options (see mapping/composite_mean_value_map.hpp).
-  std::string coordinates = "mean_value";   ///< mean_value | wachspress | discrete_harmonic
-  std::string vertex_path = "linear";       ///< linear | intrinsic
-  std::string partition = "adaptive";       ///< adaptive | uniform | explicit
-  int steps = 1;                            ///< uniform: number of steps m
-  std::vector<double> times;                ///< explicit: 0 = t0 < t1 < ... < tm = 1
-  int sample_resolution = 64;               ///< adaptive: grid samples per bounding-box side
-  double min_interval = 1e-4;               ///< adaptive: ε, smallest interval length
+  std::string coordinates = "mean_value";  ///< mean_value | wachspress | discrete_harmonic
+  std::string vertex_path = "linear";      ///< linear | intrinsic
+  std::string partition = "adaptive";      ///< adaptive | uniform | explicit
+  int steps = 1;                           ///< uniform: number of steps m
+  std::vector<double> times;               ///< explicit: 0 = t0 < t1 < ... < tm = 1
+  int sample_resolution = 64;              ///< adaptive: grid samples per bounding-box side
+  double min_interval = 1e-4;              ///< adaptive: ε, smallest interval length
   // Composite harmonic options (mapping/harmonic/make_harmonic_map.hpp).
-  std::string harmonic_method = "fem";      ///< fem | bem | mfs
-  std::string intermediate = "regular";     ///< regular | cyclic | optimized (intermediate polygon Λ)
-  int boundary_nodes = 256;                 ///< bem: boundary nodes; mfs: sites (≥ vertex count)
-  double fem_max_edge_length = 0;           ///< fem mesh / inverse seed mesh; 0 = bounding-box diagonal / 50
-  std::string distortion_energy = "conformal";    ///< optimized: conformal | isometric
-  std::vector<std::string> source_edge_speeds;    ///< per edge linear | quadratic | quadratic_reversed; empty = linear
-  std::vector<std::string> target_edge_speeds;    ///< same, for the target's edges
-  std::string origin = "map";               ///< where this spec came from (file name) for messages
+  std::string harmonic_method = "fem";   ///< fem | bem | mfs
+  std::string intermediate = "regular";  ///< regular | cyclic | optimized (intermediate polygon Λ)
+  int boundary_nodes = 256;              ///< bem: boundary nodes; mfs: sites (≥ vertex count)
+  double fem_max_edge_length = 0;        ///< fem mesh / inverse seed mesh; 0 = bounding-box diagonal / 50
+  std::string distortion_energy = "conformal";  ///< optimized: conformal | isometric
+  std::vector<std::string>
+      source_edge_speeds;  ///< per edge linear | quadratic | quadratic_reversed; empty = linear
+  std::vector<std::string> target_edge_speeds;  ///< same, for the target's edges
+  std::string origin = "map";                   ///< where this spec came from (file name) for messages
 };
 
 }  // namespace warpfem::mapping

@@ -225,8 +225,8 @@ void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, Ma
   mean_value_batch<false>(polygon, x, phi, nullptr, nullptr);
 }
 
-void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, MatrixX& phi,
-                            MatrixX& dphi_dx, MatrixX& dphi_dy) {
+void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, MatrixX& phi, MatrixX& dphi_dx,
+                            MatrixX& dphi_dy) {
   mean_value_batch<true>(polygon, x, phi, &dphi_dx, &dphi_dy);
 }
 

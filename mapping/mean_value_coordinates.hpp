@@ -22,8 +22,8 @@ namespace warpfem::mapping {
 void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, MatrixX& phi);
 
 /// φ and ∇φ (each N x n).
-void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, MatrixX& phi,
-                            MatrixX& dphi_dx, MatrixX& dphi_dy);
+void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, MatrixX& phi, MatrixX& dphi_dx,
+                            MatrixX& dphi_dy);
 
 /// Robust evaluation at a single point (the boundary path of the batched
 /// functions, exposed for tests). Writes n values to phi and, if dx/dy are not

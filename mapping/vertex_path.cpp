@@ -16,7 +16,9 @@ VertexPathType parse_vertex_path(const std::string& name) {
               {.file = "", .key_path = "", .hint = "use \"linear\" or \"intrinsic\""});
 }
 
-std::string to_string(VertexPathType type) { return type == VertexPathType::linear ? "linear" : "intrinsic"; }
+std::string to_string(VertexPathType type) {
+  return type == VertexPathType::linear ? "linear" : "intrinsic";
+}
 
 namespace {
 
@@ -79,7 +81,8 @@ std::vector<Point<2>> VertexPath::vertices_at(Real t) const {
   const std::size_t n = static_cast<std::size_t>(source_.size());
   std::vector<Point<2>> v(n);
   if (type_ == VertexPathType::linear) {
-    for (std::size_t i = 0; i < n; ++i) v[i] = source_.vertices()[i] + t * (target_.vertices()[i] - source_.vertices()[i]);  // exact if equal
+    for (std::size_t i = 0; i < n; ++i)
+      v[i] = source_.vertices()[i] + t * (target_.vertices()[i] - source_.vertices()[i]);  // exact if equal
     return v;
   }
   // Interpolated lengths and directions θ_i = θ_0 + Σ_{j=1..i} α_j.
@@ -100,7 +103,8 @@ std::vector<Point<2>> VertexPath::vertices_at(Real t) const {
   M(1, 0) = M(0, 1);
   // Closing step (Sederberg et al. 1993): least weighted change of the lengths.
   const Real detM = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
-  const Eigen::Vector2d mu(-(M(1, 1) * E.x() - M(0, 1) * E.y()) / detM, -(M(0, 0) * E.y() - M(1, 0) * E.x()) / detM);
+  const Eigen::Vector2d mu(-(M(1, 1) * E.x() - M(0, 1) * E.y()) / detM,
+                           -(M(0, 0) * E.y() - M(1, 0) * E.x()) / detM);
   Point<2> c = Point<2>::Zero();
   v[0] = Point<2>::Zero();
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -122,11 +126,12 @@ Polygon VertexPath::polygon_at(Real t) const {
   try {
     return Polygon::checked(vertices_at(t), name.str());
   } catch (const Error& e) {
-    throw Error(e.message(), {.file = "",
-                              .key_path = "/map/vertex_path",
-                              .hint = type_ == VertexPathType::linear
-                                          ? "linear vertex paths self-intersect under rotation; try \"intrinsic\""
-                                          : "the intrinsic path degenerates here; try \"linear\" or add vertices"});
+    throw Error(e.message(),
+                {.file = "",
+                 .key_path = "/map/vertex_path",
+                 .hint = type_ == VertexPathType::linear
+                             ? "linear vertex paths self-intersect under rotation; try \"intrinsic\""
+                             : "the intrinsic path degenerates here; try \"linear\" or add vertices"});
   }
 }
 

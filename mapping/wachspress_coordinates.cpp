@@ -18,15 +18,17 @@ void require_convex_for(const Polygon& polygon, Coordinates type) {
     const Point<2>& a = polygon.vertex(i - 1);
     const Point<2>& b = polygon.vertex(i);
     const Point<2>& c = polygon.vertex(i + 1);
-    const auto o = CGAL::orientation(K::Point_2(a.x(), a.y()), K::Point_2(b.x(), b.y()), K::Point_2(c.x(), c.y()));
+    const auto o =
+        CGAL::orientation(K::Point_2(a.x(), a.y()), K::Point_2(b.x(), b.y()), K::Point_2(c.x(), c.y()));
     const bool reflex = o == CGAL::RIGHT_TURN;
     const bool flat = o == CGAL::COLLINEAR && type == Coordinates::wachspress;
     if (!reflex && !flat) continue;
     std::ostringstream os;
     os << to_string(type) << " coordinates need a " << (flat ? "strictly " : "") << "convex polygon, but "
-       << polygon.name() << " has a " << (reflex ? "reflex" : "collinear") << " vertex " << i << " at (" << b.x()
-       << ", " << b.y() << ")";
-    throw Error(os.str(), {.file = "", .key_path = "", .hint = "use mean_value coordinates for non-convex polygons"});
+       << polygon.name() << " has a " << (reflex ? "reflex" : "collinear") << " vertex " << i << " at ("
+       << b.x() << ", " << b.y() << ")";
+    throw Error(os.str(),
+                {.file = "", .key_path = "", .hint = "use mean_value coordinates for non-convex polygons"});
   }
 }
 
@@ -53,7 +55,7 @@ void three_point_coordinates_at(Coordinates type, const PolygonArrays& P, Real x
     if (r2[k] < r2[j]) j = k;
   }
   if (std::sqrt(r2[j]) <= 1e-13 * P.scale) {  // at a vertex: Kronecker delta
-    if (grad) {  // one-sided gradient from just inside (convex corner: bisector)
+    if (grad) {                               // one-sided gradient from just inside (convex corner: bisector)
       const Index a = nx(j), b = pv(j);
       Point<2> ea(P.x[a] - P.x[j], P.y[a] - P.y[j]), eb(P.x[b] - P.x[j], P.y[b] - P.y[j]);
       const Real h = 1e-7 * std::min(ea.norm(), eb.norm());
@@ -99,8 +101,10 @@ void three_point_coordinates_at(Coordinates type, const PolygonArrays& P, Real x
         gA(kp, ax, ay);
         gA(k, bx, by);
         const Real gBx = 0.5 * (P.y[kp] - P.y[kn]), gBy = 0.5 * (P.x[kn] - P.x[kp]);
-        gNx = -2 * sx[kn] * A[kp] + r2[kn] * ax + 2 * sx[k] * B - r2[k] * gBx - 2 * sx[kp] * A[k] + r2[kp] * bx;
-        gNy = -2 * sy[kn] * A[kp] + r2[kn] * ay + 2 * sy[k] * B - r2[k] * gBy - 2 * sy[kp] * A[k] + r2[kp] * by;
+        gNx =
+            -2 * sx[kn] * A[kp] + r2[kn] * ax + 2 * sx[k] * B - r2[k] * gBx - 2 * sx[kp] * A[k] + r2[kp] * bx;
+        gNy =
+            -2 * sy[kn] * A[kp] + r2[kn] * ay + 2 * sy[k] * B - r2[k] * gBy - 2 * sy[kp] * A[k] + r2[kp] * by;
       }
     }
     Real ax, ay, bx, by;

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
   fem::PoissonData data;
   data.source = [](const Point<2>&, double) { return 1.0; };
   data.dirichlet.push_back({{}, [](const Point<2>&, double) { return 0.0; }});
-  for (const auto& [name, map] : {std::pair<std::string, mapping::MapPtr<2>>{"identity", identity}, {"warped", warped}}) {
+  for (const auto& [name, map] :
+       {std::pair<std::string, mapping::MapPtr<2>>{"identity", identity}, {"warped", warped}}) {
     MPI_Barrier(MPI_COMM_WORLD);
     w.reset();
     fem::PoissonProblem problem(MPI_COMM_WORLD, mesh, map, 1, fem::default_quadrature_degree(1), data);
@@ -47,15 +48,19 @@ int main(int argc, char** argv) {
     MPI_Barrier(MPI_COMM_WORLD);
     const double assembly = w.seconds();
     if (rank == 0)
-      std::printf("%-8s set-up (DOF maps + WarpedGeometry, %lld quadrature points on rank 0): %.3f s; assembly: %.3f s "
-                  "(%.2f M DOFs/s)\n",
-                  name.c_str(), static_cast<long long>(qp), setup, assembly, mesh.num_vertices() / assembly / 1e6);
+      std::printf(
+          "%-8s set-up (DOF maps + WarpedGeometry, %lld quadrature points on rank 0): %.3f s; assembly: %.3f "
+          "s "
+          "(%.2f M DOFs/s)\n",
+          name.c_str(), static_cast<long long>(qp), setup, assembly, mesh.num_vertices() / assembly / 1e6);
   }
   // The map alone on 10^7 points (the WarpedGeometry bottleneck the thesis reports).
   const Index np = 10000000 / size;
   Points<2> x0(np, 2), x;
   Jacobians<2> J;
-  for (Index p = 0; p < np; ++p) x0.row(p) << -0.99 + 1.98 * ((p * 7919) % 10007) / 10007.0, -0.99 + 1.98 * ((p * 104729) % 10009) / 10009.0;
+  for (Index p = 0; p < np; ++p)
+    x0.row(p) << -0.99 + 1.98 * ((p * 7919) % 10007) / 10007.0,
+        -0.99 + 1.98 * ((p * 104729) % 10009) / 10009.0;
   MPI_Barrier(MPI_COMM_WORLD);
   w.reset();
   warped->eval_with_jacobian(x0, x, J);

@@ -7,10 +7,9 @@
 // Flop counts per point and vertex are hand-counted from the kernel
 // (mapping/detail/mean_value_kernel.hpp): fma = 2, add/mul/div/sqrt = 1.
 
-#include <benchmark/benchmark.h>
-
 #include <CGAL/Barycentric_coordinates_2/Mean_value_coordinates_2.h>
 #include <CGAL/Simple_cartesian.h>
+#include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <fstream>
@@ -55,7 +54,8 @@ const std::vector<Points<2>>& chunks() {
   static const std::vector<Points<2>> c = [] {
     std::mt19937_64 rng(42);
     const auto& P = polygon32();
-    std::uniform_real_distribution<Real> ux(P.bbox_min().x(), P.bbox_max().x()), uy(P.bbox_min().y(), P.bbox_max().y());
+    std::uniform_real_distribution<Real> ux(P.bbox_min().x(), P.bbox_max().x()),
+        uy(P.bbox_min().y(), P.bbox_max().y());
     std::vector<Points<2>> out;
     Index made = 0;
     while (made < kPoints) {
@@ -93,8 +93,8 @@ void BM_FmaPeak(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(acc);
   }
-  state.counters["FLOP/s"] =
-      benchmark::Counter(static_cast<double>(state.iterations()) * kRepeat * 64 * 2, benchmark::Counter::kIsRate);
+  state.counters["FLOP/s"] = benchmark::Counter(static_cast<double>(state.iterations()) * kRepeat * 64 * 2,
+                                                benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_FmaPeak);
 
@@ -174,7 +174,7 @@ void BM_CGAL_MVC_Values_Default(benchmark::State& state) {
       for (Index p = 0; p < x.rows(); ++p) {
         out.clear();
         CGAL::Barycentric_coordinates::mean_value_coordinates_2(poly, K::Point_2(x(p, 0), x(p, 1)),
-                                                                 std::back_inserter(out));
+                                                                std::back_inserter(out));
         benchmark::DoNotOptimize(out.data());
       }
   set_counters(state, 0);

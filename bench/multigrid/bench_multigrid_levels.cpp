@@ -129,7 +129,8 @@ int main(int argc, char** argv) {
   }
   for (int r = rmin; r <= rmax; ++r) {
     multigrid::PoissonMultigridOptions options;
-    if (galerkin) options.multigrid.coarse_operators = multigrid::MultigridSettings::CoarseOperators::galerkin;
+    if (galerkin)
+      options.multigrid.coarse_operators = multigrid::MultigridSettings::CoarseOperators::galerkin;
     multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, r, map, order, qdeg, data, options);
     fem::PoissonProblem& fine = mg.finest();
     petsc::Vector u0;

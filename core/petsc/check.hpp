@@ -15,9 +15,9 @@ namespace warpfem::petsc {
 }  // namespace warpfem::petsc
 
 /// Evaluates a PETSc call and throws warpfem::Error if it does not return 0.
-#define WARPFEM_PETSC_CHECK(call)                                                      \
-  do {                                                                                 \
-    const PetscErrorCode warpfem_petsc_ierr_ = (call);                                 \
-    if (warpfem_petsc_ierr_ != 0)                                                      \
-      ::warpfem::petsc::throw_error(warpfem_petsc_ierr_, #call, __FILE__, __LINE__);   \
+#define WARPFEM_PETSC_CHECK(call)                                                    \
+  do {                                                                               \
+    const PetscErrorCode warpfem_petsc_ierr_ = (call);                               \
+    if (warpfem_petsc_ierr_ != 0)                                                    \
+      ::warpfem::petsc::throw_error(warpfem_petsc_ierr_, #call, __FILE__, __LINE__); \
   } while (0)

@@ -1,11 +1,11 @@
 #include "core/petsc/linear_solve.hpp"
 
+#include <limits>
+
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/handles.hpp"
 #include "core/timer.hpp"
-
-#include <limits>
 
 namespace warpfem::petsc {
 
@@ -27,7 +27,8 @@ LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOpti
     MPI_Comm_size(comm, &size);
     if (size > 1) WARPFEM_PETSC_CHECK(PCSetType(pc, PCREDUNDANT));
   }
-  WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp.get(), options.rtol, options.atol, PETSC_DEFAULT, options.max_iterations));
+  WARPFEM_PETSC_CHECK(
+      KSPSetTolerances(ksp.get(), options.rtol, options.atol, PETSC_DEFAULT, options.max_iterations));
   WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp.get(), direct ? PETSC_FALSE : PETSC_TRUE));
   if (!options.prefix.empty()) WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp.get(), options.prefix.c_str()));
   WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp.get()));
@@ -59,7 +60,8 @@ LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOpti
     throw Error("linear solver " + report.ksp_type + "/" + report.pc_type + " diverged after " +
                     std::to_string(its) + " iterations: " + report.converged_reason + " (residual norm " +
                     std::to_string(rnorm) + ")",
-                {.file = "", .key_path = "/solver",
+                {.file = "",
+                 .key_path = "/solver",
                  .hint = "raise /solver/max_iterations, loosen /solver/rtol, or choose another solver in "
                          "/solver/petsc_options (e.g. \"-ksp_type gmres -pc_type lu\")"});
   return report;

@@ -13,8 +13,12 @@
 using namespace warpfem;
 
 namespace {
-Polygon square(double lo, double hi) { return Polygon::checked({{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}, "square"); }
-Polygon dart() { return Polygon::checked({{8, 8}, {120, 20}, {60, 60}, {20, 120}}, "dart"); }
+Polygon square(double lo, double hi) {
+  return Polygon::checked({{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}, "square");
+}
+Polygon dart() {
+  return Polygon::checked({{8, 8}, {120, 20}, {60, 60}, {20, 120}}, "dart");
+}
 
 io::Image position_image(int n) {
   io::Image img;
@@ -31,7 +35,8 @@ io::Image position_image(int n) {
 
 TEST(MapInverse, NewtonInvertsAConcaveCompositeMap) {
   const Polygon s = square(8, 120), t = dart();
-  const auto f = mapping::build_adaptive_composite(mapping::VertexPath(s, t, mapping::VertexPathType::linear)).map;
+  const auto f =
+      mapping::build_adaptive_composite(mapping::VertexPath(s, t, mapping::VertexPathType::linear)).map;
   Points<2> x_true(200, 2);
   for (Index p = 0; p < 200; ++p) x_true.row(p) << 10 + (p % 20) * 5.5, 10 + (p / 20) * 11.0;
   Points<2> y;
@@ -47,7 +52,8 @@ TEST(MapInverse, NewtonInvertsAConcaveCompositeMap) {
 TEST(ImageWarp, EveryTargetPixelShowsTheColourOfItsPreimage) {
   const int n = 128;
   const Polygon s = square(0, n), t = Polygon::checked({{0, 0}, {128, 0}, {100, 100}, {0, 128}}, "kite");
-  const auto f = mapping::build_adaptive_composite(mapping::VertexPath(s, t, mapping::VertexPathType::linear)).map;
+  const auto f =
+      mapping::build_adaptive_composite(mapping::VertexPath(s, t, mapping::VertexPathType::linear)).map;
   const io::Image input = position_image(n);
   io::Image output;
   const auto report = apps::warp_image(input, *f, s, t, output, {0, 0, 0, 0});

@@ -33,5 +33,6 @@ TEST(Log, ParsesLevelsAndRejectsUnknown) {
 TEST(Error, FormatsFileKeyPathAndHint) {
   const Error e("expected a non-negative integer, got \"two\"",
                 {.file = "config.json", .key_path = "/mesh/refinements", .hint = "write 2"});
-  EXPECT_STREQ(e.what(), "config.json: /mesh/refinements: expected a non-negative integer, got \"two\" (fix: write 2)");
+  EXPECT_STREQ(e.what(),
+               "config.json: /mesh/refinements: expected a non-negative integer, got \"two\" (fix: write 2)");
 }

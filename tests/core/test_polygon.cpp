@@ -6,7 +6,9 @@
 using namespace warpfem;
 
 namespace {
-std::vector<Point<2>> square() { return {{0, 0}, {1, 0}, {1, 1}, {0, 1}}; }
+std::vector<Point<2>> square() {
+  return {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+}
 
 std::string validation_message(std::vector<Point<2>> v) {
   try {
@@ -62,7 +64,8 @@ TEST(Polygon, VertexCountMismatchIsAnError) {
     require_same_vertex_count(a, b);
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("source has 4 vertices but target has 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("source has 4 vertices but target has 3"), std::string::npos)
+        << e.what();
   }
 }
 

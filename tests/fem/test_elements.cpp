@@ -78,6 +78,7 @@ TEST_P(LagrangeElementTest, KroneckerPropertyPartitionOfUnityAndGradients) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllElements, LagrangeElementTest,
-                         ::testing::Values(std::make_pair(CellType::triangle, 1), std::make_pair(CellType::triangle, 2),
+                         ::testing::Values(std::make_pair(CellType::triangle, 1),
+                                           std::make_pair(CellType::triangle, 2),
                                            std::make_pair(CellType::quadrilateral, 1),
                                            std::make_pair(CellType::quadrilateral, 2)));

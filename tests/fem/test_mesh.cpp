@@ -10,7 +10,9 @@ using namespace warpfem;
 using namespace warpfem::fem;
 
 namespace {
-Polygon lshape() { return Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}); }
+Polygon lshape() {
+  return Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}});
+}
 
 double mesh_area(const Mesh<2>& m) {
   double a = 0;

@@ -4,11 +4,11 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "fem/boundary_locator.hpp"
 #include "fem/cell_locator.hpp"
 #include "fem/gmsh_reader.hpp"
-#include "fem/structured_mesher.hpp"
 #include "fem/polygon_mesher.hpp"
-#include "fem/boundary_locator.hpp"
+#include "fem/structured_mesher.hpp"
 
 using namespace warpfem;
 using namespace warpfem::fem;
@@ -32,7 +32,9 @@ TEST(StructuredMesh, QuadsAndTrianglesOnARectangleCarryingExtraVertices) {
   EXPECT_EQ(q.num_boundary_facets(), 10);
   const Mesh<2> t = structured_mesh(sq, 3, 2, CellType::triangle);
   EXPECT_EQ(t.num_cells(), 12);
-  EXPECT_THROW(structured_mesh(Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}), 2, 2, CellType::triangle), Error);
+  EXPECT_THROW(structured_mesh(Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}), 2, 2,
+                               CellType::triangle),
+               Error);
 }
 
 TEST(BoundaryLocator, PointsOnEdgesAndVertices) {
@@ -79,8 +81,10 @@ TEST(GmshReader, ReadsFormat22AndFormat41) {
   std::filesystem::create_directories("output");
   {
     std::ofstream v2("output/test_square_v2.msh");
-    v2 << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0.5 0\n$EndNodes\n"
-       << "$Elements\n5\n1 1 2 0 1 1 2\n2 2 2 0 1 1 2 5\n3 2 2 0 1 2 3 5\n4 2 2 0 1 3 4 5\n5 2 2 0 1 4 1 5\n$EndElements\n";
+    v2 << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0.5 "
+          "0\n$EndNodes\n"
+       << "$Elements\n5\n1 1 2 0 1 1 2\n2 2 2 0 1 1 2 5\n3 2 2 0 1 2 3 5\n4 2 2 0 1 3 4 5\n5 2 2 0 1 4 1 "
+          "5\n$EndElements\n";
   }
   const Polygon sq = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
   const Mesh<2> m2 = read_gmsh("output/test_square_v2.msh", sq);
@@ -89,7 +93,8 @@ TEST(GmshReader, ReadsFormat22AndFormat41) {
   EXPECT_EQ(m2.num_boundary_facets(), 4);
   {
     std::ofstream v4("output/test_square_v4.msh");
-    v4 << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n"
+    v4 << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 "
+          "0\n0 1 0\n$EndNodes\n"
        << "$Elements\n1 1 1 1\n2 1 3 1\n1 4 3 2 1\n$EndElements\n";  // clockwise on purpose
   }
   const Mesh<2> m4 = read_gmsh("output/test_square_v4.msh", sq);
@@ -104,6 +109,8 @@ TEST(GmshReader, ReadsFormat22AndFormat41) {
     read_gmsh("output/test_square_v2.msh", big);
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("test_square_v2.msh: /mesh/file: the mesh covers area 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("test_square_v2.msh: /mesh/file: the mesh covers area 1"),
+              std::string::npos)
+        << e.what();
   }
 }

@@ -21,7 +21,9 @@ std::vector<apps::PoissonRunResult> refinement_study(const std::string& json_tex
   return out;
 }
 
-double rate(double e_coarse, double e_fine) { return std::log2(e_coarse / e_fine); }
+double rate(double e_coarse, double e_fine) {
+  return std::log2(e_coarse / e_fine);
+}
 
 }  // namespace
 
@@ -33,7 +35,8 @@ TEST(PoissonConvergence, P1OnSquareConvergesAtSecondOrderInL2) {
     "problem": {"source": "2*pi^2*sin(pi*x)*sin(pi*y)",
                 "dirichlet": [{"value": "sin(pi*x)*sin(pi*y)"}],
                 "exact_solution": "sin(pi*x)*sin(pi*y)"}
-  })json", 5);
+  })json",
+                                      5);
   for (std::size_t k = 1; k < study.size(); ++k) {
     const double l2 = rate(*study[k - 1].l2_error, *study[k].l2_error);
     const double h1 = rate(*study[k - 1].h1_error, *study[k].h1_error);
@@ -54,7 +57,8 @@ TEST(PoissonConvergence, P2OnLShapeWithNeumannConvergesAtThirdOrder) {
                 "dirichlet": [{"edges": [1, 2, 3, 4], "value": "exp(x)*sin(y)"}],
                 "neumann": [{"edges": [0], "value": "-exp(x)*cos(y)"}, {"edges": [5], "value": "-exp(x)*sin(y)"}],
                 "exact_solution": "exp(x)*sin(y)"}
-  })json", 4);
+  })json",
+                                      4);
   for (std::size_t k = 1; k < study.size(); ++k) {
     const double l2 = rate(*study[k - 1].l2_error, *study[k].l2_error);
     const double h1 = rate(*study[k - 1].h1_error, *study[k].h1_error);
@@ -71,7 +75,8 @@ TEST(PoissonPatchTest, LinearSolutionIsReproducedExactly) {
     "map": {"source": [[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]]},
     "mesh": {"max_edge_length": 0.4},
     "problem": {"source": "0", "dirichlet": [{"value": "3 - x + 2*y"}], "exact_solution": "3 - x + 2*y"}
-  })json", 1);
+  })json",
+                                      1);
   EXPECT_LT(*study[0].l2_error, 1e-9);
   EXPECT_LT(*study[0].h1_error, 1e-6);  // finite-difference gradient of the exact expression limits this
   EXPECT_NEAR(study[0].area, 3.0, 1e-12);

@@ -20,9 +20,9 @@ const char* kManufactured = R"json({
               "exact_solution": "sin(2*x)*cos(y) + x^2"}
 })json";
 
-std::vector<apps::StudyRow> study(const nlohmann::json& map, int order, const std::string& cell_type, int levels,
-                                  std::vector<std::string> discretizations = {"warped"}, bool exact = true,
-                                  int cells = 2) {
+std::vector<apps::StudyRow> study(const nlohmann::json& map, int order, const std::string& cell_type,
+                                  int levels, std::vector<std::string> discretizations = {"warped"},
+                                  bool exact = true, int cells = 2) {
   nlohmann::json j = nlohmann::json::parse(kManufactured);
   j["mesh"]["cells"] = cells;
   j["map"] = map;
@@ -55,8 +55,8 @@ nlohmann::json affine_composite() {
 void print(const std::vector<apps::StudyRow>& rows) {
   for (const auto& r : rows)
     std::printf("%-18s level %d DOFs %6lld  L2 %.3e (%.2f)  H1 %.3e (%.2f)  area err %.2e  cond %.2e\n",
-                r.discretization.c_str(), r.level, static_cast<long long>(r.dofs), r.l2, r.l2_rate, r.h1, r.h1_rate,
-                r.area_error, r.condition_number);
+                r.discretization.c_str(), r.level, static_cast<long long>(r.dofs), r.l2, r.l2_rate, r.h1,
+                r.h1_rate, r.area_error, r.condition_number);
 }
 
 }  // namespace
@@ -72,7 +72,8 @@ TEST_P(WarpedRates, FirstOrderElementsOnConcaveCompositeMap) {
     EXPECT_GE(rows[k].l2_rate, 1.9) << "level " << rows[k].level;
     EXPECT_GE(rows[k].h1_rate, 0.93) << "level " << rows[k].level;
   }
-  for (std::size_t k = rows.size() - 2; k < rows.size(); ++k) EXPECT_GE(rows[k].h1_rate, 0.95) << "level " << rows[k].level;
+  for (std::size_t k = rows.size() - 2; k < rows.size(); ++k)
+    EXPECT_GE(rows[k].h1_rate, 0.95) << "level " << rows[k].level;
 }
 
 TEST_P(WarpedRates, SecondOrderElementsUnderSmoothMap) {
@@ -105,7 +106,8 @@ TEST(WarpedGeometry, AreaConvergesToTargetWhileStandardFemKeepsItsError) {
     for (int k = 0; k < 4; ++k) {
       const double t = k / 4.0;
       const std::array<double, 2> corners[5] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
-      src.push_back({corners[s][0] + t * (corners[s + 1][0] - corners[s][0]), corners[s][1] + t * (corners[s + 1][1] - corners[s][1])});
+      src.push_back({corners[s][0] + t * (corners[s + 1][0] - corners[s][0]),
+                     corners[s][1] + t * (corners[s + 1][1] - corners[s][1])});
       const double a = -0.75 * M_PI + 2 * M_PI * (4 * s + k) / 16.0;
       tgt.push_back({0.5 + 0.7 * std::cos(a), 0.5 + 0.7 * std::sin(a)});
     }

@@ -47,4 +47,6 @@ TEST(Expression, SyntaxErrorsNameFileAndField) {
   EXPECT_THROW(Expression(""), Error);
 }
 
-TEST(Expression, ConstantDivisionByZeroIsRejected) { EXPECT_THROW(Expression("1/0"), Error); }
+TEST(Expression, ConstantDivisionByZeroIsRejected) {
+  EXPECT_THROW(Expression("1/0"), Error);
+}

@@ -80,10 +80,11 @@ TEST(VtkOutput, QuadraticOutputUsesLagrangeCells) {
 TEST(AtomicFile, FailedWriteLeavesOldFileIntact) {
   const std::string path = "output/test_atomic/result.txt";
   io::write_text_atomically(path, "old");
-  EXPECT_THROW(io::write_atomically(path, [](const std::string& tmp) {
-                 io::write_text_atomically(tmp + ".unused", "");
-                 throw Error("simulated failure");
-               }),
+  EXPECT_THROW(io::write_atomically(path,
+                                    [](const std::string& tmp) {
+                                      io::write_text_atomically(tmp + ".unused", "");
+                                      throw Error("simulated failure");
+                                    }),
                Error);
   std::ifstream in(path);
   std::string content;

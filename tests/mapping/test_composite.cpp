@@ -62,8 +62,8 @@ TEST(BarycentricMap, CounterexampleFoldsInOneStep) {
 
 TEST(BarycentricMap, JacobianMatchesCentralDifferences) {
   for (auto c : {Coordinates::mean_value, Coordinates::wachspress, Coordinates::discrete_harmonic}) {
-    const BarycentricMap f(test::convex6(), test::polygon({{0, 0}, {2, -0.5}, {3, 1}, {2.5, 2}, {1.2, 2.9}, {-1, 1}}, "t"),
-                           c);
+    const BarycentricMap f(test::convex6(),
+                           test::polygon({{0, 0}, {2, -0.5}, {3, 1}, {2.5, 2}, {1.2, 2.9}, {-1, 1}}, "t"), c);
     EXPECT_LT(jacobian_fd_error(f, grid_sample(test::convex6(), 12), 1e-6), 1e-6) << to_string(c);
   }
 }
@@ -139,10 +139,10 @@ TEST(CompositeMap, RejectsBadPartitions) {
 
 TEST(Distortion, KnownJacobians) {
   Jacobians<2> J(4, 4);
-  J.row(0) << 1, 0, 0, 1;    // identity
-  J.row(1) << 0, -2, 2, 0;   // rotation by 90° and scaling by 2
-  J.row(2) << 1, 1, 0, 1;    // shear: σ = golden ratio and its inverse
-  J.row(3) << 1, 0, 0, -1;   // reflection (fold)
+  J.row(0) << 1, 0, 0, 1;   // identity
+  J.row(1) << 0, -2, 2, 0;  // rotation by 90° and scaling by 2
+  J.row(2) << 1, 1, 0, 1;   // shear: σ = golden ratio and its inverse
+  J.row(3) << 1, 0, 0, -1;  // reflection (fold)
   VectorX c, i;
   distortion<2>(J, c, i);
   const Real g = (1 + std::sqrt(5.0)) / 2;
@@ -169,9 +169,10 @@ TEST_P(Examples, AdaptiveCompositeIsBijective) {
   const auto* c = dynamic_cast<const CompositeMeanValueMap*>(f.get());
   ASSERT_NE(c, nullptr);
   const CompositeReport r = analyze_composite(*c, 2 * spec.sample_resolution);  // finer than the build sample
-  std::printf("[ %s ] %ld steps, min det J_f = %.4g, conformal mean %.4g max %.4g, isometric mean %.4g max %.4g\n",
-              GetParam(), static_cast<long>(r.steps()), r.composite_min_det, r.distortion.conformal.mean,
-              r.distortion.conformal.max, r.distortion.isometric.mean, r.distortion.isometric.max);
+  std::printf(
+      "[ %s ] %ld steps, min det J_f = %.4g, conformal mean %.4g max %.4g, isometric mean %.4g max %.4g\n",
+      GetParam(), static_cast<long>(r.steps()), r.composite_min_det, r.distortion.conformal.mean,
+      r.distortion.conformal.max, r.distortion.isometric.mean, r.distortion.isometric.max);
   EXPECT_GT(r.composite_min_det, 0.0);
   expect_boundary_reproduced(*f, *spec.source, *spec.target);
 }

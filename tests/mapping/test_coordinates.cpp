@@ -64,7 +64,8 @@ TEST_P(CoordinateProperties, LagrangePropertyAtAndNearVertices) {
     const Point<2> c = (P.vertex(j - 1) + P.vertex(j + 1)) / 2;
     const Point<2> q = v + 1e-14 * (c - v).normalized();
     const BarycentricValues near = barycentric_coordinates(GetParam().type, P, one_point(q.x(), q.y()));
-    EXPECT_TRUE(near.phi.allFinite() && near.dphi_dx.allFinite() && near.dphi_dy.allFinite()) << "vertex " << j;
+    EXPECT_TRUE(near.phi.allFinite() && near.dphi_dx.allFinite() && near.dphi_dy.allFinite())
+        << "vertex " << j;
     EXPECT_NEAR(near.phi(0, j), 1.0, 1e-10) << "vertex " << j;
   }
 }
@@ -84,7 +85,8 @@ TEST_P(CoordinateProperties, LinearOnEdgesAndStableNextToThem) {
             << "edge " << i << " mu " << mu << " d " << d;
         for (Index k = 0; k < n; ++k) {
           const Real expect = k == i ? 1 - mu : (k == P.wrap(i + 1) ? mu : 0.0);
-          ASSERT_NEAR(v.phi(0, k), expect, d == 0 ? 1e-14 : 1e-9) << "edge " << i << " mu " << mu << " d " << d;
+          ASSERT_NEAR(v.phi(0, k), expect, d == 0 ? 1e-14 : 1e-9)
+              << "edge " << i << " mu " << mu << " d " << d;
         }
       }
       // The gradient has a limit at the edge: values at 1e-13 and 1e-9 agree.
@@ -109,8 +111,10 @@ TEST_P(CoordinateProperties, GradientsMatchCentralDifferences) {
   yp.col(1).array() += h;
   ym.col(1).array() -= h;
   const auto c = GetParam().type;
-  const MatrixX fdx = (barycentric_coordinates(c, P, xp, false).phi - barycentric_coordinates(c, P, xm, false).phi) / (2 * h);
-  const MatrixX fdy = (barycentric_coordinates(c, P, yp, false).phi - barycentric_coordinates(c, P, ym, false).phi) / (2 * h);
+  const MatrixX fdx =
+      (barycentric_coordinates(c, P, xp, false).phi - barycentric_coordinates(c, P, xm, false).phi) / (2 * h);
+  const MatrixX fdy =
+      (barycentric_coordinates(c, P, yp, false).phi - barycentric_coordinates(c, P, ym, false).phi) / (2 * h);
   Real worst = 0;
   for (Index p = 0; p < x.rows(); ++p) {
     const Real g = std::max(v.dphi_dx.row(p).cwiseAbs().maxCoeff(), v.dphi_dy.row(p).cwiseAbs().maxCoeff());
@@ -118,8 +122,8 @@ TEST_P(CoordinateProperties, GradientsMatchCentralDifferences) {
                             (v.dphi_dy.row(p) - fdy.row(p)).cwiseAbs().maxCoeff());
     worst = std::max(worst, e / g);
   }
-  std::printf("[ %s ] worst relative gradient error vs central differences: %.2e (%ld points)\n", GetParam().name,
-              worst, static_cast<long>(x.rows()));
+  std::printf("[ %s ] worst relative gradient error vs central differences: %.2e (%ld points)\n",
+              GetParam().name, worst, static_cast<long>(x.rows()));
   EXPECT_LE(worst, 1e-6);
 }
 
@@ -176,7 +180,8 @@ TEST(ConvexCoordinates, RefuseConcavePolygonsNamingTheReflexVertex) {
     }
   }
   // Wachspress also refuses collinear vertices (their weight would vanish).
-  const Polygon square = test::polygon({{0, 0}, {1, 0}, {2, 0}, {2, 2}, {0, 2}}, "square with a mid-edge vertex");
+  const Polygon square =
+      test::polygon({{0, 0}, {1, 0}, {2, 0}, {2, 2}, {0, 2}}, "square with a mid-edge vertex");
   EXPECT_THROW(barycentric_coordinates(Coordinates::wachspress, square, one_point(1, 1)), Error);
   EXPECT_NO_THROW(barycentric_coordinates(Coordinates::discrete_harmonic, square, one_point(1, 1)));
   EXPECT_NO_THROW(barycentric_coordinates(Coordinates::mean_value, square, one_point(1, 1)));

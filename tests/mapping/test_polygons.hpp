@@ -3,8 +3,8 @@
 
 #include <cmath>
 #include <fstream>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -13,11 +13,17 @@
 
 namespace warpfem::mapping::test {
 
-inline Polygon polygon(std::vector<Point<2>> v, std::string name) { return Polygon::checked(std::move(v), name); }
+inline Polygon polygon(std::vector<Point<2>> v, std::string name) {
+  return Polygon::checked(std::move(v), name);
+}
 
 /// The square of thesis §2.1.2 (a diamond with v1 = −v3) and its dart with v3 pulled to (x, 0).
-inline Polygon diamond() { return polygon({{-1, 0}, {0, -1}, {1, 0}, {0, 1}}, "diamond"); }
-inline Polygon dart(Real x = -0.6) { return polygon({{-1, 0}, {0, -1}, {x, 0}, {0, 1}}, "dart"); }
+inline Polygon diamond() {
+  return polygon({{-1, 0}, {0, -1}, {1, 0}, {0, 1}}, "diamond");
+}
+inline Polygon dart(Real x = -0.6) {
+  return polygon({{-1, 0}, {0, -1}, {x, 0}, {0, 1}}, "dart");
+}
 
 /// Five-pointed star (10 vertices); `bend` rotates the tips (a pinwheel star).
 inline Polygon star(Real bend = 0, Real inner = 0.4) {

@@ -58,7 +58,8 @@ TEST(VertexPath, IntrinsicIsSimilarityInvariantAndCloses) {
   const VertexPath p(A, B, VertexPathType::intrinsic);
   const Real angle = 0.7, scale = 2.5;
   const Point<2> shift(3, -1);
-  const VertexPath q(rotated(A, angle, scale, shift), rotated(B, angle, scale, shift), VertexPathType::intrinsic);
+  const VertexPath q(rotated(A, angle, scale, shift), rotated(B, angle, scale, shift),
+                     VertexPathType::intrinsic);
   for (Real t : {0.2, 0.5, 0.8}) {
     const Polygon Pt = p.polygon_at(t);  // validated: simple and counter-clockwise
     const Polygon Qt = q.polygon_at(t);

@@ -15,7 +15,8 @@ io::RunConfig config(int order) {
     "problem": {"source": "1 + x*y", "dirichlet": [{"edges": [0, 1, 2], "value": "x"}],
                 "neumann": [{"edges": [3, 4, 5], "value": "0.5"}]},
     "solver": {"rtol": 1e-12}
-  })json"), "mpi_test.json");
+  })json"),
+                                           "mpi_test.json");
   cfg.poisson.order = order;
   cfg.output.directory = "output/test_mpi";
   cfg.output.name = "p" + std::to_string(order);
@@ -30,7 +31,8 @@ TEST_P(MpiPoisson, TwoRanksEqualSerial) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
   const auto cfg = config(GetParam());
-  const auto parallel = apps::run_poisson(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
+  const auto parallel =
+      apps::run_poisson(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
   const auto serial = apps::run_poisson(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
   ASSERT_EQ(parallel.solution.size(), serial.solution.size());
   const double diff = (parallel.solution - serial.solution).lpNorm<Eigen::Infinity>();
