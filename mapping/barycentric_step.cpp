@@ -33,15 +33,6 @@ Real BarycentricStep::max_displacement() const {
   return d;
 }
 
-// Runtime dispatch for the hot kernel: GCC compiles it for generic x86-64, AVX2 and
-// AVX-512 and picks the best at load time, so the default (portable) build runs
-// vectorized code where the CPU has it. A WARPFEM_NATIVE build compiles it once.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__AVX2__)
-#define WARPFEM_KERNEL_CLONES __attribute__((target_clones("default", "arch=haswell", "arch=skylake-avx512")))
-#else
-#define WARPFEM_KERNEL_CLONES
-#endif
-
 void BarycentricStep::apply(const Real* x, const Real* y, int cnt, Real* fx, Real* fy, Real* J) const {
   apply_kernel(x, y, cnt, fx, fy, J);
 }

@@ -154,8 +154,8 @@ namespace {
 
 /// Evaluates blocks of points and writes φ (and ∇φ) columns of the output matrices.
 template <bool kGrad>
-void mean_value_batch(const PolygonArrays& P, const Points<2>& x, MatrixX& phi, MatrixX* dphi_dx,
-                      MatrixX* dphi_dy) {
+WARPFEM_KERNEL_INLINE void mean_value_batch(const PolygonArrays& P, const Points<2>& x, MatrixX& phi,
+                                            MatrixX* dphi_dx, MatrixX* dphi_dy) {
   const Index N = x.rows(), n = P.size();
   phi.resize(N, n);
   if constexpr (kGrad) {
@@ -219,15 +219,24 @@ void mean_value_batch(const PolygonArrays& P, const Points<2>& x, MatrixX& phi, 
   }
 }
 
+WARPFEM_KERNEL_CLONES void mean_value_values(const PolygonArrays& P, const Points<2>& x, MatrixX& phi) {
+  mean_value_batch<false>(P, x, phi, nullptr, nullptr);
+}
+
+WARPFEM_KERNEL_CLONES void mean_value_gradients(const PolygonArrays& P, const Points<2>& x, MatrixX& phi,
+                                                MatrixX* dphi_dx, MatrixX* dphi_dy) {
+  mean_value_batch<true>(P, x, phi, dphi_dx, dphi_dy);
+}
+
 }  // namespace
 
 void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, MatrixX& phi) {
-  mean_value_batch<false>(polygon, x, phi, nullptr, nullptr);
+  mean_value_values(polygon, x, phi);
 }
 
 void mean_value_coordinates(const PolygonArrays& polygon, const Points<2>& x, MatrixX& phi, MatrixX& dphi_dx,
                             MatrixX& dphi_dy) {
-  mean_value_batch<true>(polygon, x, phi, &dphi_dx, &dphi_dy);
+  mean_value_gradients(polygon, x, phi, &dphi_dx, &dphi_dy);
 }
 
 }  // namespace warpfem::mapping

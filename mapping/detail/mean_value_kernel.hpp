@@ -28,6 +28,24 @@
 #define WARPFEM_IVDEP
 #endif
 
+// The kernels are forced inline so that they are compiled with the instruction
+// set of their caller (barycentric_step.cpp builds AVX2/AVX-512 clones of it).
+#if defined(__GNUC__)
+#define WARPFEM_KERNEL_INLINE inline __attribute__((always_inline))
+#else
+#define WARPFEM_KERNEL_INLINE inline
+#endif
+
+// Runtime dispatch for the functions that run the kernels: GCC compiles them for
+// generic x86-64, x86-64-v3 (AVX2 + FMA) and x86-64-v4 (AVX-512) and picks the
+// best at load time by CPU features, so the default (portable) build runs
+// vectorized code where the CPU has it. A WARPFEM_NATIVE build compiles once.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__AVX2__)
+#define WARPFEM_KERNEL_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+#else
+#define WARPFEM_KERNEL_CLONES
+#endif
+
 namespace warpfem::mapping::detail {
 
 inline constexpr int kBlock = 64;
@@ -50,8 +68,9 @@ struct MeanValueScratch {
 /// One edge [v_i, v_{i+1} = (ax, ay)] for all points of the block: t_i, ∇t_i and,
 /// if kEmit, the weight of vertex i. Then the state moves on to vertex i+1.
 template <bool kGrad, bool kEmit, class Sink>
-inline void edge_pass(double ax, double ay, int i, const double* __restrict px, const double* __restrict py,
-                      int cnt, double rtol, MeanValueScratch& s, Sink& sink) {
+WARPFEM_KERNEL_INLINE void edge_pass(double ax, double ay, int i, const double* __restrict px,
+                                     const double* __restrict py, int cnt, double rtol, MeanValueScratch& s,
+                                     Sink& sink) {
   WARPFEM_IVDEP
   for (int p = 0; p < cnt; ++p) {
     const double sxn = ax - px[p], syn = ay - py[p];
@@ -102,9 +121,9 @@ inline void edge_pass(double ax, double ay, int i, const double* __restrict px, 
 /// (gradients are 0 when kGrad is false). Afterwards s.flag[p] != 0 marks points
 /// that need the robust path. `rtol` is the near-vertex distance.
 template <bool kGrad, class Sink>
-inline void mean_value_block(const double* vx, const double* vy, int n, const double* __restrict px,
-                             const double* __restrict py, int cnt, double rtol, MeanValueScratch& s,
-                             Sink&& sink) {
+WARPFEM_KERNEL_INLINE void mean_value_block(const double* vx, const double* vy, int n,
+                                            const double* __restrict px, const double* __restrict py, int cnt,
+                                            double rtol, MeanValueScratch& s, Sink&& sink) {
   // Start at vertex n−1 and take the edge (n−1 → 0) to get t_{n−1} for w_0.
   {
     const double ax = vx[n - 1], ay = vy[n - 1];
