@@ -114,4 +114,29 @@ void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std
   }
 }
 
+void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+                               std::vector<PetscInt>& cols) const {
+  std::vector<PetscInt> d_nnz, o_nnz;
+  preallocation(mesh, dofs, d_nnz, o_nnz);
+  const IndexTable& cd = dofs.cell_dofs();
+  row_ptr.assign(static_cast<std::size_t>(num_owned()) + 1, 0);
+  for (PetscInt r = 0; r < num_owned(); ++r) row_ptr[r + 1] = row_ptr[r] + d_nnz[r] + o_nnz[r];
+  cols.assign(static_cast<std::size_t>(row_ptr.back()), -1);
+  std::vector<PetscInt> fill(row_ptr.begin(), row_ptr.end() - 1);
+  for (Index c = 0; c < mesh.num_cells(); ++c)
+    for (Index a = 0; a < cd.cols(); ++a) {
+      const Index d = cd(c, a);
+      if (owner_[d] != rank_) continue;
+      const PetscInt r = global_[d] - owned_begin_;
+      for (Index b = 0; b < cd.cols(); ++b) {
+        const PetscInt col = global_[cd(c, b)];
+        bool present = false;
+        for (PetscInt k = row_ptr[r]; k < fill[r]; ++k) present |= cols[k] == col;
+        if (!present) cols[fill[r]++] = col;
+      }
+    }
+  for (PetscInt r = 0; r < num_owned(); ++r)
+    std::sort(cols.begin() + row_ptr[r], cols.begin() + row_ptr[r + 1]);
+}
+
 }  // namespace warpfem::fem

@@ -47,6 +47,10 @@ class DofDistribution {
   /// the owned rows of a matrix coupling all DOFs of each cell.
   void preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
                      std::vector<PetscInt>& o_nnz) const;
+  /// The same pattern as compressed rows: owned row r (global index owned_begin() + r)
+  /// couples to the sorted global columns cols[row_ptr[r] .. row_ptr[r + 1]).
+  void sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+                std::vector<PetscInt>& cols) const;
 
  private:
   MPI_Comm comm_;

@@ -26,7 +26,7 @@ MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements) {
   levels.push_back(std::move(coarse));
   for (int r = 0; r < refinements; ++r) {
     transfers.push_back(refine_uniformly(levels.back()));
-    levels.push_back(transfers.back().mesh);
+    levels.push_back(std::move(transfers.back().mesh));  // the parent maps stay in `transfers`
   }
 }
 
