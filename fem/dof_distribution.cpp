@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/petsc/check.hpp"
+#include "core/petsc/scatter.hpp"
 #include "fem/cell_partition.hpp"
 
 namespace warpfem::fem {
@@ -56,29 +57,13 @@ VectorX DofDistribution::gather_relevant(Vec v) const {
     WARPFEM_PETSC_CHECK(VecCreateSeq(PETSC_COMM_SELF, n, relevant_values_.out()));
     WARPFEM_PETSC_CHECK(VecScatterCreate(v, is.get(), relevant_values_.get(), nullptr, scatter_.out()));
   }
-  WARPFEM_PETSC_CHECK(
-      VecScatterBegin(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
-  WARPFEM_PETSC_CHECK(
-      VecScatterEnd(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
-  VectorX out(n);
-  const PetscScalar* a = nullptr;
-  WARPFEM_PETSC_CHECK(VecGetArrayRead(relevant_values_.get(), &a));
-  std::copy(a, a + n, out.data());
-  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(relevant_values_.get(), &a));
-  return out;
+  return petsc::scatter_forward(scatter_.get(), v, relevant_values_.get());
 }
 
 VectorX DofDistribution::gather_all(Vec v) const {
-  petsc::Scatter all;
-  petsc::Vector seq;
-  WARPFEM_PETSC_CHECK(VecScatterCreateToAll(v, all.out(), seq.out()));
-  WARPFEM_PETSC_CHECK(VecScatterBegin(all.get(), v, seq.get(), INSERT_VALUES, SCATTER_FORWARD));
-  WARPFEM_PETSC_CHECK(VecScatterEnd(all.get(), v, seq.get(), INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* a = nullptr;
-  WARPFEM_PETSC_CHECK(VecGetArrayRead(seq.get(), &a));
+  const std::vector<PetscScalar> a = petsc::gather_to_all(v);
   VectorX out(static_cast<Index>(global_.size()));
   for (std::size_t d = 0; d < global_.size(); ++d) out(static_cast<Index>(d)) = a[global_[d]];
-  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(seq.get(), &a));
   return out;
 }
 

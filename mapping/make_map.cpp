@@ -7,23 +7,10 @@
 #include "mapping/barycentric_map.hpp"
 #include "mapping/composite_mean_value_map.hpp"
 #include "mapping/harmonic/make_harmonic_map.hpp"
+#include "mapping/spec_context.hpp"
 
 namespace warpfem::mapping {
 namespace {
-
-/// Re-throws an error from a lower layer with the spec's file and, if the error
-/// carries none, the key path of the field that caused it.
-template <class F>
-auto with_context(const MapSpec& spec, const std::string& key_path, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const Error& e) {
-    Error::Context c = e.context();
-    if (c.file.empty()) c.file = spec.origin;
-    if (c.key_path.empty()) c.key_path = key_path;
-    throw Error(e.message(), c);
-  }
-}
 
 const Polygon& require_polygon(const MapSpec& spec, const std::optional<Polygon>& p, const char* key) {
   if (!p)
@@ -46,20 +33,20 @@ MapPtr<2> make_map(const MapSpec& spec) {
 
   const Polygon& source = require_polygon(spec, spec.source, "/map/source");
   const Polygon& target = require_polygon(spec, spec.target, "/map/target");
-  with_context(spec, "/map/source", [&] { source.validate(); });
-  with_context(spec, "/map/target", [&] {
+  with_spec_context(spec, "/map/source", [&] { source.validate(); });
+  with_spec_context(spec, "/map/target", [&] {
     target.validate();
     require_same_vertex_count(source, target);
   });
   const Coordinates coords =
-      with_context(spec, "/map/coordinates", [&] { return parse_coordinates(spec.coordinates); });
+      with_spec_context(spec, "/map/coordinates", [&] { return parse_coordinates(spec.coordinates); });
 
   if (spec.type == "barycentric")
-    return with_context(spec, "/map/coordinates",
-                        [&] { return std::make_shared<const BarycentricMap>(source, target, coords); });
+    return with_spec_context(spec, "/map/coordinates",
+                             [&] { return std::make_shared<const BarycentricMap>(source, target, coords); });
 
   const VertexPathType vp =
-      with_context(spec, "/map/vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
+      with_spec_context(spec, "/map/vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
   const VertexPath path(source, target, vp);
   if (spec.partition == "adaptive") {
     if (spec.sample_resolution < 2)
@@ -73,18 +60,18 @@ MapPtr<2> make_map(const MapSpec& spec) {
     o.sample_resolution = spec.sample_resolution;
     o.min_interval = spec.min_interval;
     o.coordinates = coords;
-    return with_context(spec, "/map/partition", [&] { return build_adaptive_composite(path, o).map; });
+    return with_spec_context(spec, "/map/partition", [&] { return build_adaptive_composite(path, o).map; });
   }
   if (spec.partition == "uniform") {
     if (spec.steps < 1)
       throw Error("steps must be a positive integer, got " + std::to_string(spec.steps),
                   {.file = spec.origin, .key_path = "/map/steps", .hint = "e.g. 16"});
-    return with_context(spec, "/map/partition", [&] {
+    return with_spec_context(spec, "/map/partition", [&] {
       return std::make_shared<const CompositeMeanValueMap>(path, uniform_partition(spec.steps), coords);
     });
   }
   if (spec.partition == "explicit")
-    return with_context(spec, "/map/times", [&] {
+    return with_spec_context(spec, "/map/times", [&] {
       return std::make_shared<const CompositeMeanValueMap>(path, spec.times, coords);
     });
   throw Error("unknown partition \"" + spec.partition + "\"",

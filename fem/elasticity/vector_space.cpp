@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/petsc/check.hpp"
+#include "core/petsc/scatter.hpp"
 
 namespace warpfem::fem {
 
@@ -49,31 +50,15 @@ VectorX VectorSpace::gather_relevant(Vec v) const {
     WARPFEM_PETSC_CHECK(VecCreateSeq(PETSC_COMM_SELF, n, relevant_values_.out()));
     WARPFEM_PETSC_CHECK(VecScatterCreate(v, is.get(), relevant_values_.get(), nullptr, scatter_.out()));
   }
-  WARPFEM_PETSC_CHECK(
-      VecScatterBegin(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
-  WARPFEM_PETSC_CHECK(
-      VecScatterEnd(scatter_.get(), v, relevant_values_.get(), INSERT_VALUES, SCATTER_FORWARD));
-  VectorX out(n);
-  const PetscScalar* a = nullptr;
-  WARPFEM_PETSC_CHECK(VecGetArrayRead(relevant_values_.get(), &a));
-  std::copy(a, a + n, out.data());
-  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(relevant_values_.get(), &a));
-  return out;
+  return petsc::scatter_forward(scatter_.get(), v, relevant_values_.get());
 }
 
 VectorX VectorSpace::gather_all(Vec v) const {
-  petsc::Scatter all;
-  petsc::Vector seq;
-  WARPFEM_PETSC_CHECK(VecScatterCreateToAll(v, all.out(), seq.out()));
-  WARPFEM_PETSC_CHECK(VecScatterBegin(all.get(), v, seq.get(), INSERT_VALUES, SCATTER_FORWARD));
-  WARPFEM_PETSC_CHECK(VecScatterEnd(all.get(), v, seq.get(), INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* a = nullptr;
-  WARPFEM_PETSC_CHECK(VecGetArrayRead(seq.get(), &a));
+  const std::vector<PetscScalar> a = petsc::gather_to_all(v);
   const Index nd = dofs_.num_dofs();
   VectorX out(nd * components_);
   for (Index d = 0; d < nd; ++d)
     for (int c = 0; c < components_; ++c) out(d * components_ + c) = a[global(d, c)];
-  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(seq.get(), &a));
   return out;
 }
 

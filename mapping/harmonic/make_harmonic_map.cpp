@@ -5,25 +5,14 @@
 #include "mapping/harmonic/intermediate_optimizer.hpp"
 #include "mapping/harmonic/intermediate_polygon.hpp"
 #include "mapping/polygon_sampling.hpp"
+#include "mapping/spec_context.hpp"
 
 namespace warpfem::mapping {
 namespace {
 
-template <class F>
-auto in_field(const MapSpec& spec, const std::string& key_path, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const Error& e) {
-    Error::Context c = e.context();
-    if (c.file.empty()) c.file = spec.origin;
-    if (c.key_path.empty()) c.key_path = key_path;
-    throw Error(e.message(), c);
-  }
-}
-
 std::vector<EdgeSpeed> parse_speeds(const MapSpec& spec, const std::vector<std::string>& names,
                                     const char* key) {
-  return in_field(spec, key, [&] {
+  return with_spec_context(spec, key, [&] {
     std::vector<EdgeSpeed> s;
     for (const auto& n : names) s.push_back(parse_edge_speed(n));
     return s;
@@ -41,14 +30,14 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
   };
   const Polygon& source = need(spec.source, "/map/source");
   const Polygon& target = need(spec.target, "/map/target");
-  in_field(spec, "/map/source", [&] { source.validate(); });
-  in_field(spec, "/map/target", [&] {
+  with_spec_context(spec, "/map/source", [&] { source.validate(); });
+  with_spec_context(spec, "/map/target", [&] {
     target.validate();
     require_same_vertex_count(source, target);
   });
   HarmonicOptions o;
-  o.method =
-      in_field(spec, "/map/harmonic_method", [&] { return parse_harmonic_method(spec.harmonic_method); });
+  o.method = with_spec_context(spec, "/map/harmonic_method",
+                               [&] { return parse_harmonic_method(spec.harmonic_method); });
   if (spec.boundary_nodes < source.size())
     throw Error("boundary_nodes must be at least the vertex count " + std::to_string(source.size()) +
                     ", got " + std::to_string(spec.boundary_nodes),
@@ -60,14 +49,15 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
   o.fem_max_edge_length = spec.fem_max_edge_length;
   const auto s0 = parse_speeds(spec, spec.source_edge_speeds, "/map/source_edge_speeds");
   const auto s1 = parse_speeds(spec, spec.target_edge_speeds, "/map/target_edge_speeds");
-  in_field(spec, "/map/source_edge_speeds", [&] { speeds_for(source, s0); });
-  in_field(spec, "/map/target_edge_speeds", [&] { speeds_for(target, s1); });
+  with_spec_context(spec, "/map/source_edge_speeds", [&] { speeds_for(source, s0); });
+  with_spec_context(spec, "/map/target_edge_speeds", [&] { speeds_for(target, s1); });
 
   Polygon lambda;
   if (spec.intermediate == "regular" || spec.intermediate == "optimized")
     lambda = regular_polygon(source.size());
   else if (spec.intermediate == "cyclic")
-    lambda = in_field(spec, "/map/intermediate", [&] { return cyclic_intermediate(source, target); });
+    lambda =
+        with_spec_context(spec, "/map/intermediate", [&] { return cyclic_intermediate(source, target); });
   else
     throw Error("unknown intermediate polygon \"" + spec.intermediate + "\"",
                 {.file = spec.origin,
@@ -79,18 +69,22 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
   if (spec.intermediate == "optimized") {
     HarmonicOptions fem = o;
     fem.method = HarmonicMethod::fem;
-    const auto p0 = in_field(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, fem); });
-    const auto p1 = in_field(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, fem); });
+    const auto p0 =
+        with_spec_context(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, fem); });
+    const auto p1 =
+        with_spec_context(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, fem); });
     IntermediateOptimizerOptions oo;
     oo.energy = spec.distortion_energy;
     const Polygon start = lambda;
-    lambda =
-        in_field(spec, "/map/distortion_energy", [&] { return optimize_intermediate(p0, p1, oo).polygon; });
+    lambda = with_spec_context(spec, "/map/distortion_energy",
+                               [&] { return optimize_intermediate(p0, p1, oo).polygon; });
     if (o.method == HarmonicMethod::fem)
       return std::make_shared<const CompositeHarmonicMap>(p0->with_image(lambda), p1->with_image(lambda), h1);
     // the fem proxy's gain need not carry over: keep Λ' only if the requested method agrees
-    const auto phi0 = in_field(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, o); });
-    const auto phi1 = in_field(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, o); });
+    const auto phi0 =
+        with_spec_context(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, o); });
+    const auto phi1 =
+        with_spec_context(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, o); });
     const Points<2> sample = grid_sample(source, oo.sample_resolution);
     const Real e_opt = distortion_energy(phi0, phi1, sample, oo.energy);
     const Real e_start =
@@ -101,8 +95,10 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
               start.name());
     return std::make_shared<const CompositeHarmonicMap>(phi0->with_image(start), phi1->with_image(start), h1);
   }
-  const auto phi0 = in_field(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, o); });
-  const auto phi1 = in_field(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, o); });
+  const auto phi0 =
+      with_spec_context(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, o); });
+  const auto phi1 =
+      with_spec_context(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, o); });
   return std::make_shared<const CompositeHarmonicMap>(phi0, phi1, h1);
 }
 
