@@ -126,9 +126,8 @@ int map_command(const std::vector<std::string>& args) {
 
   const nlohmann::json json = io::ConfigNode::parse_file(config_path);
   const io::ConfigNode root(json, config_path);
-  log::set_level(
-      log::parse_level(root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"})));
-  const mapping::MapSpec spec = io::parse_map_spec(root.child("map"));
+  log::set_level(log::parse_level(io::parse_verbosity(root)));
+  const mapping::MapSpec spec = io::parse_required_map(root);
   const io::ConfigNode out = root.child("output");
   std::string directory = out.get_string("directory", "output/map");
   const std::string name = out.get_string("name", "map");
@@ -139,12 +138,7 @@ int map_command(const std::vector<std::string>& args) {
   if (!output_dir.empty()) directory = output_dir;
 
   Stopwatch watch;
-  mapping::MapPtr<2> map;
-  try {
-    map = mapping::make_map(spec);
-  } catch (const Error& e) {
-    throw e.context().file.empty() ? e.in_file(config_path) : e;
-  }
+  const mapping::MapPtr<2> map = mapping::make_map(spec);  // errors name spec.origin = the config file
   log::info("map: ", map->describe(), " (built in ", format_seconds(watch.seconds()), ")");
   report_map(*map, spec);
 

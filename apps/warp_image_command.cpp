@@ -32,9 +32,8 @@ int warp_image_command(const std::vector<std::string>& args) {
   if (config_path.empty()) throw Error("missing --config", {.file = "", .key_path = "", .hint = usage});
   const nlohmann::json json = io::ConfigNode::parse_file(config_path);
   const io::ConfigNode root(json, config_path);
-  log::set_level(
-      log::parse_level(root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"})));
-  const mapping::MapSpec spec = io::parse_map_spec(root.child("map"));
+  log::set_level(log::parse_level(io::parse_verbosity(root)));
+  const mapping::MapSpec spec = io::parse_required_map(root);
   const io::ConfigNode image = root.child("image");
   if (input.empty()) {
     input = image.get_string("input", "");
@@ -71,12 +70,7 @@ int warp_image_command(const std::vector<std::string>& args) {
                 {.file = config_path, .key_path = "/map/type", .hint = "use \"composite_mean_value\""});
 
   Stopwatch watch;
-  mapping::MapPtr<2> map;
-  try {
-    map = mapping::make_map(spec);
-  } catch (const Error& e) {
-    throw e.context().file.empty() ? e.in_file(config_path) : e;
-  }
+  const mapping::MapPtr<2> map = mapping::make_map(spec);  // errors name spec.origin = the config file
   log::info("map: ", map->describe(), " (", format_seconds(watch.seconds()), ")");
   const io::Image in = io::read_png(input);
   io::Image out;

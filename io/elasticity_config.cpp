@@ -129,11 +129,8 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
   ElasticityConfig cfg;
   cfg.file = file;
   const ConfigNode root(json, file);
-  cfg.verbosity = root.get_choice("verbosity", cfg.verbosity, {"quiet", "error", "warning", "info", "debug"});
-  if (!root.has("map"))
-    throw root.error("map", "missing required field: the map (at least its source polygon)",
-                     "add \"map\": {\"type\": \"identity\", \"source\": [[0,0],[1,0],[1,1],[0,1]]}");
-  cfg.map = parse_map_spec(root.child("map"));
+  cfg.verbosity = parse_verbosity(root);
+  cfg.map = parse_required_map(root);
   const Index num_edges = cfg.map.source->size();
   cfg.mesh = parse_mesh_spec(root.child("mesh"));
 

@@ -64,6 +64,12 @@ Polygon parse_polygon(const ConfigNode& node, const std::string& key, const std:
 /// Reads the "map" object (shared by `run`, `map` and `warp-image` configs).
 mapping::MapSpec parse_map_spec(const ConfigNode& node);
 
+/// The top-level "verbosity" (quiet | error | warning | info | debug; default info).
+std::string parse_verbosity(const ConfigNode& root);
+
+/// The required top-level "map" object, with a helpful error when it is missing.
+mapping::MapSpec parse_required_map(const ConfigNode& root);
+
 /// Reads the "mesh" object (shared by all run configs); `source` resolves relative file names.
 MeshSpec parse_mesh_spec(const ConfigNode& node);
 
