@@ -19,10 +19,9 @@
 #include <thread>
 #include <vector>
 
-#include "mapping/detail/mean_value_kernel.hpp"
-
 #include "mapping/adaptive_partition.hpp"
 #include "mapping/barycentric_map.hpp"
+#include "mapping/detail/mean_value_kernel.hpp"
 #include "mapping/mean_value_coordinates.hpp"
 #include "mapping/polygon_sampling.hpp"
 

@@ -17,26 +17,7 @@
 namespace warpfem::mapping {
 namespace {
 
-/// max over the batch of |J − central differences of f| / (1 + |J|)
-Real jacobian_fd_error(const Map<2>& f, const Points<2>& x, Real h) {
-  Jacobians<2> J;
-  Points<2> fx;
-  f.eval_with_jacobian(x, fx, J);
-  Real worst = 0;
-  for (int j = 0; j < 2; ++j) {
-    Points<2> xp = x, xm = x, fp, fm;
-    xp.col(j).array() += h;
-    xm.col(j).array() -= h;
-    f.eval(xp, fp);
-    f.eval(xm, fm);
-    const Points<2> fd = (fp - fm) / (2 * h);
-    for (Index p = 0; p < x.rows(); ++p) {
-      const Real g = 1 + jacobian_at<2>(J, p).cwiseAbs().maxCoeff();
-      for (int i = 0; i < 2; ++i) worst = std::max(worst, std::abs(J(p, i * 2 + j) - fd(p, i)) / g);
-    }
-  }
-  return worst;
-}
+using test::jacobian_fd_error;
 
 /// Boundary behaviour every barycentric map shares: vertices to vertices, edges linearly to edges.
 void expect_boundary_reproduced(const Map<2>& f, const Polygon& from, const Polygon& to) {

@@ -1,6 +1,7 @@
 #pragma once
-// Polygons shared by the mapping tests (the same ones as examples/maps/*.json).
+// Polygons and checks shared by the mapping tests (the polygons are those of examples/maps/*.json).
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -9,6 +10,8 @@
 #include <vector>
 
 #include "core/polygon.hpp"
+#include "io/run_config.hpp"
+#include "mapping/map.hpp"
 #include "mapping/map_spec.hpp"
 
 namespace warpfem::mapping::test {
@@ -52,28 +55,32 @@ inline Polygon convex6() {
   return polygon({{0, 0}, {2, -0.3}, {3.1, 0.8}, {2.7, 2.2}, {1.0, 2.6}, {-0.6, 1.3}}, "convex hexagon");
 }
 
-/// Reads examples/maps/<name>.json into a MapSpec (what io/ will do).
+/// Reads examples/maps/<name>.json into a MapSpec exactly as the application does.
 inline MapSpec load_example(const std::string& name) {
   const std::string file = std::string(WARPFEM_SOURCE_DIR) + "/examples/maps/" + name + ".json";
-  std::ifstream in(file);
-  const nlohmann::json j = nlohmann::json::parse(in).at("map");
-  auto poly = [&](const char* key) {
-    std::vector<Point<2>> v;
-    for (const auto& p : j.at(key)) v.emplace_back(p.at(0).get<Real>(), p.at(1).get<Real>());
-    return Polygon(v, name + " " + key);
-  };
-  MapSpec s;
-  s.type = j.at("type");
-  s.source = poly("source");
-  s.target = poly("target");
-  s.vertex_path = j.value("vertex_path", s.vertex_path);
-  s.partition = j.value("partition", s.partition);
-  s.steps = j.value("steps", s.steps);
-  s.sample_resolution = j.value("sample_resolution", s.sample_resolution);
-  s.min_interval = j.value("min_interval", s.min_interval);
-  if (j.contains("times")) s.times = j.at("times").get<std::vector<Real>>();
-  s.origin = file;
-  return s;
+  const nlohmann::json j = io::ConfigNode::parse_file(file);
+  return io::parse_map_spec(io::ConfigNode(j, file).child("map"));
+}
+
+/// max over the batch of |J − central differences of f| / (1 + |J|)
+inline Real jacobian_fd_error(const Map<2>& f, const Points<2>& x, Real h) {
+  Jacobians<2> J;
+  Points<2> fx;
+  f.eval_with_jacobian(x, fx, J);
+  Real worst = 0;
+  for (int j = 0; j < 2; ++j) {
+    Points<2> xp = x, xm = x, fp, fm;
+    xp.col(j).array() += h;
+    xm.col(j).array() -= h;
+    f.eval(xp, fp);
+    f.eval(xm, fm);
+    const Points<2> fd = (fp - fm) / (2 * h);
+    for (Index p = 0; p < x.rows(); ++p) {
+      const Real g = 1 + jacobian_at<2>(J, p).cwiseAbs().maxCoeff();
+      for (int i = 0; i < 2; ++i) worst = std::max(worst, std::abs(J(p, i * 2 + j) - fd(p, i)) / g);
+    }
+  }
+  return worst;
 }
 
 }  // namespace warpfem::mapping::test
