@@ -88,30 +88,10 @@ MultigridSolveReport PoissonMultigridSolver::solve() {
   r.solve_seconds = watch.seconds();
   report_.timings = timings_;
   r.setup_seconds = timings_.setup();
-  KSPConvergedReason reason;
-  PetscInt its = 0;
-  PetscReal rnorm = 0;
-  KSPType kt = nullptr;
-  PCType pt = nullptr;
-  PC pc = nullptr;
-  WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp_.get(), &reason));
-  WARPFEM_PETSC_CHECK(KSPGetIterationNumber(ksp_.get(), &its));
-  WARPFEM_PETSC_CHECK(KSPGetResidualNorm(ksp_.get(), &rnorm));
-  WARPFEM_PETSC_CHECK(KSPGetType(ksp_.get(), &kt));
-  WARPFEM_PETSC_CHECK(KSPGetPC(ksp_.get(), &pc));
-  WARPFEM_PETSC_CHECK(PCGetType(pc, &pt));
-  r.iterations = static_cast<int>(its);
-  r.residual_norm = rnorm;
-  r.ksp_type = kt ? kt : "";
-  r.pc_type = pt ? pt : "";
-  r.converged_reason = KSPConvergedReasons[reason];
-  if (reason < 0)
-    throw Error("multigrid-preconditioned " + r.ksp_type + " diverged after " + std::to_string(its) +
-                    " iterations: " + r.converged_reason + " (residual norm " + std::to_string(rnorm) + ")",
-                {.file = "",
-                 .key_path = "/solver",
-                 .hint = "check the level operators with -ksp_view, try -mg_levels_ksp_type richardson "
-                         "-mg_levels_pc_type sor, or raise /solver/max_iterations"});
+  petsc::collect_solve_outcome(ksp_.get(), r);
+  petsc::throw_if_diverged(r, "multigrid-preconditioned " + r.ksp_type,
+                           "check the level operators with -ksp_view, try -mg_levels_ksp_type richardson "
+                           "-mg_levels_pc_type sor, or raise /solver/max_iterations");
   return report_;
 }
 

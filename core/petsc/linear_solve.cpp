@@ -9,6 +9,34 @@
 
 namespace warpfem::petsc {
 
+void collect_solve_outcome(KSP ksp, LinearSolveReport& report) {
+  KSPConvergedReason reason;
+  PetscInt its = 0;
+  PetscReal rnorm = 0;
+  KSPType kt = nullptr;
+  PCType pt = nullptr;
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
+  WARPFEM_PETSC_CHECK(KSPGetIterationNumber(ksp, &its));
+  WARPFEM_PETSC_CHECK(KSPGetResidualNorm(ksp, &rnorm));
+  WARPFEM_PETSC_CHECK(KSPGetType(ksp, &kt));
+  WARPFEM_PETSC_CHECK(KSPGetPC(ksp, &pc));
+  WARPFEM_PETSC_CHECK(PCGetType(pc, &pt));
+  report.iterations = static_cast<int>(its);
+  report.residual_norm = rnorm;
+  report.ksp_type = kt ? kt : "";
+  report.pc_type = pt ? pt : "";
+  report.converged_reason = KSPConvergedReasons[reason];
+  report.converged = reason >= 0;  // negative reasons are PETSc's DIVERGED_*
+}
+
+void throw_if_diverged(const LinearSolveReport& report, const std::string& solver, const std::string& hint) {
+  if (report.converged) return;
+  throw Error(solver + " diverged after " + std::to_string(report.iterations) + " iterations: " +
+                  report.converged_reason + " (residual norm " + std::to_string(report.residual_norm) + ")",
+              {.file = "", .key_path = "/solver", .hint = hint});
+}
+
 LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOptions& options) {
   MPI_Comm comm = MPI_COMM_NULL;
   WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
@@ -41,29 +69,10 @@ LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOpti
   WARPFEM_PETSC_CHECK(KSPSolve(ksp.get(), b, x));
   report.solve_seconds = watch.seconds();
 
-  KSPConvergedReason reason;
-  WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp.get(), &reason));
-  PetscInt its = 0;
-  WARPFEM_PETSC_CHECK(KSPGetIterationNumber(ksp.get(), &its));
-  PetscReal rnorm = 0;
-  WARPFEM_PETSC_CHECK(KSPGetResidualNorm(ksp.get(), &rnorm));
-  KSPType kt;
-  PCType pt;
-  WARPFEM_PETSC_CHECK(KSPGetType(ksp.get(), &kt));
-  WARPFEM_PETSC_CHECK(PCGetType(pc, &pt));
-  report.iterations = static_cast<int>(its);
-  report.residual_norm = rnorm;
-  report.ksp_type = kt ? kt : "";
-  report.pc_type = pt ? pt : "";
-  report.converged_reason = KSPConvergedReasons[reason];
-  if (reason < 0)
-    throw Error("linear solver " + report.ksp_type + "/" + report.pc_type + " diverged after " +
-                    std::to_string(its) + " iterations: " + report.converged_reason + " (residual norm " +
-                    std::to_string(rnorm) + ")",
-                {.file = "",
-                 .key_path = "/solver",
-                 .hint = "raise /solver/max_iterations, loosen /solver/rtol, or choose another solver in "
-                         "/solver/petsc_options (e.g. \"-ksp_type gmres -pc_type lu\")"});
+  collect_solve_outcome(ksp.get(), report);
+  throw_if_diverged(report, "linear solver " + report.ksp_type + "/" + report.pc_type,
+                    "raise /solver/max_iterations, loosen /solver/rtol, or choose another solver in "
+                    "/solver/petsc_options (e.g. \"-ksp_type gmres -pc_type lu\")");
   return report;
 }
 

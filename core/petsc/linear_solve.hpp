@@ -25,8 +25,16 @@ struct LinearSolveReport {
   double residual_norm = 0;
   std::string ksp_type, pc_type;
   std::string converged_reason;
+  bool converged = false;
   double setup_seconds = 0, solve_seconds = 0;
 };
+
+/// Fills iterations, residual norm, KSP/PC types and the converged reason of a finished solve.
+void collect_solve_outcome(KSP ksp, LinearSolveReport& report);
+
+/// Throws warpfem::Error "<solver> diverged after N iterations: <reason> (residual norm r)"
+/// with key path /solver and `hint` unless the solve converged.
+void throw_if_diverged(const LinearSolveReport& report, const std::string& solver, const std::string& hint);
 
 /// Solves A x = b (x is the initial guess on entry). Throws warpfem::Error with
 /// PETSc's reason and a hint if the solver diverges.
