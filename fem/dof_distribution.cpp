@@ -67,22 +67,28 @@ VectorX DofDistribution::gather_all(Vec v) const {
   return out;
 }
 
-void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
-                                    std::vector<PetscInt>& o_nnz) const {
+void DofDistribution::owned_dof_cells(const Mesh<2>& mesh, const DofMap& dofs, std::vector<Index>& start,
+                                      std::vector<Index>& cells) const {
   const IndexTable& cd = dofs.cell_dofs();
   const Index nd = dofs.num_dofs();
-  // CSR adjacency owned DOF -> cells, restricted to owned DOFs.
-  std::vector<Index> start(static_cast<std::size_t>(nd) + 1, 0);
+  start.assign(static_cast<std::size_t>(nd) + 1, 0);
   for (Index c = 0; c < mesh.num_cells(); ++c)
     for (Index k = 0; k < cd.cols(); ++k)
       if (owner_[cd(c, k)] == rank_) ++start[cd(c, k) + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<Index> cells(static_cast<std::size_t>(start.back()));
+  cells.resize(static_cast<std::size_t>(start.back()));
   std::vector<Index> fill(start.begin(), start.end() - 1);
   for (Index c = 0; c < mesh.num_cells(); ++c)
     for (Index k = 0; k < cd.cols(); ++k)
       if (owner_[cd(c, k)] == rank_) cells[fill[cd(c, k)]++] = c;
+}
 
+void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
+                                    std::vector<PetscInt>& o_nnz) const {
+  const IndexTable& cd = dofs.cell_dofs();
+  const Index nd = dofs.num_dofs();
+  std::vector<Index> start, cells;
+  owned_dof_cells(mesh, dofs, start, cells);
   d_nnz.assign(static_cast<std::size_t>(num_owned()), 0);
   o_nnz.assign(static_cast<std::size_t>(num_owned()), 0);
   std::vector<Index> stamp(static_cast<std::size_t>(nd), -1);
@@ -101,27 +107,40 @@ void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std
 
 void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
                                std::vector<PetscInt>& cols) const {
-  std::vector<PetscInt> d_nnz, o_nnz;
-  preallocation(mesh, dofs, d_nnz, o_nnz);
   const IndexTable& cd = dofs.cell_dofs();
+  const Index nd = dofs.num_dofs();
+  std::vector<Index> start, cells;
+  owned_dof_cells(mesh, dofs, start, cells);
+  // Owned DOFs in global order (row r of this rank is global index owned_begin + r).
+  std::vector<Index> row_dof(static_cast<std::size_t>(num_owned()));
+  for (Index d = 0; d < nd; ++d)
+    if (owner_[d] == rank_) row_dof[static_cast<std::size_t>(global_[d] - owned_begin_)] = d;
+  // Two passes over the DOF -> cells adjacency: count distinct columns, then write them.
+  std::vector<Index> stamp(static_cast<std::size_t>(nd), -1);
   row_ptr.assign(static_cast<std::size_t>(num_owned()) + 1, 0);
-  for (PetscInt r = 0; r < num_owned(); ++r) row_ptr[r + 1] = row_ptr[r] + d_nnz[r] + o_nnz[r];
-  cols.assign(static_cast<std::size_t>(row_ptr.back()), -1);
-  std::vector<PetscInt> fill(row_ptr.begin(), row_ptr.end() - 1);
-  for (Index c = 0; c < mesh.num_cells(); ++c)
-    for (Index a = 0; a < cd.cols(); ++a) {
-      const Index d = cd(c, a);
-      if (owner_[d] != rank_) continue;
-      const PetscInt r = global_[d] - owned_begin_;
-      for (Index b = 0; b < cd.cols(); ++b) {
-        const PetscInt col = global_[cd(c, b)];
-        bool present = false;
-        for (PetscInt k = row_ptr[r]; k < fill[r]; ++k) present |= cols[k] == col;
-        if (!present) cols[fill[r]++] = col;
+  for (PetscInt r = 0; r < num_owned(); ++r) {
+    const Index d = row_dof[static_cast<std::size_t>(r)];
+    PetscInt count = 0;
+    for (Index i = start[d]; i < start[d + 1]; ++i)
+      for (Index k = 0; k < cd.cols(); ++k) {
+        const Index col = cd(cells[i], k);
+        if (stamp[col] != d) stamp[col] = d, ++count;
       }
-    }
-  for (PetscInt r = 0; r < num_owned(); ++r)
-    std::sort(cols.begin() + row_ptr[r], cols.begin() + row_ptr[r + 1]);
+    row_ptr[r + 1] = row_ptr[r] + count;
+  }
+  cols.resize(static_cast<std::size_t>(row_ptr.back()));
+  std::fill(stamp.begin(), stamp.end(), -1);
+  for (PetscInt r = 0; r < num_owned(); ++r) {
+    const Index d = row_dof[static_cast<std::size_t>(r)];
+    PetscInt* out = cols.data() + row_ptr[r];
+    PetscInt len = 0;
+    for (Index i = start[d]; i < start[d + 1]; ++i)
+      for (Index k = 0; k < cd.cols(); ++k) {
+        const Index col = cd(cells[i], k);
+        if (stamp[col] != d) stamp[col] = d, out[len++] = global_[col];
+      }
+    std::sort(out, out + len);
+  }
 }
 
 }  // namespace warpfem::fem

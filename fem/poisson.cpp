@@ -25,94 +25,177 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
   if (data_.boundary_polygon) locator_.emplace(*data_.boundary_polygon);
   shape_values_ = dofs_.element().values(geometry_.rule().points);
   shape_grads_ = dofs_.element().gradients(geometry_.rule().points);
+  const Index nq = geometry_.points_per_cell();
+  const int n = dofs_.element().num_dofs();
+  for (auto& t : gradient_products_) t.resize(n * n, nq);
+  constant_gradients_ = true;
+  for (Index q = 0; q < nq; ++q) {
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        const double ua = shape_grads_[0](q, a), va = shape_grads_[1](q, a);
+        const double ub = shape_grads_[0](q, b), vb = shape_grads_[1](q, b);
+        gradient_products_[0](a * n + b, q) = ua * ub;
+        gradient_products_[1](a * n + b, q) = ua * vb + va * ub;
+        gradient_products_[2](a * n + b, q) = va * vb;
+      }
+    for (int d = 0; d < 2; ++d)
+      constant_gradients_ = constant_gradients_ &&
+                            (shape_grads_[d].row(q) - shape_grads_[d].row(0)).cwiseAbs().maxCoeff() < 1e-13;
+  }
   const auto& rel = dist_.relevant_dofs();
   Points<2> x0(static_cast<Index>(rel.size()), 2);
   for (std::size_t i = 0; i < rel.size(); ++i) x0.row(static_cast<Index>(i)) = dofs_.dof_points().row(rel[i]);
   map_->eval(x0, relevant_x_);
+  create_matrix();
+}
+
+void PoissonProblem::create_matrix() {
+  std::vector<PetscInt> row_ptr, cols;
+  dist_.sparsity(mesh_, dofs_, row_ptr, cols);
+  int size = 1;
+  MPI_Comm_size(comm_, &size);
+  WARPFEM_PETSC_CHECK(MatCreate(comm_, A_.out()));
+  WARPFEM_PETSC_CHECK(
+      MatSetSizes(A_.get(), dist_.num_owned(), dist_.num_owned(), dist_.num_global(), dist_.num_global()));
+  if (size == 1) {
+    // Serial: assembly writes straight into PETSc's compressed rows (same pattern).
+    WARPFEM_PETSC_CHECK(MatSetType(A_.get(), MATSEQAIJ));
+    WARPFEM_PETSC_CHECK(MatSeqAIJSetPreallocationCSR(A_.get(), row_ptr.data(), cols.data(), nullptr));
+  } else {
+    WARPFEM_PETSC_CHECK(MatSetType(A_.get(), MATMPIAIJ));
+    WARPFEM_PETSC_CHECK(MatMPIAIJSetPreallocationCSR(A_.get(), row_ptr.data(), cols.data(), nullptr));
+    row_ptr_ = std::move(row_ptr);
+    cols_ = std::move(cols);
+  }
+  WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  b_ = dist_.create_vector();
+  u_ = dist_.create_vector();
+}
+
+void PoissonProblem::element_stiffness(Index i, double* ke) const {
+  const int n = dofs_.element().num_dofs(), nn = n * n;
+  const Index nq = geometry_.points_per_cell();
+  const auto& J = geometry_.inverse_transpose();
+  const auto& w = geometry_.JxW();
+  // grad φ = J^{-T} ĝ, so ∇φa·∇φb = ĝa^T M ĝb with M = (J^{-T})^T J^{-T} (symmetric).
+  const auto metric = [&](Index p, double& m0, double& m1, double& m2) {
+    const double j00 = J(p, 0), j01 = J(p, 1), j10 = J(p, 2), j11 = J(p, 3), wp = w(p);
+    m0 = wp * (j00 * j00 + j10 * j10);
+    m1 = wp * (j00 * j01 + j10 * j11);
+    m2 = wp * (j01 * j01 + j11 * j11);
+  };
+  if (constant_gradients_) {
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (Index q = 0; q < nq; ++q) {
+      double m0, m1, m2;
+      metric(geometry_.at(i, q), m0, m1, m2);
+      s0 += m0, s1 += m1, s2 += m2;
+    }
+    const double *t0 = gradient_products_[0].data(), *t1 = gradient_products_[1].data(),
+                 *t2 = gradient_products_[2].data();  // column 0 (any point: the gradients are constant)
+    for (int k = 0; k < nn; ++k) ke[k] = s0 * t0[k] + s1 * t1[k] + s2 * t2[k];
+    return;
+  }
+  std::fill(ke, ke + nn, 0.0);
+  for (Index q = 0; q < nq; ++q) {
+    double m0, m1, m2;
+    metric(geometry_.at(i, q), m0, m1, m2);
+    const double *t0 = gradient_products_[0].col(q).data(), *t1 = gradient_products_[1].col(q).data(),
+                 *t2 = gradient_products_[2].col(q).data();
+    for (int k = 0; k < nn; ++k) ke[k] += m0 * t0[k] + m1 * t1[k] + m2 * t2[k];
+  }
 }
 
 void PoissonProblem::assemble() {
   ScopedTimer timer("Poisson assembly");
   const int n = dofs_.element().num_dofs();
   const Index ncells = geometry_.num_cells();
-  // Element matrices are added straight into compressed-row arrays of the owned
-  // rows (no per-entry search in PETSc); contributions to rows owned by other
-  // ranks go through MatSetValues afterwards.
-  std::vector<PetscInt> row_ptr, cols;
-  dist_.sparsity(mesh_, dofs_, row_ptr, cols);
-  std::vector<PetscScalar> vals(cols.size(), 0.0);
-  std::vector<PetscInt> ghost_rows, ghost_cols;
-  std::vector<PetscScalar> ghost_vals;
-  b_ = dist_.create_vector();
-  u_ = dist_.create_vector();
+  const Index nq = geometry_.points_per_cell();
+  const PetscInt begin = dist_.owned_begin(), owned = dist_.num_owned();
+
+  // Element matrices are added straight into the owned rows' compressed arrays
+  // (PETSc's own in serial, ours under MPI); entries of rows owned by other ranks
+  // go through MatSetValues afterwards.
+  WARPFEM_PETSC_CHECK(MatZeroEntries(A_.get()));
+  const PetscInt *ia = nullptr, *ja = nullptr;
+  PetscScalar* a = nullptr;
+  std::vector<PetscScalar> mpi_values;
+  const bool serial = row_ptr_.empty();
+  if (serial) {
+    PetscInt rows = 0;
+    PetscBool done = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(MatGetRowIJ(A_.get(), 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
+    require(done == PETSC_TRUE && rows == owned, "Poisson assembly: cannot access the matrix rows");
+    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(A_.get(), &a));
+  } else {
+    mpi_values.assign(cols_.size(), 0.0);
+    ia = row_ptr_.data();
+    ja = cols_.data();
+    a = mpi_values.data();
+  }
   WARPFEM_PETSC_CHECK(VecSet(b_.get(), 0.0));
   WARPFEM_PETSC_CHECK(VecSet(u_.get(), 0.0));
+  PetscScalar* b = nullptr;
+  WARPFEM_PETSC_CHECK(VecGetArray(b_.get(), &b));
 
-  const Index nq = geometry_.points_per_cell();
-  std::vector<PetscScalar> ke(static_cast<std::size_t>(n * n));
-  VectorX fe(n);
-  std::vector<double> gx(static_cast<std::size_t>(n)), gy(static_cast<std::size_t>(n));
+  std::vector<PetscInt> ghost_rows, ghost_cols, ghost_b_rows;
+  std::vector<PetscScalar> ghost_vals, ghost_b_vals;
+  std::vector<double> ke(static_cast<std::size_t>(n * n)), fe(static_cast<std::size_t>(n));
   std::vector<PetscInt> idx(static_cast<std::size_t>(n));
-  const auto& J = geometry_.inverse_transpose();
   const auto& x = geometry_.physical_points();
   const auto& w = geometry_.JxW();
   for (Index i = 0; i < ncells; ++i) {
     const Index c = geometry_.cells()[i];
-    std::fill(ke.begin(), ke.end(), 0.0);
-    fe.setZero();
+    element_stiffness(i, ke.data());
+    std::fill(fe.begin(), fe.end(), 0.0);
     for (Index q = 0; q < nq; ++q) {
       const Index p = geometry_.at(i, q);
-      const double j00 = J(p, 0), j01 = J(p, 1), j10 = J(p, 2), j11 = J(p, 3), wp = w(p);
-      for (int k = 0; k < n; ++k) {
-        const double gu = shape_grads_[0](q, k), gv = shape_grads_[1](q, k);
-        gx[k] = j00 * gu + j01 * gv;
-        gy[k] = j10 * gu + j11 * gv;
-      }
-      for (int a = 0; a < n; ++a) {
-        const double ax = wp * gx[a], ay = wp * gy[a];
-        for (int b = 0; b < n; ++b) ke[a * n + b] += ax * gx[b] + ay * gy[b];
-      }
-      const double g = data_.source(x.row(p).transpose(), 0.0);
-      fe.noalias() += (wp * g) * shape_values_.row(q).transpose();
+      const double wg = w(p) * data_.source(Point<2>(x(p, 0), x(p, 1)), 0.0);
+      for (int k = 0; k < n; ++k) fe[k] += wg * shape_values_(q, k);
     }
     for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs_.cell_dofs()(c, k));
-    for (int a = 0; a < n; ++a) {
-      const PetscInt r = idx[a] - dist_.owned_begin();
-      if (r < 0 || r >= dist_.num_owned()) {
-        for (int b = 0; b < n; ++b) {
-          ghost_rows.push_back(idx[a]);
-          ghost_cols.push_back(idx[b]);
-          ghost_vals.push_back(ke[a * n + b]);
+    for (int r = 0; r < n; ++r) {
+      const PetscInt row = idx[r] - begin;
+      if (row < 0 || row >= owned) {
+        for (int k = 0; k < n; ++k) {
+          ghost_rows.push_back(idx[r]);
+          ghost_cols.push_back(idx[k]);
+          ghost_vals.push_back(ke[r * n + k]);
         }
+        ghost_b_rows.push_back(idx[r]);
+        ghost_b_vals.push_back(fe[r]);
         continue;
       }
-      const PetscInt* row = cols.data() + row_ptr[r];
-      const PetscInt len = row_ptr[r + 1] - row_ptr[r];
-      for (int b = 0; b < n; ++b) {
-        PetscInt k = 0;
-        while (row[k] != idx[b]) ++k;  // rows hold ~7-20 entries: a linear scan beats bisection
-        vals[row_ptr[r] + k] += ke[a * n + b];
-        (void)len;
+      b[row] += fe[r];
+      const PetscInt* cols = ja + ia[row];
+      PetscScalar* vals = a + ia[row];
+      for (int k = 0; k < n; ++k) {
+        PetscInt j = 0;
+        while (cols[j] != idx[k]) ++j;  // rows hold ~7-20 entries: a linear scan beats bisection
+        vals[j] += ke[r * n + k];
       }
     }
-    WARPFEM_PETSC_CHECK(VecSetValues(b_.get(), n, idx.data(), fe.data(), ADD_VALUES));
   }
-  int size = 1;
-  MPI_Comm_size(comm_, &size);
-  if (size == 1) {
-    WARPFEM_PETSC_CHECK(MatCreateSeqAIJ(comm_, dist_.num_owned(), dist_.num_owned(), 0, nullptr, A_.out()));
-    WARPFEM_PETSC_CHECK(MatSeqAIJSetPreallocationCSR(A_.get(), row_ptr.data(), cols.data(), vals.data()));
+  WARPFEM_PETSC_CHECK(VecRestoreArray(b_.get(), &b));
+  if (serial) {
+    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(A_.get(), &a));
+    PetscInt rows = 0;
+    PetscBool done = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(MatRestoreRowIJ(A_.get(), 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
   } else {
-    WARPFEM_PETSC_CHECK(MatCreate(comm_, A_.out()));
-    WARPFEM_PETSC_CHECK(
-        MatSetSizes(A_.get(), dist_.num_owned(), dist_.num_owned(), dist_.num_global(), dist_.num_global()));
-    WARPFEM_PETSC_CHECK(MatSetType(A_.get(), MATMPIAIJ));
-    WARPFEM_PETSC_CHECK(MatMPIAIJSetPreallocationCSR(A_.get(), row_ptr.data(), cols.data(), vals.data()));
+    for (PetscInt r = 0; r < owned; ++r) {
+      const PetscInt row = begin + r;
+      WARPFEM_PETSC_CHECK(MatSetValues(A_.get(), 1, &row, row_ptr_[r + 1] - row_ptr_[r],
+                                       cols_.data() + row_ptr_[r], mpi_values.data() + row_ptr_[r],
+                                       ADD_VALUES));
+    }
   }
-  WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   for (std::size_t g = 0; g < ghost_rows.size(); ++g)
     WARPFEM_PETSC_CHECK(
         MatSetValues(A_.get(), 1, &ghost_rows[g], 1, &ghost_cols[g], &ghost_vals[g], ADD_VALUES));
+  if (!ghost_b_rows.empty())
+    WARPFEM_PETSC_CHECK(VecSetValues(b_.get(), static_cast<PetscInt>(ghost_b_rows.size()),
+                                     ghost_b_rows.data(), ghost_b_vals.data(), ADD_VALUES));
   std::vector<PetscInt> rows;
   std::vector<PetscScalar> values;
   assemble_neumann(rows, values);

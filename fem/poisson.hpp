@@ -39,6 +39,8 @@ class PoissonProblem {
                  PoissonData data);
 
   /// Assembles the stiffness matrix and load vector and applies the boundary conditions.
+  /// The sparsity pattern and the matrix itself are created once by the constructor;
+  /// assemble() only computes values (call it again after changing nothing: same result).
   void assemble();
   /// Solves with KSP; the solution is kept in solution().
   petsc::LinearSolveReport solve(const petsc::LinearSolveOptions& options);
@@ -66,6 +68,9 @@ class PoissonProblem {
   /// Index into `conditions` of the last condition that applies at x0 on facet f; -1 if none.
   int condition_at(const std::vector<BoundaryCondition>& conditions, Index facet, const Point<2>& x0) const;
   void assemble_neumann(std::vector<PetscInt>& rows, std::vector<PetscScalar>& values) const;
+  void create_matrix();
+  /// Element stiffness matrix of the i-th local cell (n x n, row-major) from the cached geometry.
+  void element_stiffness(Index i, double* ke) const;
 
   MPI_Comm comm_;
   const Mesh<2>& mesh_;
@@ -77,6 +82,12 @@ class PoissonProblem {
   WarpedGeometry geometry_;
   MatrixX shape_values_;                // quadrature points x dofs per cell
   std::array<MatrixX, 2> shape_grads_;  // reference gradients
+  // Products of reference gradients per quadrature point, (a*n + b, q):
+  // ∂u φa ∂u φb, ∂u φa ∂v φb + ∂v φa ∂u φb, ∂v φa ∂v φb. The element stiffness is
+  // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
+  std::array<MatrixX, 3> gradient_products_;
+  bool constant_gradients_ = false;       // P1 on triangles: sum the metric over the cell first
+  std::vector<PetscInt> row_ptr_, cols_;  // owned rows' pattern (global columns); MPI only
   Points<2> relevant_x_;
   petsc::Matrix A_;
   petsc::Vector b_, u_;

@@ -19,11 +19,12 @@ ErrorNorms error_against_reference(const PoissonProblem& coarse, const PoissonPr
   const MatrixX phi = ce.values(g.rule().points);
   const auto dphi = ce.gradients(g.rule().points);
   const auto& JinvT = g.inverse_transpose();
-  const auto& Jf = g.map_jacobian();
   double local[2] = {0, 0};
-  Points<2> xi(1, 2);
+  Points<2> xi(1, 2), x0c;
+  Jacobians<2> JGc;
   for (Index i = 0; i < g.num_cells(); ++i) {
     const Index c = g.cells()[i];
+    g.cell_reference_geometry(i, x0c, JGc);
     for (Index q = 0; q < g.points_per_cell(); ++q) {
       const Index p = g.at(i, q);
       double uh = 0, gu = 0, gv = 0;
@@ -35,7 +36,7 @@ ErrorNorms error_against_reference(const PoissonProblem& coarse, const PoissonPr
       }
       const Point<2> grad_h(JinvT(p, 0) * gu + JinvT(p, 1) * gv, JinvT(p, 2) * gu + JinvT(p, 3) * gv);
 
-      const Point<2> x0 = g.reference_points().row(p).transpose();
+      const Point<2> x0 = x0c.row(q).transpose();
       const auto loc = locator.locate(x0);
       if (loc.cell < 0) throw Error("reference solution: quadrature point outside the reference mesh");
       xi.row(0) = loc.xi.transpose();
@@ -53,7 +54,9 @@ ErrorNorms error_against_reference(const PoissonProblem& coarse, const PoissonPr
         ur_val += val * rphi(0, k);
         grad_xi += val * Point<2>(rdphi[0](0, k), rdphi[1](0, k));
       }
-      const Matrix<2> J = jacobian_at<2>(Jf, p) * JG;
+      // J_f = J_c J_Gc⁻¹ with J_c = (J_c^{-T})^{-T} the cached coarse Jacobian.
+      const Matrix<2> Jc = jacobian_at<2>(JinvT, p).transpose().inverse();
+      const Matrix<2> J = Jc * jacobian_at<2>(JGc, q).inverse() * JG;
       const Point<2> grad_ref = J.inverse().transpose() * grad_xi;
       const double w = g.JxW()(p);
       local[0] += w * (uh - ur_val) * (uh - ur_val);

@@ -1,10 +1,16 @@
 #pragma once
 // Geometry of the warped cells f(T) at the quadrature points of a set of cells,
-// computed once from one batched call of the map and cached (thesis eq. 9.2–9.4):
-//   x0 = G(ξ) (point in Ω0), x = f(x0), J = J_f(x0) · J_G(ξ), det J, J^{-T}, w |det J|.
+// computed once from batched calls of the map and cached (thesis eq. 9.2–9.4):
+//   x0 = G(ξ) (point in Ω0), x = f(x0), J = J_f(x0) · J_G(ξ), J^{-T}, w |det J|.
 // Assembly, Newton iterations and time steps read these arrays and never
 // evaluate f again.
+//
+// Only what assembly reads is kept: x (2 numbers), J^{-T} (4) and w det J (1)
+// per quadrature point; x0 and J_G are recomputed from the simple mesh when a
+// caller needs them (cell_reference_geometry), and J_f = J · J_G⁻¹. The map is
+// evaluated chunk by chunk so that its temporaries stay small.
 
+#include <array>
 #include <vector>
 
 #include "fem/mesh.hpp"
@@ -26,22 +32,27 @@ class WarpedGeometry {
   const std::vector<Index>& cells() const { return cells_; }
   const QuadratureRule<2>& rule() const { return rule_; }
 
-  const Points<2>& reference_points() const { return x0_; }  ///< x0 in Ω0
-  const Points<2>& physical_points() const { return x_; }    ///< f(x0) in Ω1
-  const Jacobians<2>& jacobian() const { return J_; }        ///< J = J_f J_G
+  const Points<2>& physical_points() const { return x_; }  ///< f(x0) in Ω1
   const Jacobians<2>& inverse_transpose() const { return JinvT_; }
-  const VectorX& det() const { return detJ_; }
-  const VectorX& map_det() const { return detJf_; }         ///< det J_f alone
-  const Jacobians<2>& map_jacobian() const { return Jf_; }  ///< J_f alone
-  const VectorX& JxW() const { return JxW_; }               ///< w_q |det J|
+  const VectorX& JxW() const { return JxW_; }  ///< w_q |det J|
+
+  /// x0 = G(ξ_q) and J_G(ξ_q) of the simple (unwarped) cell cells()[i], one row per
+  /// quadrature point: recomputed from the mesh, not stored.
+  void cell_reference_geometry(Index i, Points<2>& x0, Jacobians<2>& JG) const;
+
+  /// Points per chunk of the batched map evaluation (bounds the temporaries).
+  static constexpr Index chunk_points = Index{1} << 16;
 
  private:
+  const Mesh<2>* mesh_;
   std::vector<Index> cells_;
   QuadratureRule<2> rule_;
   Index nq_ = 0;
-  Points<2> x0_, x_;
-  Jacobians<2> J_, JinvT_, Jf_;
-  VectorX detJ_, detJf_, JxW_;
+  MatrixX geo_values_;
+  std::array<MatrixX, 2> geo_gradients_;
+  Points<2> x_;
+  Jacobians<2> JinvT_;
+  VectorX JxW_;
 };
 
 }  // namespace warpfem::fem

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "mapping/detail/mean_value_avx512.hpp"
 #include "mapping/detail/mean_value_kernel.hpp"
 #include "mapping/mean_value_coordinates.hpp"
 #include "mapping/wachspress_coordinates.hpp"
@@ -75,11 +76,21 @@ WARPFEM_KERNEL_CLONES void BarycentricStep::apply_kernel(const Real* x, const Re
     return;
   }
 
-  detail::MeanValueScratch s;
   const Real* ux = ux_.data();
   const Real* uy = uy_.data();
   const Real rtol = detail::kNearVertex * source_.scale;
   const int nn = static_cast<int>(n);
+#if defined(WARPFEM_HAVE_AVX512_KERNELS)
+  if (detail::avx512_kernels_enabled()) {
+    unsigned char robust[kStepBlock];
+    detail::avx512::map_step(source_.x.data(), source_.y.data(), ux, uy, nn, x, y, cnt, rtol, fx, fy, J,
+                             kStepBlock, robust);
+    for (int p = 0; p < cnt; ++p)
+      if (robust[p]) robust_point(p);
+    return;
+  }
+#endif
+  detail::MeanValueScratch s;
   std::fill(s.W, s.W + cnt, 0.0);
   std::fill(s.Fx, s.Fx + cnt, 0.0);
   std::fill(s.Fy, s.Fy + cnt, 0.0);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "mapping/detail/mean_value_avx512.hpp"
 #include "mapping/detail/mean_value_kernel.hpp"
 
 namespace warpfem::mapping {
@@ -167,11 +168,34 @@ WARPFEM_KERNEL_INLINE void mean_value_batch(const PolygonArrays& P, const Points
   const Real rtol = detail::kNearVertex * P.scale;
   detail::MeanValueScratch s;
   std::vector<Real> work, rphi(static_cast<std::size_t>(3 * n));
+  const auto fix_robust_points = [&](Index p0, int cnt, Real* F, Real* DX, Real* DY, auto&& is_robust) {
+    for (int p = 0; p < cnt; ++p) {
+      if (!is_robust(p)) continue;
+      mean_value_coordinates_at(P, X[p0 + p], Y[p0 + p], rphi.data(), kGrad ? rphi.data() + n : nullptr,
+                                kGrad ? rphi.data() + 2 * n : nullptr, work);
+      for (Index i = 0; i < n; ++i) {
+        F[i * N + p] = rphi[i];
+        if constexpr (kGrad) {
+          DX[i * N + p] = rphi[n + i];
+          DY[i * N + p] = rphi[2 * n + i];
+        }
+      }
+    }
+  };
   for (Index p0 = 0; p0 < N; p0 += detail::kBlock) {
     const int cnt = static_cast<int>(std::min<Index>(detail::kBlock, N - p0));
     Real* F = phi.data() + p0;
     Real* DX = kGrad ? dphi_dx->data() + p0 : nullptr;
     Real* DY = kGrad ? dphi_dy->data() + p0 : nullptr;
+#if defined(WARPFEM_HAVE_AVX512_KERNELS)
+    if (detail::avx512_kernels_enabled()) {
+      unsigned char robust[detail::kBlock];
+      detail::avx512::coordinates(P.x.data(), P.y.data(), static_cast<int>(n), X + p0, Y + p0, cnt, rtol, F,
+                                  DX, DY, static_cast<long>(N), robust);
+      fix_robust_points(p0, cnt, F, DX, DY, [&](int p) { return robust[p] != 0; });
+      continue;
+    }
+#endif
     std::fill(s.W, s.W + cnt, 0.0);
     std::fill(s.Wx, s.Wx + cnt, 0.0);
     std::fill(s.Wy, s.Wy + cnt, 0.0);
@@ -204,18 +228,7 @@ WARPFEM_KERNEL_INLINE void mean_value_batch(const PolygonArrays& P, const Points
         for (int p = 0; p < cnt; ++p) f[p] *= s.W[p];
       }
     }
-    for (int p = 0; p < cnt; ++p) {
-      if (s.flag[p] == 0.0) continue;
-      mean_value_coordinates_at(P, X[p0 + p], Y[p0 + p], rphi.data(), kGrad ? rphi.data() + n : nullptr,
-                                kGrad ? rphi.data() + 2 * n : nullptr, work);
-      for (Index i = 0; i < n; ++i) {
-        F[i * N + p] = rphi[i];
-        if constexpr (kGrad) {
-          DX[i * N + p] = rphi[n + i];
-          DY[i * N + p] = rphi[2 * n + i];
-        }
-      }
-    }
+    fix_robust_points(p0, cnt, F, DX, DY, [&](int p) { return s.flag[p] != 0.0; });
   }
 }
 

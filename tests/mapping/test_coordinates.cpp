@@ -7,6 +7,8 @@
 
 #include "core/error.hpp"
 #include "mapping/barycentric_coordinates.hpp"
+#include "mapping/barycentric_step.hpp"
+#include "mapping/detail/mean_value_avx512.hpp"
 #include "mapping/mean_value_coordinates.hpp"
 #include "mapping/polygon_sampling.hpp"
 #include "test_polygons.hpp"
@@ -155,6 +157,50 @@ TEST(MeanValueCoordinates, FastKernelAgreesWithRobustFormula) {
     }
   }
   EXPECT_LT(worst, 1e-9);
+}
+
+/// Runs `body` once with the AVX-512 kernels (if this CPU has them) and once with
+/// the portable kernels, restoring the previous choice.
+template <class Body>
+void with_both_kernels(Body&& body) {
+  const bool before = detail::set_avx512_kernels_enabled(true);
+  const bool have_avx512 = detail::avx512_kernels_enabled();
+  body();
+  detail::set_avx512_kernels_enabled(false);
+  body();
+  detail::set_avx512_kernels_enabled(before);
+  if (!have_avx512) GTEST_LOG_(INFO) << "this CPU has no AVX-512F: only the portable kernels ran";
+}
+
+TEST(MeanValueCoordinates, Avx512AndPortableKernelsAgree) {
+  const Polygon P = test::concave32();
+  const PolygonArrays A(P);
+  // Interior sample clustered at the vertices and edges (flagged points take the robust
+  // path in both kernels), plus an odd count so the last vector is partly masked.
+  const Points<2> x = bijectivity_sample(P, 21);
+  ASSERT_NE(x.rows() % 8, 0);
+  std::vector<MatrixX> phi, dx, dy, vals;
+  std::vector<Points<2>> f;
+  std::vector<Jacobians<2>> J;
+  std::vector<Point<2>> moved = P.vertices();
+  for (std::size_t i = 0; i < moved.size(); ++i)
+    moved[i] +=
+        Point<2>(0.05 * std::sin(3.0 * static_cast<Real>(i)), 0.04 * std::cos(5.0 * static_cast<Real>(i)));
+  const BarycentricStep warp(P, moved, Coordinates::mean_value);
+  with_both_kernels([&] {
+    phi.emplace_back(), dx.emplace_back(), dy.emplace_back(), vals.emplace_back();
+    mean_value_coordinates(A, x, phi.back(), dx.back(), dy.back());
+    mean_value_coordinates(A, x, vals.back());
+    f.emplace_back(), J.emplace_back();
+    warp.apply(x, f.back(), &J.back());
+  });
+  EXPECT_LT((phi[0] - phi[1]).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((vals[0] - vals[1]).cwiseAbs().maxCoeff(), 1e-13);
+  const Real gscale = 1 + dx[1].cwiseAbs().maxCoeff() + dy[1].cwiseAbs().maxCoeff();
+  EXPECT_LT((dx[0] - dx[1]).cwiseAbs().maxCoeff() / gscale, 1e-12);
+  EXPECT_LT((dy[0] - dy[1]).cwiseAbs().maxCoeff() / gscale, 1e-12);
+  EXPECT_LT((f[0] - f[1]).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((J[0] - J[1]).cwiseAbs().maxCoeff() / (1 + J[1].cwiseAbs().maxCoeff()), 1e-12);
 }
 
 TEST(MeanValueCoordinates, ValuesOnlyEqualsValuesWithGradients) {

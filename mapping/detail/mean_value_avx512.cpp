@@ -1,0 +1,225 @@
+// AVX-512 mean value kernels (see mean_value_avx512.hpp). Compiled with
+// -mavx512f; only called after avx512_kernels_enabled() said the CPU has it.
+// Deliberately includes no standard library header (see the header).
+
+#include "mapping/detail/mean_value_avx512.hpp"
+
+#include <immintrin.h>
+
+// GCC 12's rsqrt14/rcp14 intrinsics pass an undefined vector as the (unused)
+// merge source, which -Wmaybe-uninitialized reports.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
+namespace warpfem::mapping::detail::avx512 {
+namespace {
+
+constexpr double kMaxTan = 1e4;  // keep equal to mean_value_kernel.hpp
+
+inline __m512d bcast(double v) {
+  return _mm512_set1_pd(v);
+}
+
+/// 1/√x: rsqrt14 estimate and two Newton steps y ← y (3/2 − x/2 y²).
+inline __m512d rsqrt(__m512d x) {
+  const __m512d h = _mm512_mul_pd(x, bcast(0.5));
+  __m512d y = _mm512_rsqrt14_pd(x);
+  y = _mm512_mul_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, bcast(1.5)));
+  y = _mm512_mul_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(h, y), y, bcast(1.5)));
+  return y;
+}
+
+/// 1/x: rcp14 estimate and two Newton steps y ← y + y (1 − x y).
+inline __m512d rcp(__m512d x) {
+  __m512d y = _mm512_rcp14_pd(x);
+  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(x, y, bcast(1.0)), y);
+  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(x, y, bcast(1.0)), y);
+  return y;
+}
+
+/// State at the current vertex i of the walk, for eight points.
+struct Walk {
+  __m512d px, py;
+  __m512d sx, sy, r, ir2;  // s_i = v_i − x, |s_i|, 1/|s_i|²
+  __m512d tp, gtpx, gtpy;  // t_{i−1} = tan(α_{i−1}/2) and its gradient
+  __mmask8 ok;             // false once a point is too close to an edge or a vertex
+  __m512d rtol;
+
+  void start(double ax, double ay) {
+    sx = _mm512_sub_pd(bcast(ax), px);
+    sy = _mm512_sub_pd(bcast(ay), py);
+    const __m512d r2 = _mm512_fmadd_pd(sx, sx, _mm512_mul_pd(sy, sy));
+    const __m512d y = rsqrt(r2);
+    r = _mm512_mul_pd(r2, y);
+    ir2 = _mm512_mul_pd(y, y);
+    ok = _mm512_cmp_pd_mask(r, rtol, _CMP_GE_OQ);
+  }
+
+  /// Edge [v_i, v_{i+1} = (ax, ay)]: t_i, ∇t_i; with kEmit the weight w_i and ∇w_i
+  /// go to emit(w, wx, wy). Then the walk moves on to v_{i+1}.
+  template <bool kGrad, bool kEmit, class Emit>
+  inline void edge(double ax, double ay, Emit&& emit) {
+    const __m512d sxn = _mm512_sub_pd(bcast(ax), px), syn = _mm512_sub_pd(bcast(ay), py);
+    const __m512d r2n = _mm512_fmadd_pd(sxn, sxn, _mm512_mul_pd(syn, syn));
+    const __m512d y = rsqrt(r2n);
+    const __m512d rn = _mm512_mul_pd(r2n, y), ir2n = _mm512_mul_pd(y, y);
+    const __m512d cr = _mm512_fmsub_pd(sx, syn, _mm512_mul_pd(sy, sxn));
+    const __m512d dt = _mm512_fmadd_pd(sx, sxn, _mm512_mul_pd(sy, syn));
+    const __m512d rr = _mm512_mul_pd(r, rn);
+    // Stable tan(α/2): cr/(rr + dt) if dt ≥ 0, else (rr − dt)/cr.
+    const __mmask8 pos = _mm512_cmp_pd_mask(dt, _mm512_setzero_pd(), _CMP_GE_OQ);
+    const __m512d num = _mm512_mask_blend_pd(pos, _mm512_sub_pd(rr, dt), cr);
+    const __m512d den = _mm512_mask_blend_pd(pos, cr, _mm512_add_pd(rr, dt));
+    const __m512d t = _mm512_mul_pd(num, rcp(den));
+    __m512d gtx = _mm512_setzero_pd(), gty = _mm512_setzero_pd();
+    if constexpr (kGrad) {
+      const __m512d h = _mm512_fmadd_pd(_mm512_mul_pd(t, t), bcast(0.5), bcast(0.5));
+      gtx = _mm512_mul_pd(h, _mm512_fmsub_pd(syn, ir2n, _mm512_mul_pd(sy, ir2)));
+      gty = _mm512_mul_pd(h, _mm512_fmsub_pd(sx, ir2, _mm512_mul_pd(sxn, ir2n)));
+    }
+    if constexpr (kEmit) {
+      const __m512d irc = _mm512_mul_pd(r, ir2);  // 1/r_i
+      const __m512d w = _mm512_mul_pd(_mm512_add_pd(tp, t), irc);
+      if constexpr (kGrad) {
+        const __m512d c = _mm512_mul_pd(w, irc);
+        const __m512d wx = _mm512_mul_pd(_mm512_fmadd_pd(c, sx, _mm512_add_pd(gtpx, gtx)), irc);
+        const __m512d wy = _mm512_mul_pd(_mm512_fmadd_pd(c, sy, _mm512_add_pd(gtpy, gty)), irc);
+        emit(w, wx, wy);
+      } else {
+        emit(w, w, w);
+      }
+    }
+    const __mmask8 tan_ok = _mm512_cmp_pd_mask(_mm512_abs_pd(t), bcast(kMaxTan), _CMP_LE_OQ);
+    const __mmask8 r_ok = _mm512_cmp_pd_mask(rn, rtol, _CMP_GE_OQ);
+    ok = static_cast<__mmask8>(ok & tan_ok & r_ok);
+    sx = sxn, sy = syn, r = rn, ir2 = ir2n, tp = t;
+    if constexpr (kGrad) gtpx = gtx, gtpy = gty;
+  }
+};
+
+/// The whole polygon: emit(i, w_i, ∂x w_i, ∂y w_i) for i = 0 .. n−1.
+template <bool kGrad, class Emit>
+inline void walk_polygon(Walk& a, const double* vx, const double* vy, int n, Emit&& emit) {
+  a.start(vx[n - 1], vy[n - 1]);
+  a.template edge<kGrad, false>(vx[0], vy[0], [](__m512d, __m512d, __m512d) {});
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1 == n) ? 0 : i + 1;
+    a.template edge<kGrad, true>(vx[j], vy[j],
+                                 [&](__m512d w, __m512d wx, __m512d wy) { emit(i, w, wx, wy); });
+  }
+}
+
+/// A walk at eight points (lanes past `m` get a finite dummy point; never stored).
+inline Walk begin_walk(const double* vx, const double* vy, int n, const double* px, const double* py, int p0,
+                       __mmask8 m, double rtol) {
+  Walk a;
+  a.px = _mm512_mask_loadu_pd(bcast(0.5 * (vx[0] + vx[n / 2])), m, px + p0);
+  a.py = _mm512_mask_loadu_pd(bcast(0.5 * (vy[0] + vy[n / 2])), m, py + p0);
+  a.rtol = bcast(rtol);
+  a.tp = a.gtpx = a.gtpy = _mm512_setzero_pd();
+  return a;
+}
+
+inline __mmask8 lane_mask(int remaining) {
+  return remaining >= 8 ? static_cast<__mmask8>(0xFF) : static_cast<__mmask8>((1u << remaining) - 1u);
+}
+
+inline void write_robust(__mmask8 ok, __mmask8 m, int p0, unsigned char* robust) {
+  for (int l = 0; l < 8; ++l)
+    if ((m >> l) & 1) robust[p0 + l] = ((ok >> l) & 1) ? 0 : 1;
+}
+
+template <bool kGrad>
+void map_step_impl(const double* vx, const double* vy, const double* ux, const double* uy, int n,
+                   const double* px, const double* py, int cnt, double rtol, double* fx, double* fy,
+                   double* J, int ldJ, unsigned char* robust) {
+  for (int p0 = 0; p0 < cnt; p0 += 8) {
+    const __mmask8 m = lane_mask(cnt - p0);
+    Walk walk = begin_walk(vx, vy, n, px, py, p0, m, rtol);
+    __m512d W = _mm512_setzero_pd(), Fx = W, Fy = W, Wx = W, Wy = W, Gxx = W, Gxy = W, Gyx = W, Gyy = W;
+    walk_polygon<kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
+      const __m512d a = bcast(ux[i]), b = bcast(uy[i]);
+      W = _mm512_add_pd(W, w);
+      Fx = _mm512_fmadd_pd(w, a, Fx);
+      Fy = _mm512_fmadd_pd(w, b, Fy);
+      if constexpr (kGrad) {
+        Wx = _mm512_add_pd(Wx, wx);
+        Wy = _mm512_add_pd(Wy, wy);
+        Gxx = _mm512_fmadd_pd(a, wx, Gxx);
+        Gxy = _mm512_fmadd_pd(a, wy, Gxy);
+        Gyx = _mm512_fmadd_pd(b, wx, Gyx);
+        Gyy = _mm512_fmadd_pd(b, wy, Gyy);
+      }
+    });
+    const __m512d iW = _mm512_div_pd(bcast(1.0), W);
+    const __m512d dx = _mm512_mul_pd(Fx, iW), dy = _mm512_mul_pd(Fy, iW);
+    _mm512_mask_storeu_pd(fx + p0, m, _mm512_add_pd(walk.px, dx));
+    _mm512_mask_storeu_pd(fy + p0, m, _mm512_add_pd(walk.py, dy));
+    if constexpr (kGrad) {
+      const __m512d one = bcast(1.0);
+      _mm512_mask_storeu_pd(J + p0, m, _mm512_fmadd_pd(_mm512_fnmadd_pd(dx, Wx, Gxx), iW, one));
+      _mm512_mask_storeu_pd(J + ldJ + p0, m, _mm512_mul_pd(_mm512_fnmadd_pd(dx, Wy, Gxy), iW));
+      _mm512_mask_storeu_pd(J + 2 * ldJ + p0, m, _mm512_mul_pd(_mm512_fnmadd_pd(dy, Wx, Gyx), iW));
+      _mm512_mask_storeu_pd(J + 3 * ldJ + p0, m, _mm512_fmadd_pd(_mm512_fnmadd_pd(dy, Wy, Gyy), iW, one));
+    }
+    write_robust(walk.ok, m, p0, robust);
+  }
+}
+
+template <bool kGrad>
+void coordinates_impl(const double* vx, const double* vy, int n, const double* px, const double* py, int cnt,
+                      double rtol, double* phi, double* dxo, double* dyo, long ld, unsigned char* robust) {
+  for (int p0 = 0; p0 < cnt; p0 += 8) {
+    const __mmask8 m = lane_mask(cnt - p0);
+    Walk walk = begin_walk(vx, vy, n, px, py, p0, m, rtol);
+    __m512d W = _mm512_setzero_pd(), Wx = W, Wy = W;
+    walk_polygon<kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
+      _mm512_mask_storeu_pd(phi + i * ld + p0, m, w);
+      W = _mm512_add_pd(W, w);
+      if constexpr (kGrad) {
+        _mm512_mask_storeu_pd(dxo + i * ld + p0, m, wx);
+        _mm512_mask_storeu_pd(dyo + i * ld + p0, m, wy);
+        Wx = _mm512_add_pd(Wx, wx);
+        Wy = _mm512_add_pd(Wy, wy);
+      }
+    });
+    // Normalize: φ = w/W, ∇φ = (∇w − φ ∇W)/W.
+    const __m512d iW = _mm512_div_pd(bcast(1.0), W);
+    for (int i = 0; i < n; ++i) {
+      double* f = phi + i * ld + p0;
+      const __m512d ph = _mm512_mul_pd(_mm512_maskz_loadu_pd(m, f), iW);
+      _mm512_mask_storeu_pd(f, m, ph);
+      if constexpr (kGrad) {
+        double* gx = dxo + i * ld + p0;
+        double* gy = dyo + i * ld + p0;
+        _mm512_mask_storeu_pd(gx, m,
+                              _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wx, _mm512_maskz_loadu_pd(m, gx)), iW));
+        _mm512_mask_storeu_pd(gy, m,
+                              _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wy, _mm512_maskz_loadu_pd(m, gy)), iW));
+      }
+    }
+    write_robust(walk.ok, m, p0, robust);
+  }
+}
+
+}  // namespace
+
+void map_step(const double* vx, const double* vy, const double* ux, const double* uy, int n, const double* px,
+              const double* py, int cnt, double rtol, double* fx, double* fy, double* J, int ldJ,
+              unsigned char* robust) {
+  if (J)
+    map_step_impl<true>(vx, vy, ux, uy, n, px, py, cnt, rtol, fx, fy, J, ldJ, robust);
+  else
+    map_step_impl<false>(vx, vy, ux, uy, n, px, py, cnt, rtol, fx, fy, J, ldJ, robust);
+}
+
+void coordinates(const double* vx, const double* vy, int n, const double* px, const double* py, int cnt,
+                 double rtol, double* phi, double* dx, double* dy, long ld, unsigned char* robust) {
+  if (dx)
+    coordinates_impl<true>(vx, vy, n, px, py, cnt, rtol, phi, dx, dy, ld, robust);
+  else
+    coordinates_impl<false>(vx, vy, n, px, py, cnt, rtol, phi, dx, dy, ld, robust);
+}
+
+}  // namespace warpfem::mapping::detail::avx512
