@@ -167,36 +167,53 @@ void map_step_impl(const double* vx, const double* vy, const double* ux, const d
   }
 }
 
+/// Unnormalized weights of up to kBuffered vertices stay in a contiguous buffer
+/// (L1-resident) until W is known; the output columns (stride ld, often a
+/// multiple of 4 KiB, i.e. the same L1 set) are then written once.
+constexpr int kBuffered = 128;
+
 template <bool kGrad>
 void coordinates_impl(const double* vx, const double* vy, int n, const double* px, const double* py, int cnt,
                       double rtol, double* phi, double* dxo, double* dyo, long ld, unsigned char* robust) {
+  alignas(64) double buffer[kGrad ? 3 : 1][kBuffered][8];
+  const bool buffered = n <= kBuffered;
   for (int p0 = 0; p0 < cnt; p0 += 8) {
     const __mmask8 m = lane_mask(cnt - p0);
     Walk walk = begin_walk(vx, vy, n, px, py, p0, m, rtol);
     __m512d W = _mm512_setzero_pd(), Wx = W, Wy = W;
     walk_polygon<kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
-      _mm512_mask_storeu_pd(phi + i * ld + p0, m, w);
       W = _mm512_add_pd(W, w);
+      if (buffered) {
+        _mm512_store_pd(buffer[0][i], w);
+      } else {
+        _mm512_mask_storeu_pd(phi + i * ld + p0, m, w);
+      }
       if constexpr (kGrad) {
-        _mm512_mask_storeu_pd(dxo + i * ld + p0, m, wx);
-        _mm512_mask_storeu_pd(dyo + i * ld + p0, m, wy);
         Wx = _mm512_add_pd(Wx, wx);
         Wy = _mm512_add_pd(Wy, wy);
+        if (buffered) {
+          _mm512_store_pd(buffer[1][i], wx);
+          _mm512_store_pd(buffer[2][i], wy);
+        } else {
+          _mm512_mask_storeu_pd(dxo + i * ld + p0, m, wx);
+          _mm512_mask_storeu_pd(dyo + i * ld + p0, m, wy);
+        }
       }
     });
     // Normalize: φ = w/W, ∇φ = (∇w − φ ∇W)/W.
     const __m512d iW = _mm512_div_pd(bcast(1.0), W);
     for (int i = 0; i < n; ++i) {
       double* f = phi + i * ld + p0;
-      const __m512d ph = _mm512_mul_pd(_mm512_maskz_loadu_pd(m, f), iW);
+      const __m512d w = buffered ? _mm512_load_pd(buffer[0][i]) : _mm512_maskz_loadu_pd(m, f);
+      const __m512d ph = _mm512_mul_pd(w, iW);
       _mm512_mask_storeu_pd(f, m, ph);
       if constexpr (kGrad) {
         double* gx = dxo + i * ld + p0;
         double* gy = dyo + i * ld + p0;
-        _mm512_mask_storeu_pd(gx, m,
-                              _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wx, _mm512_maskz_loadu_pd(m, gx)), iW));
-        _mm512_mask_storeu_pd(gy, m,
-                              _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wy, _mm512_maskz_loadu_pd(m, gy)), iW));
+        const __m512d wx = buffered ? _mm512_load_pd(buffer[1][i]) : _mm512_maskz_loadu_pd(m, gx);
+        const __m512d wy = buffered ? _mm512_load_pd(buffer[2][i]) : _mm512_maskz_loadu_pd(m, gy);
+        _mm512_mask_storeu_pd(gx, m, _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wx, wx), iW));
+        _mm512_mask_storeu_pd(gy, m, _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wy, wy), iW));
       }
     }
     write_robust(walk.ok, m, p0, robust);
