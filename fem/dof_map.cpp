@@ -4,11 +4,12 @@
 
 namespace warpfem::fem {
 
-DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(element), edges_(mesh) {
+DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(element) {
   require(mesh.cell_type == element.cell_type(),
           "DofMap: element " + element.name() + " does not match " + to_string(mesh.cell_type) + " cells");
-  const Index nv = mesh.num_vertices(), ne = edges_.num_edges(), nc = mesh.num_cells();
   const int per_edge = element.dofs_per_edge(), interior = element.interior_dofs();
+  if (per_edge > 0) edges_.emplace(mesh);
+  const Index nv = mesh.num_vertices(), ne = edges_ ? edges_->num_edges() : 0, nc = mesh.num_cells();
   num_dofs_ = nv + ne * per_edge + nc * interior;
   const int nloc = element.num_dofs();
   const int nvert = element.num_vertex_dofs();
@@ -17,7 +18,7 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
   for (Index c = 0; c < nc; ++c) {
     for (int k = 0; k < nvert; ++k) cell_dofs_(c, k) = mesh.cells(c, k);
     for (int e = 0; e < static_cast<int>(edges.size()) && per_edge > 0; ++e)
-      cell_dofs_(c, nvert + e) = nv + edges_.cell_edge(c, e);
+      cell_dofs_(c, nvert + e) = nv + edges_->cell_edge(c, e);
     for (int k = 0; k < interior; ++k)
       cell_dofs_(c, nloc - interior + k) = nv + ne * per_edge + c * interior + k;
   }
@@ -36,8 +37,8 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
 std::vector<Index> DofMap::facet_dofs(const Mesh<2>& mesh, Index facet) const {
   const Index a = mesh.boundary_facets(facet, 0), b = mesh.boundary_facets(facet, 1);
   std::vector<Index> out{a, b};
-  if (element_.dofs_per_edge() > 0) {
-    const Index e = edges_.find(a, b);
+  if (edges_) {
+    const Index e = edges_->find(a, b);
     require(e >= 0, "DofMap: boundary facet is not a mesh edge");
     out.push_back(mesh.num_vertices() + e);
   }

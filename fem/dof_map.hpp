@@ -5,6 +5,7 @@
 // parallel PETSc numbering.
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "fem/edge_numbering.hpp"
@@ -28,7 +29,7 @@ class DofMap {
 
  private:
   LagrangeElement element_;
-  EdgeNumbering edges_;
+  std::optional<EdgeNumbering> edges_;  // only for elements with edge DOFs (P2, Q2)
   Index num_dofs_ = 0;
   IndexTable cell_dofs_;
   Points<2> dof_points_;

@@ -8,6 +8,16 @@
 #include "core/timer.hpp"
 
 namespace warpfem::fem {
+namespace {
+/// Runs make() and adds its wall time to `seconds` (for timing member initializers).
+template <class Make>
+auto timed(double& seconds, Make&& make) {
+  Stopwatch watch;
+  auto result = make();
+  seconds += watch.seconds();
+  return result;
+}
+}  // namespace
 
 bool BoundaryCondition::applies_to(int tag) const {
   return edges.empty() || std::find(edges.begin(), edges.end(), tag) != edges.end();
@@ -19,9 +29,14 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       mesh_(mesh),
       map_(std::move(map)),
       data_(std::move(data)),
-      dofs_(mesh, LagrangeElement(mesh.cell_type, order)),
-      dist_(comm, mesh, dofs_),
-      geometry_(mesh, dist_.local_cells(), cell_quadrature(mesh.cell_type, quadrature_degree), *map_) {
+      dofs_(timed(setup_timings_.dof_map,
+                  [&] { return DofMap(mesh, LagrangeElement(mesh.cell_type, order)); })),
+      dist_(timed(setup_timings_.distribution, [&] { return DofDistribution(comm, mesh, dofs_); })),
+      geometry_(timed(setup_timings_.geometry, [&] {
+        return WarpedGeometry(mesh, dist_.local_cells(), cell_quadrature(mesh.cell_type, quadrature_degree),
+                              *map_);
+      })) {
+  Stopwatch watch;
   if (data_.boundary_polygon) locator_.emplace(*data_.boundary_polygon);
   shape_values_ = dofs_.element().values(geometry_.rule().points);
   shape_grads_ = dofs_.element().gradients(geometry_.rule().points);
@@ -46,26 +61,29 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
   Points<2> x0(static_cast<Index>(rel.size()), 2);
   for (std::size_t i = 0; i < rel.size(); ++i) x0.row(static_cast<Index>(i)) = dofs_.dof_points().row(rel[i]);
   map_->eval(x0, relevant_x_);
+  setup_timings_.other = watch.seconds();
+  watch.reset();
   create_matrix();
+  setup_timings_.matrix = watch.seconds();
 }
 
 void PoissonProblem::create_matrix() {
-  std::vector<PetscInt> row_ptr, cols;
-  dist_.sparsity(mesh_, dofs_, row_ptr, cols);
+  dist_.sparsity(mesh_, dofs_, row_ptr_, cols_);
   int size = 1;
   MPI_Comm_size(comm_, &size);
-  WARPFEM_PETSC_CHECK(MatCreate(comm_, A_.out()));
-  WARPFEM_PETSC_CHECK(
-      MatSetSizes(A_.get(), dist_.num_owned(), dist_.num_owned(), dist_.num_global(), dist_.num_global()));
-  if (size == 1) {
-    // Serial: assembly writes straight into PETSc's compressed rows (same pattern).
-    WARPFEM_PETSC_CHECK(MatSetType(A_.get(), MATSEQAIJ));
-    WARPFEM_PETSC_CHECK(MatSeqAIJSetPreallocationCSR(A_.get(), row_ptr.data(), cols.data(), nullptr));
+  serial_ = size == 1;
+  if (serial_) {
+    // Serial: PETSc uses our compressed rows in place (no copy); assembly writes into them.
+    seq_values_.assign(cols_.size(), 0.0);
+    WARPFEM_PETSC_CHECK(MatCreateSeqAIJWithArrays(comm_, dist_.num_owned(), dist_.num_owned(),
+                                                  row_ptr_.data(), cols_.data(), seq_values_.data(),
+                                                  A_.out()));
   } else {
+    WARPFEM_PETSC_CHECK(MatCreate(comm_, A_.out()));
+    WARPFEM_PETSC_CHECK(
+        MatSetSizes(A_.get(), dist_.num_owned(), dist_.num_owned(), dist_.num_global(), dist_.num_global()));
     WARPFEM_PETSC_CHECK(MatSetType(A_.get(), MATMPIAIJ));
-    WARPFEM_PETSC_CHECK(MatMPIAIJSetPreallocationCSR(A_.get(), row_ptr.data(), cols.data(), nullptr));
-    row_ptr_ = std::move(row_ptr);
-    cols_ = std::move(cols);
+    WARPFEM_PETSC_CHECK(MatMPIAIJSetPreallocationCSR(A_.get(), row_ptr_.data(), cols_.data(), nullptr));
   }
   WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   b_ = dist_.create_vector();
@@ -114,13 +132,13 @@ void PoissonProblem::assemble() {
   const PetscInt begin = dist_.owned_begin(), owned = dist_.num_owned();
 
   // Element matrices are added straight into the owned rows' compressed arrays
-  // (PETSc's own in serial, ours under MPI); entries of rows owned by other ranks
-  // go through MatSetValues afterwards.
+  // (the matrix's own in serial, a copy under MPI); entries of rows owned by other
+  // ranks go through MatSetValues afterwards.
   WARPFEM_PETSC_CHECK(MatZeroEntries(A_.get()));
   const PetscInt *ia = nullptr, *ja = nullptr;
   PetscScalar* a = nullptr;
   std::vector<PetscScalar> mpi_values;
-  const bool serial = row_ptr_.empty();
+  const bool serial = serial_;
   if (serial) {
     PetscInt rows = 0;
     PetscBool done = PETSC_FALSE;

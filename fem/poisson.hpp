@@ -33,6 +33,16 @@ struct ErrorNorms {
   double h1() const { return std::sqrt(l2 * l2 + h1_semi * h1_semi); }
 };
 
+/// Where a PoissonProblem's construction spent its time (seconds).
+struct PoissonSetupTimings {
+  double dof_map = 0;       ///< DOF numbering (edge numbering for P2/Q2)
+  double distribution = 0;  ///< cell partition, ownership, PETSc numbering
+  double geometry = 0;      ///< WarpedGeometry: the map at every quadrature point
+  double matrix = 0;        ///< sparsity pattern, PETSc matrix and vectors
+  double other = 0;         ///< shape tables, the map at the DOF nodes
+  double total() const { return dof_map + distribution + geometry + matrix + other; }
+};
+
 class PoissonProblem {
  public:
   PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
@@ -52,6 +62,7 @@ class PoissonProblem {
   const DofMap& dofs() const { return dofs_; }
   const DofDistribution& distribution() const { return dist_; }
   const WarpedGeometry& geometry() const { return geometry_; }
+  const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
   const mapping::Map<2>& map() const { return *map_; }
   /// f applied to the nodes of relevant_dofs() (one batched map call, cached).
   const Points<2>& relevant_physical_points() const { return relevant_x_; }
@@ -72,6 +83,7 @@ class PoissonProblem {
   /// Element stiffness matrix of the i-th local cell (n x n, row-major) from the cached geometry.
   void element_stiffness(Index i, double* ke) const;
 
+  PoissonSetupTimings setup_timings_;  // first: the members below are timed into it
   MPI_Comm comm_;
   const Mesh<2>& mesh_;
   mapping::MapPtr<2> map_;
@@ -86,8 +98,13 @@ class PoissonProblem {
   // ∂u φa ∂u φb, ∂u φa ∂v φb + ∂v φa ∂u φb, ∂v φa ∂v φb. The element stiffness is
   // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
   std::array<MatrixX, 3> gradient_products_;
-  bool constant_gradients_ = false;       // P1 on triangles: sum the metric over the cell first
-  std::vector<PetscInt> row_ptr_, cols_;  // owned rows' pattern (global columns); MPI only
+  bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
+  // Owned rows' pattern (global columns). In serial the matrix is created on these
+  // arrays and seq_values_ without copying them: they are declared before A_ so
+  // that they outlive it.
+  bool serial_ = true;
+  std::vector<PetscInt> row_ptr_, cols_;
+  std::vector<PetscScalar> seq_values_;
   Points<2> relevant_x_;
   petsc::Matrix A_;
   petsc::Vector b_, u_;

@@ -35,6 +35,13 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
     problems_.push_back(std::make_unique<fem::PoissonProblem>(
         comm, hierarchy_.levels[static_cast<std::size_t>(l)], map, order, quadrature_degree, data));
     report_.level_dofs.push_back(problems_.back()->dofs().num_dofs());
+    const fem::PoissonSetupTimings& p = problems_.back()->setup_timings();
+    t.problem_parts.dof_map += p.dof_map;
+    t.problem_parts.distribution += p.distribution;
+    t.problem_parts.geometry += p.geometry;
+    t.problem_parts.matrix += p.matrix;
+    t.problem_parts.other += p.other;
+    if (l == levels - 1) t.finest_problem = p.total();
   }
   t.problems = watch.seconds();
 

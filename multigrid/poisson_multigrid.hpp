@@ -34,8 +34,10 @@ struct PoissonMultigridOptions {
 };
 
 struct MultigridTimings {
-  double hierarchy = 0;        ///< uniform refinements of the coarse mesh
-  double problems = 0;         ///< PoissonProblem construction on every level (DOF maps, WarpedGeometry)
+  double hierarchy = 0;  ///< uniform refinements of the coarse mesh
+  double problems = 0;   ///< PoissonProblem construction on every level (DOF maps, WarpedGeometry)
+  fem::PoissonSetupTimings problem_parts;  ///< `problems` split by part, summed over levels
+  double finest_problem = 0;               ///< the finest level's share of `problems`
   double assembly = 0;         ///< assembling every level (finest included; Galerkin: finest only)
   double finest_assembly = 0;  ///< the finest level's share of `assembly`
   double transfers = 0;        ///< prolongation matrices
