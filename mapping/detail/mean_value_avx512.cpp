@@ -62,8 +62,7 @@ struct Walk {
   inline void edge(double ax, double ay, Emit&& emit) {
     const __m512d sxn = _mm512_sub_pd(bcast(ax), px), syn = _mm512_sub_pd(bcast(ay), py);
     const __m512d r2n = _mm512_fmadd_pd(sxn, sxn, _mm512_mul_pd(syn, syn));
-    const __m512d y = rsqrt(r2n);
-    const __m512d rn = _mm512_mul_pd(r2n, y), ir2n = _mm512_mul_pd(y, y);
+    const __m512d rn = _mm512_sqrt_pd(r2n);  // the divider unit, in parallel with the FMA pipes
     const __m512d cr = _mm512_fmsub_pd(sx, syn, _mm512_mul_pd(sy, sxn));
     const __m512d dt = _mm512_fmadd_pd(sx, sxn, _mm512_mul_pd(sy, syn));
     const __m512d rr = _mm512_mul_pd(r, rn);
@@ -71,7 +70,9 @@ struct Walk {
     const __mmask8 pos = _mm512_cmp_pd_mask(dt, _mm512_setzero_pd(), _CMP_GE_OQ);
     const __m512d num = _mm512_mask_blend_pd(pos, _mm512_sub_pd(rr, dt), cr);
     const __m512d den = _mm512_mask_blend_pd(pos, cr, _mm512_add_pd(rr, dt));
-    const __m512d t = _mm512_mul_pd(num, rcp(den));
+    const __m512d q = rcp(_mm512_mul_pd(r2n, den));  // 1/(r² den) gives 1/r² and 1/den
+    const __m512d ir2n = _mm512_mul_pd(den, q);
+    const __m512d t = _mm512_mul_pd(_mm512_mul_pd(num, r2n), q);
     __m512d gtx = _mm512_setzero_pd(), gty = _mm512_setzero_pd();
     if constexpr (kGrad) {
       const __m512d h = _mm512_fmadd_pd(_mm512_mul_pd(t, t), bcast(0.5), bcast(0.5));

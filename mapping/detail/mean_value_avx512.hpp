@@ -3,10 +3,12 @@
 // AVX-512F (see mean_value_kernel.hpp for the formulas and the portable kernel).
 //
 // Eight points live in one register for the whole walk around the polygon, so
-// the per-vertex state and the accumulators never leave the registers; the one
-// square root and one division per point and vertex are replaced by the
-// hardware estimates rsqrt14/rcp14 refined by two Newton steps (relative error
-// ~1e-16, a few ulps), which runs on the FMA units instead of the divider.
+// the per-vertex state and the accumulators never leave the registers. Of the
+// one square root and one division per point and vertex, the square root stays
+// on the divider unit while the division becomes the estimate rcp14 refined by
+// two Newton steps (relative error ~1e-16, a few ulps) on the FMA pipes, so the
+// two units work in parallel (replacing both by estimates was no faster: the
+// FMA pipes then saturate).
 //
 // This header is plain C++; the implementation file alone is compiled with
 // -mavx512f and includes nothing but <immintrin.h>, so no AVX-512 code can leak
