@@ -35,10 +35,14 @@ void set_thread_count(int threads) {
   g_threads = std::max(1, threads);
 }
 
+namespace {
+thread_local bool t_inside_parallel_region = false;
+}  // namespace
+
 void parallel_for(Index n, Index grain, const std::function<void(Index, Index)>& body) {
   const int threads =
       static_cast<int>(std::min<Index>(thread_count(), std::max<Index>(1, n / std::max<Index>(1, grain))));
-  if (threads <= 1) {
+  if (threads <= 1 || t_inside_parallel_region) {  // nested calls run serially in their worker
     if (n > 0) body(0, n);
     return;
   }
@@ -46,6 +50,7 @@ void parallel_for(Index n, Index grain, const std::function<void(Index, Index)>&
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(threads));
   for (int t = 0; t < threads; ++t)
     pool.emplace_back([&, t] {
+      t_inside_parallel_region = true;
       try {
         const Index begin = n * t / threads, end = n * (t + 1) / threads;
         if (end > begin) body(begin, end);

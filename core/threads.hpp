@@ -17,6 +17,7 @@ void set_thread_count(int threads);
 
 /// Calls body(begin, end) on disjoint ranges covering [0, n), in parallel when
 /// n is at least `grain` per thread. Exceptions from any range are rethrown.
+/// A parallel_for called from inside another one's body runs serially.
 void parallel_for(Index n, Index grain, const std::function<void(Index, Index)>& body);
 
 }  // namespace warpfem
