@@ -115,31 +115,22 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   std::vector<Index> row_dof(static_cast<std::size_t>(num_owned()));
   for (Index d = 0; d < nd; ++d)
     if (owner_[d] == rank_) row_dof[static_cast<std::size_t>(global_[d] - owned_begin_)] = d;
-  // Two passes over the DOF -> cells adjacency: count distinct columns, then write them.
-  std::vector<Index> stamp(static_cast<std::size_t>(nd), -1);
+  // One pass over the DOF -> cells adjacency: each row's candidate columns are
+  // gathered, sorted and deduplicated in a small buffer (no mesh-sized marker
+  // array, whose random accesses dominated on large meshes).
   row_ptr.assign(static_cast<std::size_t>(num_owned()) + 1, 0);
+  cols.clear();
+  cols.reserve(static_cast<std::size_t>(num_owned()) * static_cast<std::size_t>(cd.cols() + 4));
+  std::vector<PetscInt> row;
   for (PetscInt r = 0; r < num_owned(); ++r) {
     const Index d = row_dof[static_cast<std::size_t>(r)];
-    PetscInt count = 0;
+    row.clear();
     for (Index i = start[d]; i < start[d + 1]; ++i)
-      for (Index k = 0; k < cd.cols(); ++k) {
-        const Index col = cd(cells[i], k);
-        if (stamp[col] != d) stamp[col] = d, ++count;
-      }
-    row_ptr[r + 1] = row_ptr[r] + count;
-  }
-  cols.resize(static_cast<std::size_t>(row_ptr.back()));
-  std::fill(stamp.begin(), stamp.end(), -1);
-  for (PetscInt r = 0; r < num_owned(); ++r) {
-    const Index d = row_dof[static_cast<std::size_t>(r)];
-    PetscInt* out = cols.data() + row_ptr[r];
-    PetscInt len = 0;
-    for (Index i = start[d]; i < start[d + 1]; ++i)
-      for (Index k = 0; k < cd.cols(); ++k) {
-        const Index col = cd(cells[i], k);
-        if (stamp[col] != d) stamp[col] = d, out[len++] = global_[col];
-      }
-    std::sort(out, out + len);
+      for (Index k = 0; k < cd.cols(); ++k) row.push_back(global_[cd(cells[i], k)]);
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    cols.insert(cols.end(), row.begin(), row.end());
+    row_ptr[r + 1] = static_cast<PetscInt>(cols.size());
   }
 }
 
