@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 namespace warpfem::fem {
 namespace {
@@ -38,10 +39,21 @@ std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts) {
     };
     code[c] = spread_bits(q(0)) | (spread_bits(q(1)) << 1);
   }
-  std::vector<Index> order(static_cast<std::size_t>(nc));
-  std::iota(order.begin(), order.end(), Index{0});
-  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return code[a] < code[b]; });
-  for (Index k = 0; k < nc; ++k) owner[order[k]] = static_cast<int>((k * num_parts) / nc);
+  // Part p gets the cells at positions [p nc / P, (p + 1) nc / P) of the curve order
+  // (ties broken by cell index). Only the P − 1 split positions matter, so select
+  // them (nth_element, O(nc) each) instead of sorting all cells.
+  std::vector<std::pair<std::uint64_t, Index>> key(static_cast<std::size_t>(nc));
+  for (Index c = 0; c < nc; ++c) key[static_cast<std::size_t>(c)] = {code[static_cast<std::size_t>(c)], c};
+  const auto split = [&](int p) {
+    return key.begin() + static_cast<std::ptrdiff_t>((Index{p} * nc) / num_parts);
+  };
+  if (num_parts <= 16) {
+    for (int p = 1; p < num_parts; ++p) std::nth_element(split(p - 1), split(p), key.end());
+  } else {
+    std::sort(key.begin(), key.end());
+  }
+  for (int p = 0; p < num_parts; ++p)
+    for (auto it = split(p); it != split(p + 1); ++it) owner[static_cast<std::size_t>(it->second)] = p;
   return owner;
 }
 

@@ -105,6 +105,11 @@ class PoissonProblem {
   bool serial_ = true;
   std::vector<PetscInt> row_ptr_, cols_;
   std::vector<PetscScalar> seq_values_;
+  // Under MPI the matrix is created on split arrays (diagonal block with local
+  // columns, off-diagonal block), also without a copy; row r's diagonal entries
+  // are cols_[diag_begin_[r] .. diag_end_[r]).
+  std::vector<PetscInt> diag_ptr_, diag_cols_, off_ptr_, off_cols_, diag_begin_, diag_end_;
+  std::vector<PetscScalar> diag_values_, off_values_;
   Points<2> relevant_x_;
   petsc::Matrix A_;
   petsc::Vector b_, u_;
