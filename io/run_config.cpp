@@ -87,12 +87,14 @@ mapping::MapSpec parse_map_spec(const ConfigNode& node) {
   spec.coordinates =
       node.get_choice("coordinates", spec.coordinates, {"mean_value", "wachspress", "discrete_harmonic"});
   spec.vertex_path = node.get_choice("vertex_path", spec.vertex_path, {"linear", "intrinsic"});
-  spec.partition = node.get_choice("partition", spec.partition, {"adaptive", "uniform", "explicit"});
+  spec.partition =
+      node.get_choice("partition", spec.partition, {"adaptive", "greedy", "uniform", "explicit"});
   spec.steps = static_cast<int>(node.get_int("steps", spec.steps, 1, 100000));
   spec.times = node.get_doubles("times");
   spec.sample_resolution =
       static_cast<int>(node.get_int("sample_resolution", spec.sample_resolution, 4, 8192));
   spec.min_interval = node.get_double("min_interval", spec.min_interval, 1e-12, 1.0);
+  spec.greedy_min_det = node.get_double("greedy_min_det", spec.greedy_min_det, 1e-6, 0.99);
   spec.harmonic_method = node.get_choice("harmonic_method", spec.harmonic_method, {"fem", "bem", "mfs"});
   spec.intermediate = node.get_choice("intermediate", spec.intermediate, {"regular", "cyclic", "optimized"});
   spec.boundary_nodes = static_cast<int>(node.get_int("boundary_nodes", spec.boundary_nodes, 3, 100000));

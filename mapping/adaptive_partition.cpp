@@ -60,6 +60,42 @@ std::vector<Real> binary_partition(const VertexPath& path, Real a, Real b, const
   return cuts;
 }
 
+std::vector<Real> greedy_partition(const VertexPath& path, Real a, Real b, const AdaptiveOptions& o,
+                                   std::vector<Real>* interval_min_det) {
+  // Cut positions are resolved to 1/256 of [a, b] (or ε if larger): finer
+  // positions would gain little length per step for many more checks.
+  const Real resolution = std::max(o.min_interval, (b - a) / 256);
+  std::vector<Real> cuts;
+  Real t = a;
+  Polygon Pt = path.polygon_at(a);
+  for (;;) {
+    const Polygon Pb = path.polygon_at(b);
+    const Real whole = step_min_det(Pt, Pb, o);
+    if (whole >= o.greedy_min_det) {
+      if (interval_min_det) interval_min_det->push_back(whole);
+      return cuts;
+    }
+    // Bisect for the largest end e in (t, b) with min det J(Ω_t → Ω_e) >= greedy_min_det.
+    Real lo = t, hi = b, lo_det = 0, hi_det = whole;
+    Polygon Plo = Pt;
+    while (hi - lo > resolution || (lo == t && hi - lo > o.min_interval)) {
+      const Real mid = 0.5 * (lo + hi);
+      Polygon Pm = path.polygon_at(mid);
+      const Real d = step_min_det(Pt, Pm, o);
+      if (d >= o.greedy_min_det) {
+        lo = mid, lo_det = d, Plo = std::move(Pm);
+      } else {
+        hi = mid, hi_det = d;
+      }
+    }
+    if (lo == t) fail(t, hi, hi_det, o, "greedy partition (min det J below greedy_min_det):");
+    cuts.push_back(lo);
+    if (interval_min_det) interval_min_det->push_back(lo_det);
+    t = lo;
+    Pt = std::move(Plo);
+  }
+}
+
 CompositeReport analyze_composite(const CompositeMeanValueMap& map, int sample_resolution) {
   CompositeReport r;
   r.times = map.times();
@@ -81,9 +117,10 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
   if (!(o.min_interval > 0) || o.sample_resolution < 2)
     throw Error("adaptive partition needs min_interval > 0 and sample_resolution >= 2",
                 {.file = "", .key_path = "/map/min_interval", .hint = ""});
-  // 1. Algorithm 1 on [0, 1].
+  // 1. Algorithm 1 (or the greedy partition) on [0, 1].
   std::vector<Real> dets;
-  std::vector<Real> cuts = binary_partition(path, 0, 1, o, &dets);
+  std::vector<Real> cuts = o.strategy == PartitionStrategy::greedy ? greedy_partition(path, 0, 1, o, &dets)
+                                                                   : binary_partition(path, 0, 1, o, &dets);
   std::vector<Real> times{0};
   times.insert(times.end(), cuts.begin(), cuts.end());
   times.push_back(1);

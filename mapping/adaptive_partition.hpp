@@ -10,6 +10,13 @@
 //    every step must stay positive along the pushed-forward points; steps that do
 //    not are bisected (again bounded by ε) and the check repeats.
 // The result carries a report explaining why the map is bijective (on the sample).
+//
+// Strategy `greedy` replaces step 1 by the longest steps that stay safely
+// bijective: from t, the end b of the next step is the largest (found by
+// bisection) with min det J of Ω_t → Ω_b at least `greedy_min_det`. Its cuts
+// are not dyadic, so it usually needs fewer steps than Algorithm 1 (40-vertex
+// gear: 5 instead of 7) and every map evaluation costs proportionally less.
+// Step 2 (the composite check) is the same for both.
 
 #include <memory>
 #include <vector>
@@ -20,11 +27,18 @@
 
 namespace warpfem::mapping {
 
+enum class PartitionStrategy {
+  binary,  ///< Algorithm 1: halve every folding interval
+  greedy   ///< longest steps with min det J >= greedy_min_det (fewer steps)
+};
+
 struct AdaptiveOptions {
   int sample_resolution = 64;  ///< grid cells per bounding-box side for the det J samples
   Real min_interval = 1e-4;    ///< ε: intervals are not split below this length
   int max_rounds = 30;         ///< composite re-check rounds before giving up
   Coordinates coordinates = Coordinates::mean_value;
+  PartitionStrategy strategy = PartitionStrategy::binary;
+  Real greedy_min_det = 0.1;  ///< greedy: required min det J of every step on its sample
 };
 
 /// Why a composite map is bijective, in numbers.
@@ -45,13 +59,19 @@ struct CompositeReport {
 std::vector<Real> binary_partition(const VertexPath& path, Real a, Real b, const AdaptiveOptions& options,
                                    std::vector<Real>* interval_min_det = nullptr);
 
+/// The greedy strategy's step 1 on [a, b]: inner cuts in increasing order, each
+/// step's min det J appended to `interval_min_det`. Throws warpfem::Error when no
+/// step longer than ε from some t reaches min det J > 0.
+std::vector<Real> greedy_partition(const VertexPath& path, Real a, Real b, const AdaptiveOptions& options,
+                                   std::vector<Real>* interval_min_det = nullptr);
+
 struct AdaptiveComposite {
   std::shared_ptr<const CompositeMeanValueMap> map;
   CompositeReport report;
 };
 
-/// Algorithm 1 plus the composite check. Throws warpfem::Error if bijectivity
-/// cannot be reached with intervals ≥ ε (message: the interval and min det J).
+/// Algorithm 1 (or the greedy partition, per options.strategy) plus the composite check. Throws
+/// warpfem::Error if bijectivity cannot be reached with intervals ≥ ε (message: the interval and min det J).
 AdaptiveComposite build_adaptive_composite(const VertexPath& path, const AdaptiveOptions& options = {});
 
 /// The composite check and distortion statistics of any composite (also

@@ -48,7 +48,7 @@ MapPtr<2> make_map(const MapSpec& spec) {
   const VertexPathType vp =
       with_spec_context(spec, "/map/vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
   const VertexPath path(source, target, vp);
-  if (spec.partition == "adaptive") {
+  if (spec.partition == "adaptive" || spec.partition == "greedy") {
     if (spec.sample_resolution < 2)
       throw Error(
           "sample_resolution must be at least 2, got " + std::to_string(spec.sample_resolution),
@@ -56,10 +56,15 @@ MapPtr<2> make_map(const MapSpec& spec) {
     if (!(spec.min_interval > 0 && spec.min_interval < 1))
       throw Error("min_interval must lie in (0, 1)",
                   {.file = spec.origin, .key_path = "/map/min_interval", .hint = "1e-4 is a good default"});
+    if (!(spec.greedy_min_det > 0 && spec.greedy_min_det < 1))
+      throw Error("greedy_min_det must lie in (0, 1)",
+                  {.file = spec.origin, .key_path = "/map/greedy_min_det", .hint = "0.1 is a good default"});
     AdaptiveOptions o;
     o.sample_resolution = spec.sample_resolution;
     o.min_interval = spec.min_interval;
     o.coordinates = coords;
+    o.strategy = spec.partition == "greedy" ? PartitionStrategy::greedy : PartitionStrategy::binary;
+    o.greedy_min_det = spec.greedy_min_det;
     return with_spec_context(spec, "/map/partition", [&] { return build_adaptive_composite(path, o).map; });
   }
   if (spec.partition == "uniform") {
@@ -77,7 +82,7 @@ MapPtr<2> make_map(const MapSpec& spec) {
   throw Error("unknown partition \"" + spec.partition + "\"",
               {.file = spec.origin,
                .key_path = "/map/partition",
-               .hint = "use \"adaptive\", \"uniform\" or \"explicit\""});
+               .hint = "use \"adaptive\", \"greedy\", \"uniform\" or \"explicit\""});
 }
 
 }  // namespace warpfem::mapping

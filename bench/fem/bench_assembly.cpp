@@ -1,7 +1,8 @@
 // Assembly throughput of warped vs identity-map P1 Poisson, and the one-time
 // cost of WarpedGeometry (map evaluation at every quadrature point).
 //
-//   bench_assembly [cells_per_side = 800] [map json = examples/maps/square_to_gear.json]
+//   bench_assembly [cells_per_side = 800] [map json = examples/maps/square_to_gear.json] [partition]
+// The optional partition ("adaptive", "greedy", ...) overrides the file's /map/partition.
 // Prints one line per measurement; run under mpiexec for the parallel figures.
 
 #include <cstdio>
@@ -21,7 +22,8 @@ int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 800;
   const std::string map_file = argc > 2 ? argv[2] : "examples/maps/square_to_gear.json";
   const nlohmann::json j = io::ConfigNode::parse_file(map_file);
-  const mapping::MapSpec spec = io::parse_map_spec(io::ConfigNode(j, map_file).child("map"));
+  mapping::MapSpec spec = io::parse_map_spec(io::ConfigNode(j, map_file).child("map"));
+  if (argc > 3) spec.partition = argv[3];
   Stopwatch w;
   const mapping::MapPtr<2> warped = mapping::make_map(spec);
   const double map_build = w.seconds();
