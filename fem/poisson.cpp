@@ -57,10 +57,7 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       constant_gradients_ = constant_gradients_ &&
                             (shape_grads_[d].row(q) - shape_grads_[d].row(0)).cwiseAbs().maxCoeff() < 1e-13;
   }
-  const auto& rel = dist_.relevant_dofs();
-  Points<2> x0(static_cast<Index>(rel.size()), 2);
-  for (std::size_t i = 0; i < rel.size(); ++i) x0.row(static_cast<Index>(i)) = dofs_.dof_points().row(rel[i]);
-  map_->eval(x0, relevant_x_);
+  find_dirichlet_dofs();
   setup_timings_.other = watch.seconds();
   watch.reset();
   create_matrix();
@@ -311,22 +308,33 @@ void PoissonProblem::assemble_neumann(std::vector<PetscInt>& rows, std::vector<P
   }
 }
 
-void PoissonProblem::apply_dirichlet() {
-  std::vector<PetscInt> rows;
-  std::vector<PetscScalar> values;
+void PoissonProblem::find_dirichlet_dofs() {
   std::vector<char> seen(static_cast<std::size_t>(dofs_.num_dofs()), 0);
+  std::vector<Index> nodes;
   for (Index f = 0; f < mesh_.num_boundary_facets() && !data_.dirichlet.empty(); ++f) {
     for (Index d : dofs_.facet_dofs(mesh_, f)) {
       if (!dist_.owns(d) || seen[d]) continue;
       const int k = condition_at(data_.dirichlet, f, dofs_.dof_points().row(d).transpose());
       if (k < 0) continue;
       seen[d] = 1;
-      const Index r = dist_.relevant_index(d);
-      rows.push_back(dist_.global(d));
-      values.push_back(
-          data_.dirichlet[static_cast<std::size_t>(k)].value(relevant_x_.row(r).transpose(), 0.0));
+      dirichlet_rows_.push_back(dist_.global(d));
+      dirichlet_condition_.push_back(k);
+      nodes.push_back(d);
     }
   }
+  // The map only at these boundary nodes (one batch), not at every DOF.
+  Points<2> x0(static_cast<Index>(nodes.size()), 2);
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    x0.row(static_cast<Index>(i)) = dofs_.dof_points().row(nodes[i]);
+  map_->eval(x0, dirichlet_x_);
+}
+
+void PoissonProblem::apply_dirichlet() {
+  const std::vector<PetscInt>& rows = dirichlet_rows_;
+  std::vector<PetscScalar> values(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    values[i] = data_.dirichlet[static_cast<std::size_t>(dirichlet_condition_[i])].value(
+        dirichlet_x_.row(static_cast<Index>(i)).transpose(), 0.0);
   WARPFEM_PETSC_CHECK(
       VecSetValues(u_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES));
   WARPFEM_PETSC_CHECK(VecAssemblyBegin(u_.get()));

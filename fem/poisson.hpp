@@ -64,8 +64,6 @@ class PoissonProblem {
   const WarpedGeometry& geometry() const { return geometry_; }
   const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
   const mapping::Map<2>& map() const { return *map_; }
-  /// f applied to the nodes of relevant_dofs() (one batched map call, cached).
-  const Points<2>& relevant_physical_points() const { return relevant_x_; }
 
   /// L2 and H1-seminorm errors against an exact solution (global over ranks).
   ErrorNorms errors(const ScalarFunction& exact, const GradientFunction& exact_gradient) const;
@@ -75,6 +73,7 @@ class PoissonProblem {
   double solution_l2_norm() const;
 
  private:
+  void find_dirichlet_dofs();
   void apply_dirichlet();
   /// Index into `conditions` of the last condition that applies at x0 on facet f; -1 if none.
   int condition_at(const std::vector<BoundaryCondition>& conditions, Index facet, const Point<2>& x0) const;
@@ -110,7 +109,10 @@ class PoissonProblem {
   // are cols_[diag_begin_[r] .. diag_end_[r]).
   std::vector<PetscInt> diag_ptr_, diag_cols_, off_ptr_, off_cols_, diag_begin_, diag_end_;
   std::vector<PetscScalar> diag_values_, off_values_;
-  Points<2> relevant_x_;
+  // Owned Dirichlet DOFs: global rows, which condition applies, f at their nodes.
+  std::vector<PetscInt> dirichlet_rows_;
+  std::vector<int> dirichlet_condition_;
+  Points<2> dirichlet_x_;
   petsc::Matrix A_;
   petsc::Vector b_, u_;
 };
