@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <numeric>
 
 #include "core/error.hpp"
@@ -51,7 +52,7 @@ class ChildTables {
   const fem::LagrangeElement& element_;
   fem::LagrangeElement geometry_;
   std::vector<int> slot_;
-  std::vector<MatrixX> tables_;
+  std::deque<MatrixX> tables_;  // a deque: references stay valid as tables are added
 };
 
 void check_spaces(const fem::MeshHierarchy& h, int fine_level, const LevelSpace& coarse,
@@ -102,6 +103,14 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
   std::vector<PetscInt> count(static_cast<std::size_t>(rows), -1), cols(static_cast<std::size_t>(rows) * n);
   std::vector<PetscScalar> vals(static_cast<std::size_t>(rows) * n);
   ChildTables tables(fine.dofs->element());
+  // refine_uniformly makes fine cells 4c .. 4c+3 the children of coarse cell c,
+  // always in the same pattern, so the child's table depends only on f − 4c:
+  // it is found once per child index from the vertex parents (random accesses
+  // into vertex_parents dominated this loop) and reused.
+  bool fixed_layout = true;
+  for (std::size_t f = 0; f < parent.size() && fixed_layout; ++f)
+    fixed_layout = parent[f] == static_cast<Index>(f / 4);
+  const MatrixX* by_child[4] = {nullptr, nullptr, nullptr, nullptr};
   Points<2> eta(nv, 2);
   for (Index f : fdist.local_cells()) {
     const Index c = parent[static_cast<std::size_t>(f)];
@@ -111,18 +120,23 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
       todo = fdist.owns(d) && count[static_cast<std::size_t>(fdist.global(d) - fdist.owned_begin())] < 0;
     }
     if (!todo) continue;
-    for (int a = 0; a < nv; ++a) {
-      const auto& ps = vparents[static_cast<std::size_t>(fmesh.cells(f, a))];
-      Point<2> sum = Point<2>::Zero();
-      for (Index p : ps) {
-        int local = 0;
-        while (local < nv && cmesh.cells(c, local) != p) ++local;
-        if (local == nv) throw Error("assemble_prolongation: a fine vertex is not inside its parent cell");
-        sum += reference_vertex(cmesh.cell_type, local);
+    const MatrixX** cached = fixed_layout ? &by_child[f - 4 * c] : nullptr;
+    if (!cached || !*cached) {
+      for (int a = 0; a < nv; ++a) {
+        const auto& ps = vparents[static_cast<std::size_t>(fmesh.cells(f, a))];
+        Point<2> sum = Point<2>::Zero();
+        for (Index p : ps) {
+          int local = 0;
+          while (local < nv && cmesh.cells(c, local) != p) ++local;
+          if (local == nv) throw Error("assemble_prolongation: a fine vertex is not inside its parent cell");
+          sum += reference_vertex(cmesh.cell_type, local);
+        }
+        eta.row(a) = (sum / static_cast<double>(ps.size())).transpose();
       }
-      eta.row(a) = (sum / static_cast<double>(ps.size())).transpose();
+      const MatrixX& t = tables.get(eta);
+      if (cached) *cached = &t;
     }
-    const MatrixX& table = tables.get(eta);
+    const MatrixX& table = cached ? **cached : tables.get(eta);
     for (int k = 0; k < n; ++k) {
       const Index d = fdofs(f, k);
       if (!fdist.owns(d)) continue;
