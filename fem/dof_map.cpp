@@ -48,18 +48,27 @@ std::vector<Index> DofMap::facet_dofs(const Mesh<2>& mesh, Index facet) const {
 void simple_cell_geometry(const Mesh<2>& mesh, Index cell, const Points<2>& xi, const MatrixX& N,
                           const std::array<MatrixX, 2>& dN, Points<2>& x0, Jacobians<2>& JG, Index offset) {
   const int nv = vertices_per_cell(mesh.cell_type);
-  for (Index q = 0; q < xi.rows(); ++q) {
+  const Index nq = xi.rows();
+  double vx[4], vy[4];  // the cell's vertices, read once
+  for (int k = 0; k < nv; ++k) {
+    const Index v = mesh.cells(cell, k);
+    vx[k] = mesh.vertices(v, 0);
+    vy[k] = mesh.vertices(v, 1);
+  }
+  const double *n = N.data(), *du = dN[0].data(), *dv = dN[1].data();  // column-major: (q, k) at k nq + q
+  const Index ldx = x0.rows(), ldj = JG.rows();
+  double* X = x0.data() + offset;
+  double* G = JG.data() + offset;
+  for (Index q = 0; q < nq; ++q) {
     double x = 0, y = 0, j00 = 0, j01 = 0, j10 = 0, j11 = 0;
     for (int k = 0; k < nv; ++k) {
-      const Index v = mesh.cells(cell, k);
-      const double vx = mesh.vertices(v, 0), vy = mesh.vertices(v, 1);
-      x += N(q, k) * vx, y += N(q, k) * vy;
-      j00 += vx * dN[0](q, k), j01 += vx * dN[1](q, k);
-      j10 += vy * dN[0](q, k), j11 += vy * dN[1](q, k);
+      const double w = n[k * nq + q], a = du[k * nq + q], b = dv[k * nq + q];
+      x += w * vx[k], y += w * vy[k];
+      j00 += vx[k] * a, j01 += vx[k] * b;
+      j10 += vy[k] * a, j11 += vy[k] * b;
     }
-    const Index r = offset + q;
-    x0(r, 0) = x, x0(r, 1) = y;
-    JG(r, 0) = j00, JG(r, 1) = j01, JG(r, 2) = j10, JG(r, 3) = j11;
+    X[q] = x, X[ldx + q] = y;
+    G[q] = j00, G[ldj + q] = j01, G[2 * ldj + q] = j10, G[3 * ldj + q] = j11;
   }
 }
 
