@@ -38,7 +38,7 @@ struct AdaptiveOptions {
   int max_rounds = 30;         ///< composite re-check rounds before giving up
   Coordinates coordinates = Coordinates::mean_value;
   PartitionStrategy strategy = PartitionStrategy::binary;
-  Real greedy_min_det = 0.1;  ///< greedy: required min det J of every step on its sample
+  Real greedy_min_det = 0.2;  ///< greedy: required min det J of every step on its sample
 };
 
 /// Why a composite map is bijective, in numbers.

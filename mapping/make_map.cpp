@@ -58,7 +58,7 @@ MapPtr<2> make_map(const MapSpec& spec) {
                   {.file = spec.origin, .key_path = "/map/min_interval", .hint = "1e-4 is a good default"});
     if (!(spec.greedy_min_det > 0 && spec.greedy_min_det < 1))
       throw Error("greedy_min_det must lie in (0, 1)",
-                  {.file = spec.origin, .key_path = "/map/greedy_min_det", .hint = "0.1 is a good default"});
+                  {.file = spec.origin, .key_path = "/map/greedy_min_det", .hint = "0.2 is a good default"});
     AdaptiveOptions o;
     o.sample_resolution = spec.sample_resolution;
     o.min_interval = spec.min_interval;

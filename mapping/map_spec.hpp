@@ -26,7 +26,7 @@ struct MapSpec {
   std::vector<double> times;               ///< explicit: 0 = t0 < t1 < ... < tm = 1
   int sample_resolution = 64;              ///< adaptive: grid samples per bounding-box side
   double min_interval = 1e-4;              ///< adaptive: ε, smallest interval length
-  double greedy_min_det = 0.1;             ///< greedy: min det J every step must keep on its sample
+  double greedy_min_det = 0.2;             ///< greedy: min det J every step must keep on its sample
   // Composite harmonic options (mapping/harmonic/make_harmonic_map.hpp).
   std::string harmonic_method = "fem";   ///< fem | bem | mfs
   std::string intermediate = "regular";  ///< regular | cyclic | optimized (intermediate polygon Λ)
