@@ -22,28 +22,26 @@ std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts) {
   std::vector<int> owner(static_cast<std::size_t>(nc), 0);
   if (num_parts <= 1 || nc == 0) return owner;
   const int nv = vertices_per_cell(mesh.cell_type);
-  Points<2> centroid(nc, 2);
-  for (Index c = 0; c < nc; ++c) {
-    Point<2> s = Point<2>::Zero();
-    for (int k = 0; k < nv; ++k) s += mesh.vertex(mesh.cells(c, k));
-    centroid.row(c) = (s / nv).transpose();
-  }
-  const Point<2> lo = centroid.colwise().minCoeff().transpose();
-  const Point<2> hi = centroid.colwise().maxCoeff().transpose();
+  // Morton code of each cell's centroid in the vertices' bounding box (every rank
+  // computes the same codes), written straight into the (code, cell) keys.
+  const Point<2> lo = mesh.vertices.colwise().minCoeff().transpose();
+  const Point<2> hi = mesh.vertices.colwise().maxCoeff().transpose();
   const double extent = std::max((hi - lo).maxCoeff(), 1e-300);
-  std::vector<std::uint64_t> code(static_cast<std::size_t>(nc));
+  std::vector<std::pair<std::uint64_t, Index>> key(static_cast<std::size_t>(nc));
   for (Index c = 0; c < nc; ++c) {
-    const auto q = [&](int d) {
-      return static_cast<std::uint32_t>(std::clamp((centroid(c, d) - lo(d)) / extent, 0.0, 1.0) *
-                                        4294967295.0);
+    double x = 0, y = 0;
+    for (int k = 0; k < nv; ++k) {
+      const Index v = mesh.cells(c, k);
+      x += mesh.vertices(v, 0), y += mesh.vertices(v, 1);
+    }
+    const auto q = [&](double t, int d) {
+      return static_cast<std::uint32_t>(std::clamp((t / nv - lo(d)) / extent, 0.0, 1.0) * 4294967295.0);
     };
-    code[c] = spread_bits(q(0)) | (spread_bits(q(1)) << 1);
+    key[static_cast<std::size_t>(c)] = {spread_bits(q(x, 0)) | (spread_bits(q(y, 1)) << 1), c};
   }
   // Part p gets the cells at positions [p nc / P, (p + 1) nc / P) of the curve order
   // (ties broken by cell index). Only the P − 1 split positions matter, so select
   // them (nth_element, O(nc) each) instead of sorting all cells.
-  std::vector<std::pair<std::uint64_t, Index>> key(static_cast<std::size_t>(nc));
-  for (Index c = 0; c < nc; ++c) key[static_cast<std::size_t>(c)] = {code[static_cast<std::size_t>(c)], c};
   const auto split = [&](int p) {
     return key.begin() + static_cast<std::ptrdiff_t>((Index{p} * nc) / num_parts);
   };

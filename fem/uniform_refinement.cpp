@@ -19,12 +19,12 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   out.vertex_parents.resize(static_cast<std::size_t>(nf_vertices));
   for (Index v = 0; v < nv; ++v) {
     fine.vertices.row(v) = coarse.vertices.row(v);
-    out.vertex_parents[v] = {v};
+    out.vertex_parents[v] = {{v, 0, 0, 0}, 1};
   }
   for (Index e = 0; e < ne; ++e) {
     const auto& ev = edges.vertices(e);
     fine.vertices.row(nv + e) = 0.5 * (coarse.vertices.row(ev[0]) + coarse.vertices.row(ev[1]));
-    out.vertex_parents[nv + e] = {ev[0], ev[1]};
+    out.vertex_parents[nv + e] = {{ev[0], ev[1], 0, 0}, 2};
   }
   fine.cells.resize(4 * nc, quads ? 4 : 3);
   out.cell_parent.resize(static_cast<std::size_t>(4 * nc));
@@ -42,7 +42,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
       const Index centre = nv + ne + c;
       fine.vertices.row(centre) = 0.25 * (coarse.vertices.row(v[0]) + coarse.vertices.row(v[1]) +
                                           coarse.vertices.row(v[2]) + coarse.vertices.row(v[3]));
-      out.vertex_parents[centre] = {v[0], v[1], v[2], v[3]};
+      out.vertex_parents[centre] = {{v[0], v[1], v[2], v[3]}, 4};
       Index m[4];
       for (int k = 0; k < 4; ++k) m[k] = nv + edges.cell_edge(c, k);
       fine.cells.row(4 * c + 0) << v[0], m[0], centre, m[3];

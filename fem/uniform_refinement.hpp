@@ -3,17 +3,29 @@
 // refinement), every quadrilateral into 4. The refined mesh is nested in the
 // coarse one in Ω0, which is what makes warped hierarchies nested too.
 
+#include <array>
+#include <cstddef>
 #include <vector>
 
 #include "fem/mesh.hpp"
 
 namespace warpfem::fem {
 
+/// The coarse vertices a fine vertex is the average of, stored inline (no heap
+/// allocation per vertex): 1 (a copied coarse vertex), 2 (an edge midpoint) or
+/// 4 (a quadrilateral's centre). Iterable like a container.
+struct VertexParents {
+  std::array<Index, 4> ids{};
+  int count = 0;
+  const Index* begin() const { return ids.data(); }
+  const Index* end() const { return ids.data() + count; }
+  std::size_t size() const { return static_cast<std::size_t>(count); }
+};
+
 struct RefinedMesh {
   Mesh<2> mesh;
-  /// For every fine vertex, the coarse vertices it is the average of
-  /// (1 entry: a copied coarse vertex; 2: an edge midpoint; 4: a quad centre).
-  std::vector<std::vector<Index>> vertex_parents;
+  /// For every fine vertex, the coarse vertices it is the average of.
+  std::vector<VertexParents> vertex_parents;
   /// For every fine cell, the coarse cell it lies in.
   std::vector<Index> cell_parent;
 };
