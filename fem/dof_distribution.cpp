@@ -85,24 +85,13 @@ void DofDistribution::owned_dof_cells(const Mesh<2>& mesh, const DofMap& dofs, s
 
 void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
                                     std::vector<PetscInt>& o_nnz) const {
-  const IndexTable& cd = dofs.cell_dofs();
-  const Index nd = dofs.num_dofs();
-  std::vector<Index> start, cells;
-  owned_dof_cells(mesh, dofs, start, cells);
+  std::vector<PetscInt> row_ptr, cols;
+  sparsity(mesh, dofs, row_ptr, cols);
   d_nnz.assign(static_cast<std::size_t>(num_owned()), 0);
   o_nnz.assign(static_cast<std::size_t>(num_owned()), 0);
-  std::vector<Index> stamp(static_cast<std::size_t>(nd), -1);
-  for (Index d = 0; d < nd; ++d) {
-    if (owner_[d] != rank_) continue;
-    const PetscInt row = global_[d] - owned_begin_;
-    for (Index i = start[d]; i < start[d + 1]; ++i)
-      for (Index k = 0; k < cd.cols(); ++k) {
-        const Index col = cd(cells[i], k);
-        if (stamp[col] == d) continue;
-        stamp[col] = d;
-        (owner_[col] == rank_ ? d_nnz : o_nnz)[row]++;
-      }
-  }
+  for (PetscInt r = 0; r < num_owned(); ++r)
+    for (PetscInt k = row_ptr[r]; k < row_ptr[r + 1]; ++k)
+      ++(cols[k] >= owned_begin_ && cols[k] < owned_end_ ? d_nnz : o_nnz)[static_cast<std::size_t>(r)];
 }
 
 void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
