@@ -5,6 +5,7 @@
 
 #include "core/petsc/check.hpp"
 #include "core/petsc/scatter.hpp"
+#include "core/threads.hpp"
 #include "fem/cell_partition.hpp"
 
 namespace warpfem::fem {
@@ -106,21 +107,40 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
     if (owner_[d] == rank_) row_dof[static_cast<std::size_t>(global_[d] - owned_begin_)] = d;
   // One pass over the DOF -> cells adjacency: each row's candidate columns are
   // gathered, sorted and deduplicated in a small buffer (no mesh-sized marker
-  // array, whose random accesses dominated on large meshes).
-  row_ptr.assign(static_cast<std::size_t>(num_owned()) + 1, 0);
-  cols.clear();
-  cols.reserve(static_cast<std::size_t>(num_owned()) * static_cast<std::size_t>(cd.cols() + 4));
-  std::vector<PetscInt> row;
-  for (PetscInt r = 0; r < num_owned(); ++r) {
-    const Index d = row_dof[static_cast<std::size_t>(r)];
-    row.clear();
-    for (Index i = start[d]; i < start[d + 1]; ++i)
-      for (Index k = 0; k < cd.cols(); ++k) row.push_back(global_[cd(cells[i], k)]);
-    std::sort(row.begin(), row.end());
-    row.erase(std::unique(row.begin(), row.end()), row.end());
-    cols.insert(cols.end(), row.begin(), row.end());
-    row_ptr[r + 1] = static_cast<PetscInt>(cols.size());
-  }
+  // array, whose random accesses dominated on large meshes). Blocks of rows run
+  // on the threads into their own buffers, which are then concatenated.
+  const PetscInt rows = num_owned();
+  const Index blocks = std::max<Index>(1, std::min<Index>(64, rows / 4096));
+  std::vector<std::vector<PetscInt>> block_cols(static_cast<std::size_t>(blocks));
+  row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
+  parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
+    std::vector<PetscInt> row;
+    for (Index blk = first_block; blk < last_block; ++blk) {
+      const PetscInt r0 = static_cast<PetscInt>(rows * blk / blocks),
+                     r1 = static_cast<PetscInt>(rows * (blk + 1) / blocks);
+      std::vector<PetscInt>& out = block_cols[static_cast<std::size_t>(blk)];
+      out.reserve(static_cast<std::size_t>(r1 - r0) * static_cast<std::size_t>(cd.cols() + 4));
+      for (PetscInt r = r0; r < r1; ++r) {
+        const Index d = row_dof[static_cast<std::size_t>(r)];
+        row.clear();
+        for (Index i = start[d]; i < start[d + 1]; ++i)
+          for (Index k = 0; k < cd.cols(); ++k) row.push_back(global_[cd(cells[i], k)]);
+        std::sort(row.begin(), row.end());
+        row.erase(std::unique(row.begin(), row.end()), row.end());
+        out.insert(out.end(), row.begin(), row.end());
+        row_ptr[r + 1] = static_cast<PetscInt>(row.size());  // a length for now
+      }
+    }
+  });
+  for (PetscInt r = 0; r < rows; ++r) row_ptr[r + 1] += row_ptr[r];
+  cols.resize(static_cast<std::size_t>(row_ptr.back()));
+  parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
+    for (Index blk = first_block; blk < last_block; ++blk) {
+      const PetscInt r0 = static_cast<PetscInt>(rows * blk / blocks);
+      const auto& in = block_cols[static_cast<std::size_t>(blk)];
+      std::copy(in.begin(), in.end(), cols.begin() + row_ptr[r0]);
+    }
+  });
 }
 
 }  // namespace warpfem::fem
