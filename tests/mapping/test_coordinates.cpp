@@ -193,7 +193,7 @@ TEST_P(KernelAgreement, Avx512AndPortableKernelsAgree) {
   const Points<2> x = bijectivity_sample(P, 21);
   ASSERT_NE(x.rows() % 8, 0);
   std::vector<MatrixX> phi, dx, dy, vals;
-  std::vector<Points<2>> f;
+  std::vector<Points<2>> f, f_only;
   std::vector<Jacobians<2>> J;
   std::vector<Point<2>> moved = P.vertices();
   for (std::size_t i = 0; i < moved.size(); ++i)
@@ -204,8 +204,9 @@ TEST_P(KernelAgreement, Avx512AndPortableKernelsAgree) {
     phi.emplace_back(), dx.emplace_back(), dy.emplace_back(), vals.emplace_back();
     mean_value_coordinates(A, x, phi.back(), dx.back(), dy.back());
     mean_value_coordinates(A, x, vals.back());
-    f.emplace_back(), J.emplace_back();
+    f.emplace_back(), J.emplace_back(), f_only.emplace_back();
     warp.apply(x, f.back(), &J.back());
+    warp.apply(x, f_only.back(), nullptr);  // the map step without its Jacobian
   });
   EXPECT_LT((phi[0] - phi[1]).cwiseAbs().maxCoeff(), 1e-13);
   EXPECT_LT((vals[0] - vals[1]).cwiseAbs().maxCoeff(), 1e-13);
@@ -214,6 +215,8 @@ TEST_P(KernelAgreement, Avx512AndPortableKernelsAgree) {
   EXPECT_LT((dx[0] - dx[1]).cwiseAbs().maxCoeff() / gscale, 1e-11);
   EXPECT_LT((dy[0] - dy[1]).cwiseAbs().maxCoeff() / gscale, 1e-11);
   EXPECT_LT((f[0] - f[1]).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((f_only[0] - f_only[1]).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((f_only[0] - f[0]).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_LT((J[0] - J[1]).cwiseAbs().maxCoeff() / (1 + J[1].cwiseAbs().maxCoeff()), 1e-12);
 }
 
