@@ -16,6 +16,7 @@
 #include "io/pvd_writer.hpp"
 #include "io/vtk_writer.hpp"
 #include "mapping/make_map.hpp"
+#include "multigrid/elasticity_multigrid.hpp"
 
 namespace warpfem::apps {
 namespace {
@@ -152,10 +153,10 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   const mapping::MapPtr<2> map = mapping::make_map(cfg.map);
   log::info("map: ", map->describe(), " (", format_seconds(watch.seconds()), ")");
 
-  // 2. The simple mesh of Ω0 and its uniform refinements.
+  // 2. The simple mesh of Ω0 and its uniform refinements (kept as a hierarchy for multigrid).
   watch.reset();
-  fem::Mesh<2> mesh = fem::make_coarse_mesh(*cfg.map.source, cfg.mesh);
-  for (int r = 0; r < cfg.mesh.refinements; ++r) mesh = fem::refine_uniformly(mesh).mesh;
+  const fem::MeshHierarchy hierarchy(fem::make_coarse_mesh(*cfg.map.source, cfg.mesh), cfg.mesh.refinements);
+  const fem::Mesh<2>& mesh = hierarchy.finest();
   result.num_cells = mesh.num_cells();
   result.h = mesh.max_edge_length();
   log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
@@ -178,7 +179,20 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   if (options.write_output && cfg.output.vtk)
     output = std::make_unique<ElasticityOutput>(cfg, op, mesh, comm);
   petsc::Vector u = op.space().create_vector();
-  const fem::NewtonOptions newton = newton_options(cfg.solver);
+  fem::NewtonOptions newton = newton_options(cfg.solver);
+  std::unique_ptr<multigrid::ElasticityMultigrid> mg;
+  if (newton.pc_type == "mg") {
+    // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
+    watch.reset();
+    mg = std::make_unique<multigrid::ElasticityMultigrid>(hierarchy, op.space(), op.data());
+    if (newton.ksp_type == "preonly") newton.ksp_type = "gmres";  // one V-cycle is not a solve
+    newton.configure_preconditioner = [&mg](KSP ksp, Mat jacobian) {
+      WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp, 1e-10, 1e-50, PETSC_DEFAULT, 1000));
+      mg->configure(ksp, jacobian);
+    };
+    log::info("linear solves: ", newton.ksp_type, " with geometric multigrid (", mg->num_levels(),
+              " levels, Galerkin coarse operators, ", format_seconds(watch.seconds()), ")");
+  }
   auto write = [&](int index, double time, Vec state) {
     if (!output) return;
     result.vtk_files.push_back(output->write(index, time, state));

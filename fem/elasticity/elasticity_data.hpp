@@ -8,8 +8,10 @@
 #include <functional>
 #include <vector>
 
+#include "fem/dof_map.hpp"
 #include "fem/elasticity/material.hpp"
 #include "fem/functions.hpp"
+#include "fem/mesh.hpp"
 
 namespace warpfem::fem {
 
@@ -38,5 +40,12 @@ struct ElasticityData {
 
 /// True if `edges` is empty (all edges) or contains `tag`.
 bool selects_edge(const std::vector<int>& edges, int tag);
+
+/// The displacement condition that constrains each node of `dofs` (nullptr: free):
+/// per boundary facet the last matching condition applies, and a node keeps the
+/// first facet that constrains it. Component c of node d is fixed iff
+/// result[d] && result[d]->value[c]. Every node of the mesh, on every rank.
+std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap& dofs,
+                                                          const ElasticityData& data);
 
 }  // namespace warpfem::fem

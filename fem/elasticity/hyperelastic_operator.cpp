@@ -12,6 +12,20 @@ bool selects_edge(const std::vector<int>& edges, int tag) {
   return edges.empty() || std::find(edges.begin(), edges.end(), tag) != edges.end();
 }
 
+std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap& dofs,
+                                                          const ElasticityData& data) {
+  std::vector<const DisplacementCondition*> out(static_cast<std::size_t>(dofs.num_dofs()), nullptr);
+  for (Index f = 0; f < mesh.num_boundary_facets(); ++f) {
+    const DisplacementCondition* bc = nullptr;
+    for (const auto& cand : data.dirichlet)
+      if (selects_edge(cand.edges, mesh.facet_tags[static_cast<std::size_t>(f)])) bc = &cand;
+    if (!bc) continue;
+    for (Index d : dofs.facet_dofs(mesh, f))
+      if (!out[static_cast<std::size_t>(d)]) out[static_cast<std::size_t>(d)] = bc;
+  }
+  return out;
+}
+
 namespace {
 
 using Gradients = Eigen::Matrix<double, 2, Eigen::Dynamic>;
@@ -53,22 +67,18 @@ HyperelasticOperator::HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, m
 }
 
 void HyperelasticOperator::setup_constraints() {
-  const Mesh<2>& mesh = space_.mesh();
   const DofDistribution& dist = space_.nodes();
-  // Last matching condition wins per facet, as for Poisson; a node keeps the first facet that constrains it.
-  std::vector<char> seen(static_cast<std::size_t>(space_.dofs().num_dofs()), 0);
+  // The owned constrained nodes, in the order the boundary facets reach them.
+  const std::vector<const DisplacementCondition*> condition = node_conditions(space_.mesh(), space_.dofs(), data_);
+  std::vector<char> seen(condition.size(), 0);
   std::vector<std::pair<Index, const DisplacementCondition*>> nodes;
-  for (Index f = 0; f < mesh.num_boundary_facets(); ++f) {
-    const DisplacementCondition* bc = nullptr;
-    for (const auto& cand : data_.dirichlet)
-      if (selects_edge(cand.edges, mesh.facet_tags[static_cast<std::size_t>(f)])) bc = &cand;
-    if (!bc) continue;
-    for (Index d : space_.dofs().facet_dofs(mesh, f)) {
-      if (!dist.owns(d) || seen[d]) continue;
-      seen[d] = 1;
-      nodes.emplace_back(d, bc);
+  for (Index f = 0; f < space_.mesh().num_boundary_facets(); ++f)
+    for (Index d : space_.dofs().facet_dofs(space_.mesh(), f)) {
+      const auto k = static_cast<std::size_t>(d);
+      if (!condition[k] || !dist.owns(d) || seen[k]) continue;
+      seen[k] = 1;
+      nodes.emplace_back(d, condition[k]);
     }
-  }
   Points<2> x0(static_cast<Index>(nodes.size()), 2), x;
   for (std::size_t i = 0; i < nodes.size(); ++i)
     x0.row(static_cast<Index>(i)) = space_.dofs().dof_points().row(nodes[i].first);

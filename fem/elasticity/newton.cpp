@@ -2,6 +2,7 @@
 
 #include <iomanip>
 
+#include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/petsc/check.hpp"
 
@@ -75,7 +76,7 @@ void NewtonContext::reject(SNES snes) {
     WARPFEM_PETSC_CHECK(SNESSetFunctionDomainError(snes));
 }
 
-void configure_newton(SNES snes, const NewtonOptions& o, NewtonContext& context) {
+void configure_newton(SNES snes, const NewtonOptions& o, NewtonContext& context, Mat jacobian) {
   context.log_iterations = o.log_iterations;
   WARPFEM_PETSC_CHECK(SNESSetOptionsPrefix(snes, o.prefix.c_str()));
   WARPFEM_PETSC_CHECK(SNESSetType(snes, SNESNEWTONLS));
@@ -98,6 +99,10 @@ void configure_newton(SNES snes, const NewtonOptions& o, NewtonContext& context)
   WARPFEM_PETSC_CHECK(PCSetType(pc, o.pc_type.c_str()));
   if (!o.factor_solver.empty() && (o.pc_type == "lu" || o.pc_type == "cholesky"))
     WARPFEM_PETSC_CHECK(PCFactorSetMatSolverType(pc, o.factor_solver.c_str()));
+  if (o.configure_preconditioner) {
+    require(jacobian != nullptr, "configure_newton: a custom preconditioner needs the Jacobian matrix");
+    o.configure_preconditioner(ksp, jacobian);
+  }
   WARPFEM_PETSC_CHECK(SNESSetFromOptions(snes));
 }
 

@@ -34,6 +34,10 @@ struct NewtonOptions {
   int max_halvings = 20;       ///< of the warpfem line search
   bool log_iterations = true;  ///< log |R| of every Newton iteration (info level)
   std::string prefix = "elasticity_";
+  /// Optional: sets up the preconditioner of the Newton steps' KSP once its type is
+  /// set, given the Jacobian matrix (e.g. the geometric multigrid of multigrid/,
+  /// which fem/ cannot depend on). Runs before the options database is applied.
+  std::function<void(KSP ksp, Mat jacobian)> configure_preconditioner;
 };
 
 /// State shared with the PETSc callbacks of one SNES.
@@ -58,7 +62,7 @@ struct NewtonContext {
 
 /// Configures `snes` (type, tolerances, line search, pre-check, monitor, KSP/PC) and
 /// applies the options database under options.prefix. `context` must outlive the SNES.
-void configure_newton(SNES snes, const NewtonOptions& options, NewtonContext& context);
+void configure_newton(SNES snes, const NewtonOptions& options, NewtonContext& context, Mat jacobian = nullptr);
 
 /// Text of a SNES converged reason ("CONVERGED_FNORM_RELATIVE", "DIVERGED_LINE_SEARCH", ...).
 std::string reason_text(SNESConvergedReason reason);

@@ -31,7 +31,7 @@ QuasiStaticSolver::QuasiStaticSolver(const HyperelasticOperator& op, NewtonOptio
   WARPFEM_PETSC_CHECK(SNESSetFunction(snes_.get(), r_.get(), form_residual, this));
   WARPFEM_PETSC_CHECK(SNESSetJacobian(snes_.get(), J_.get(), J_.get(), form_jacobian, this));
   context_.objective = [this](Vec u) { return op_.potential_energy(u, load_, 1.0); };
-  configure_newton(snes_.get(), newton_, context_);
+  configure_newton(snes_.get(), newton_, context_, J_.get());
   delta_ = op_.space().create_vector();
   rhs_ = op_.space().create_vector();
 }

@@ -35,7 +35,7 @@ TransientSolver::TransientSolver(const HyperelasticOperator& op, TransientOption
   WARPFEM_PETSC_CHECK(TSGetSNES(ts_.get(), &snes));
   NewtonOptions quiet = newton_;
   quiet.log_iterations = false;  // one line per time step instead; -elasticity_snes_monitor shows them
-  configure_newton(snes, quiet, context_);
+  configure_newton(snes, quiet, context_, J_.get());
   WARPFEM_PETSC_CHECK(TSSetFromOptions(ts_.get()));
 }
 

@@ -124,6 +124,20 @@ TEST(ElasticityRun, BlockCompressionReachesThePrescribedDisplacement) {
   for (const auto& f : result.vtk_files) EXPECT_TRUE(fs::exists(f)) << f;
 }
 
+TEST(ElasticityRun, MultigridNewtonStepsGiveTheDirectSolversResult) {
+  // "pc_type": "mg": GMRES with geometric multigrid on the mesh hierarchy (Galerkin coarse
+  // operators of every Newton Jacobian) instead of LU: the same load path and solution.
+  const std::string refined = with(kBlock, R"("cells": [4, 4])", R"("cells": [4, 4], "refinements": 2)");
+  auto lu_cfg = parse(refined);
+  auto mg_cfg = parse(with(refined, R"("load_stepping")", R"("solver": {"pc_type": "mg"}, "load_stepping")"));
+  ASSERT_EQ(mg_cfg.solver.pc_type, "mg");
+  const auto lu = apps::run_elasticity(lu_cfg, MPI_COMM_SELF, {.write_output = false});
+  const auto mg = apps::run_elasticity(mg_cfg, MPI_COMM_SELF, {.write_output = false});
+  EXPECT_EQ(mg.newton_iterations, lu.newton_iterations);
+  EXPECT_NEAR(mg.max_displacement, lu.max_displacement, 1e-8);
+  EXPECT_NEAR(mg.min_det_F, lu.min_det_F, 1e-8);
+}
+
 TEST(ElasticityRun, GearExampleSwingsUnderGravity) {
   std::ifstream in("examples/gear_transient.json");
   ASSERT_TRUE(in) << "run from the repository root";

@@ -1,0 +1,52 @@
+// Geometric multigrid for elasticity's Newton steps (multigrid/elasticity_multigrid):
+// the preconditioned Krylov solve gives the direct solver's answer, and the
+// iteration count does not grow with refinement.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "elasticity_multigrid_fixtures.hpp"
+
+namespace warpfem::multigrid {
+namespace {
+
+using test::clamped_block;
+using test::solve_both;
+using test::SolveResult;
+using test::warped_square;
+
+class ElasticityMultigridTest : public ::testing::TestWithParam<std::tuple<fem::CellType, int>> {};
+
+TEST_P(ElasticityMultigridTest, MatchesLuWithIterationsIndependentOfRefinement) {
+  const auto [type, order] = GetParam();
+  int fewest = 1 << 30, most = 0;
+  for (int refinements = 1; refinements <= 3; ++refinements) {
+    const SolveResult r = solve_both(type, order, refinements);
+    std::printf("[ %s%d, %d refinements ] %d GMRES iterations, |x_mg - x_lu| / |x_lu| = %.2e\n",
+                type == fem::CellType::triangle ? "P" : "Q", order, refinements, r.iterations,
+                r.relative_difference);
+    EXPECT_LT(r.relative_difference, 1e-7);
+    fewest = std::min(fewest, r.iterations);
+    most = std::max(most, r.iterations);
+  }
+  EXPECT_LE(most, 30);
+  EXPECT_LE(most - fewest, 5) << "the iteration count grows with refinement";
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, ElasticityMultigridTest,
+                         ::testing::Values(std::make_tuple(fem::CellType::triangle, 1),
+                                           std::make_tuple(fem::CellType::triangle, 2),
+                                           std::make_tuple(fem::CellType::quadrilateral, 2)));
+
+TEST(ElasticityMultigrid, RefusesASpaceOffTheHierarchy) {
+  const fem::MeshHierarchy hierarchy(fem::structured_mesh(test::unit_square(), 2, 2, fem::CellType::triangle),
+                                     1);
+  const fem::Mesh<2> other = hierarchy.finest();  // a copy: not the hierarchy's mesh
+  const fem::HyperelasticOperator op(PETSC_COMM_WORLD, other, warped_square(), 1, 0, clamped_block());
+  EXPECT_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data()), Error);
+}
+
+}  // namespace
+}  // namespace warpfem::multigrid
