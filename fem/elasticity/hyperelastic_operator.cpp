@@ -69,7 +69,8 @@ HyperelasticOperator::HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, m
 void HyperelasticOperator::setup_constraints() {
   const DofDistribution& dist = space_.nodes();
   // The owned constrained nodes, in the order the boundary facets reach them.
-  const std::vector<const DisplacementCondition*> condition = node_conditions(space_.mesh(), space_.dofs(), data_);
+  const std::vector<const DisplacementCondition*> condition =
+      node_conditions(space_.mesh(), space_.dofs(), data_);
   std::vector<char> seen(condition.size(), 0);
   std::vector<std::pair<Index, const DisplacementCondition*>> nodes;
   for (Index f = 0; f < space_.mesh().num_boundary_facets(); ++f)

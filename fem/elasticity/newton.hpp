@@ -62,7 +62,8 @@ struct NewtonContext {
 
 /// Configures `snes` (type, tolerances, line search, pre-check, monitor, KSP/PC) and
 /// applies the options database under options.prefix. `context` must outlive the SNES.
-void configure_newton(SNES snes, const NewtonOptions& options, NewtonContext& context, Mat jacobian = nullptr);
+void configure_newton(SNES snes, const NewtonOptions& options, NewtonContext& context,
+                      Mat jacobian = nullptr);
 
 /// Text of a SNES converged reason ("CONVERGED_FNORM_RELATIVE", "DIVERGED_LINE_SEARCH", ...).
 std::string reason_text(SNESConvergedReason reason);
