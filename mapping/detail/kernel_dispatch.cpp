@@ -2,15 +2,19 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/log.hpp"
 #include "mapping/detail/mean_value_avx512.hpp"
 
 namespace warpfem::mapping::detail {
 namespace {
 
 bool cpu_and_environment_allow() {
+  if (const char* env = std::getenv("WARPFEM_KERNELS"); env && *env) {
+    if (std::strcmp(env, "portable") == 0) return false;
+    log::warning("WARPFEM_KERNELS=", env,
+                 " is not understood and is ignored (the only value is \"portable\")");
+  }
 #if defined(WARPFEM_HAVE_AVX512_KERNELS)
-  if (const char* env = std::getenv("WARPFEM_KERNELS"); env && std::strcmp(env, "portable") == 0)
-    return false;
   __builtin_cpu_init();
   return __builtin_cpu_supports("avx512f");
 #else
