@@ -16,7 +16,9 @@ int thread_count();
 void set_thread_count(int threads);
 
 /// Calls body(begin, end) on disjoint ranges covering [0, n), in parallel when
-/// n is at least `grain` per thread. Exceptions from any range are rethrown.
+/// n is at least `grain` per thread. Ranges (each ≥ grain, except the last) are
+/// handed out dynamically, so a thread may get several, in any order; the
+/// calling thread works too. Exceptions from any range are rethrown.
 /// A parallel_for called from inside another one's body runs serially.
 void parallel_for(Index n, Index grain, const std::function<void(Index, Index)>& body);
 

@@ -16,9 +16,9 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
-#include <thread>
 #include <vector>
 
+#include "core/threads.hpp"
 #include "mapping/adaptive_partition.hpp"
 #include "mapping/barycentric_map.hpp"
 #include "mapping/detail/mean_value_kernel.hpp"
@@ -133,20 +133,20 @@ void BM_Warpfem_MVC_ValuesGradients(benchmark::State& state) {
 BENCHMARK(BM_Warpfem_MVC_ValuesGradients)->Unit(benchmark::kMillisecond);
 
 void BM_Warpfem_MVC_ValuesGradients_2Threads(benchmark::State& state) {
+  // The library's own threading (core/threads.hpp: dynamic scheduling of the chunks).
   const wm::PolygonArrays P(polygon32());
   const auto& c = chunks();
-  for (auto _ : state) {
-    auto work = [&](std::size_t begin, std::size_t end) {
+  const int before = warpfem::thread_count();
+  warpfem::set_thread_count(2);
+  for (auto _ : state)
+    warpfem::parallel_for(static_cast<Index>(c.size()), 1, [&](Index begin, Index end) {
       warpfem::MatrixX phi, dx, dy;
-      for (std::size_t k = begin; k < end; ++k) {
-        wm::mean_value_coordinates(P, c[k], phi, dx, dy);
+      for (Index k = begin; k < end; ++k) {
+        wm::mean_value_coordinates(P, c[static_cast<std::size_t>(k)], phi, dx, dy);
         benchmark::DoNotOptimize(phi.data());
       }
-    };
-    std::thread t(work, 0, c.size() / 2);
-    work(c.size() / 2, c.size());
-    t.join();
-  }
+    });
+  warpfem::set_thread_count(before);
   set_counters(state, kFlopsValuesGradients);
 }
 BENCHMARK(BM_Warpfem_MVC_ValuesGradients_2Threads)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -12,6 +13,22 @@
 using namespace warpfem;
 
 namespace {
+/// True if two ranges of a parallel_for over [0, 2) ran on different threads at
+/// the same time: each range waits (up to 5 s) until both have started.
+bool runs_two_ranges_concurrently() {
+  std::atomic<int> started{0};
+  std::atomic<bool> together{true};
+  parallel_for(2, 1, [&](Index begin, Index end) {
+    for (Index i = begin; i < end; ++i) {
+      ++started;
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+      while (started.load() < 2 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+      if (started.load() < 2) together = false;
+    }
+  });
+  return together.load();
+}
+
 /// Sets the thread count for one test and restores it.
 struct ThreadCountGuard {
   int before = thread_count();
@@ -46,7 +63,7 @@ TEST(ParallelFor, NestedCallsRunSeriallyInTheirWorker) {
         if (std::this_thread::get_id() != me) ++inner_foreign;  // a nested pool would run elsewhere
       });
   });
-  EXPECT_EQ(outer_threads.size(), 2u);
+  EXPECT_GE(outer_threads.size(), 1u);
   EXPECT_EQ(inner_total.load(), 400);
   EXPECT_EQ(inner_foreign.load(), 0);
 }
@@ -58,4 +75,26 @@ TEST(ParallelFor, RethrowsAnExceptionFromAWorker) {
                               if (begin == 0) throw std::runtime_error("range 0 failed");
                             }),
                std::runtime_error);
+}
+
+TEST(ParallelFor, RunsRangesOnSeveralThreads) {
+  const ThreadCountGuard guard(2);
+  EXPECT_TRUE(runs_two_ranges_concurrently());
+}
+
+TEST(ParallelFor, TheCallerIsParallelAgainAfterARegion) {
+  const ThreadCountGuard guard(2);
+  parallel_for(8, 1, [](Index, Index) {});  // the caller works inside, then leaves the region
+  EXPECT_TRUE(runs_two_ranges_concurrently());
+}
+
+TEST(ParallelFor, SerialWithOneThread) {
+  const ThreadCountGuard guard(1);
+  std::atomic<int> calls{0};
+  parallel_for(1000, 1, [&](Index begin, Index end) {
+    ++calls;
+    EXPECT_EQ(begin, 0);
+    EXPECT_EQ(end, 1000);
+  });
+  EXPECT_EQ(calls.load(), 1);
 }
