@@ -34,6 +34,8 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   data.boundary_polygon = source;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
                                                      : fem::default_quadrature_degree(cfg.poisson.order);
+  const fem::GeometryStorage storage =
+      cfg.poisson.geometry == "streamed" ? fem::GeometryStorage::streamed : fem::GeometryStorage::cached;
   // Geometric multigrid on the nested hierarchy (default) needs at least one refinement;
   // otherwise the single level is solved with the configured (or algebraic) preconditioner.
   const bool use_mg = cfg.solver.linear.pc_type == "mg" && cfg.mesh.refinements > 0;
@@ -44,13 +46,15 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   if (use_mg) {
     multigrid::PoissonMultigridOptions mg_options;
     mg_options.linear = cfg.solver.linear;
+    mg_options.finest_geometry = storage;
     mg = std::make_unique<multigrid::PoissonMultigridSolver>(comm, fem::make_coarse_mesh(source, cfg.mesh),
                                                              cfg.mesh.refinements, map, cfg.poisson.order,
                                                              qdeg, data, mg_options);
   } else {
     single_mesh = std::make_unique<fem::Mesh<2>>(fem::make_coarse_mesh(source, cfg.mesh));
     for (int r = 0; r < cfg.mesh.refinements; ++r) *single_mesh = fem::refine_uniformly(*single_mesh).mesh;
-    single = std::make_unique<fem::PoissonProblem>(comm, *single_mesh, map, cfg.poisson.order, qdeg, data);
+    single = std::make_unique<fem::PoissonProblem>(comm, *single_mesh, map, cfg.poisson.order, qdeg, data,
+                                                   storage);
     single->assemble();
   }
   fem::PoissonProblem& problem = use_mg ? mg->finest() : *single;

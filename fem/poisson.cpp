@@ -24,7 +24,7 @@ bool BoundaryCondition::applies_to(int tag) const {
 }
 
 PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
-                               int quadrature_degree, PoissonData data)
+                               int quadrature_degree, PoissonData data, GeometryStorage storage)
     : comm_(comm),
       mesh_(mesh),
       map_(std::move(map)),
@@ -34,7 +34,7 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       dist_(timed(setup_timings_.distribution, [&] { return DofDistribution(comm, mesh, dofs_); })),
       geometry_(timed(setup_timings_.geometry, [&] {
         return WarpedGeometry(mesh, dist_.local_cells(), cell_quadrature(mesh.cell_type, quadrature_degree),
-                              *map_);
+                              *map_, storage);
       })) {
   Stopwatch watch;
   if (data_.boundary_polygon) locator_.emplace(*data_.boundary_polygon);
@@ -115,14 +115,13 @@ void PoissonProblem::create_matrix() {
   u_ = dist_.create_vector();
 }
 
-void PoissonProblem::element_stiffness(Index i, double* ke) const {
+void PoissonProblem::element_stiffness(const GeometryChunk& g, Index i, double* ke) const {
   const int n = dofs_.element().num_dofs(), nn = n * n;
   const Index nq = geometry_.points_per_cell();
-  const auto& J = geometry_.inverse_transpose();
-  const auto& w = geometry_.JxW();
   // grad φ = J^{-T} ĝ, so ∇φa·∇φb = ĝa^T M ĝb with M = (J^{-T})^T J^{-T} (symmetric).
   const auto metric = [&](Index p, double& m0, double& m1, double& m2) {
-    const double j00 = J(p, 0), j01 = J(p, 1), j10 = J(p, 2), j11 = J(p, 3), wp = w(p);
+    const double j00 = g.inverse_transpose(p, 0), j01 = g.inverse_transpose(p, 1),
+                 j10 = g.inverse_transpose(p, 2), j11 = g.inverse_transpose(p, 3), wp = g.JxW(p);
     m0 = wp * (j00 * j00 + j10 * j10);
     m1 = wp * (j00 * j01 + j10 * j11);
     m2 = wp * (j01 * j01 + j11 * j11);
@@ -131,7 +130,7 @@ void PoissonProblem::element_stiffness(Index i, double* ke) const {
     double s0 = 0, s1 = 0, s2 = 0;
     for (Index q = 0; q < nq; ++q) {
       double m0, m1, m2;
-      metric(geometry_.at(i, q), m0, m1, m2);
+      metric(g.at(i, q), m0, m1, m2);
       s0 += m0, s1 += m1, s2 += m2;
     }
     const double *t0 = gradient_products_[0].data(), *t1 = gradient_products_[1].data(),
@@ -142,7 +141,7 @@ void PoissonProblem::element_stiffness(Index i, double* ke) const {
   std::fill(ke, ke + nn, 0.0);
   for (Index q = 0; q < nq; ++q) {
     double m0, m1, m2;
-    metric(geometry_.at(i, q), m0, m1, m2);
+    metric(g.at(i, q), m0, m1, m2);
     const double *t0 = gradient_products_[0].col(q).data(), *t1 = gradient_products_[1].col(q).data(),
                  *t2 = gradient_products_[2].col(q).data();
     for (int k = 0; k < nn; ++k) ke[k] += m0 * t0[k] + m1 * t1[k] + m2 * t2[k];
@@ -152,7 +151,6 @@ void PoissonProblem::element_stiffness(Index i, double* ke) const {
 void PoissonProblem::assemble() {
   ScopedTimer timer("Poisson assembly");
   const int n = dofs_.element().num_dofs();
-  const Index ncells = geometry_.num_cells();
   const Index nq = geometry_.points_per_cell();
   const PetscInt begin = dist_.owned_begin(), owned = dist_.num_owned();
 
@@ -185,40 +183,40 @@ void PoissonProblem::assemble() {
   std::vector<PetscScalar> ghost_vals, ghost_b_vals;
   std::vector<double> ke(static_cast<std::size_t>(n * n)), fe(static_cast<std::size_t>(n));
   std::vector<PetscInt> idx(static_cast<std::size_t>(n));
-  const auto& x = geometry_.physical_points();
-  const auto& w = geometry_.JxW();
-  for (Index i = 0; i < ncells; ++i) {
-    const Index c = geometry_.cells()[i];
-    element_stiffness(i, ke.data());
-    std::fill(fe.begin(), fe.end(), 0.0);
-    for (Index q = 0; q < nq; ++q) {
-      const Index p = geometry_.at(i, q);
-      const double wg = w(p) * data_.source(Point<2>(x(p, 0), x(p, 1)), 0.0);
-      for (int k = 0; k < n; ++k) fe[k] += wg * shape_values_(q, k);
-    }
-    for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs_.cell_dofs()(c, k));
-    for (int r = 0; r < n; ++r) {
-      const PetscInt row = idx[r] - begin;
-      if (row < 0 || row >= owned) {
-        for (int k = 0; k < n; ++k) {
-          ghost_rows.push_back(idx[r]);
-          ghost_cols.push_back(idx[k]);
-          ghost_vals.push_back(ke[r * n + k]);
+  geometry_.for_each_chunk([&](const GeometryChunk& g) {
+    for (Index i = 0; i < g.num_cells(); ++i) {
+      const Index c = geometry_.cells()[static_cast<std::size_t>(g.first_cell() + i)];
+      element_stiffness(g, i, ke.data());
+      std::fill(fe.begin(), fe.end(), 0.0);
+      for (Index q = 0; q < nq; ++q) {
+        const Index p = g.at(i, q);
+        const double wg = g.JxW(p) * data_.source(g.point(p), 0.0);
+        for (int k = 0; k < n; ++k) fe[k] += wg * shape_values_(q, k);
+      }
+      for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs_.cell_dofs()(c, k));
+      for (int r = 0; r < n; ++r) {
+        const PetscInt row = idx[r] - begin;
+        if (row < 0 || row >= owned) {
+          for (int k = 0; k < n; ++k) {
+            ghost_rows.push_back(idx[r]);
+            ghost_cols.push_back(idx[k]);
+            ghost_vals.push_back(ke[r * n + k]);
+          }
+          ghost_b_rows.push_back(idx[r]);
+          ghost_b_vals.push_back(fe[r]);
+          continue;
         }
-        ghost_b_rows.push_back(idx[r]);
-        ghost_b_vals.push_back(fe[r]);
-        continue;
-      }
-      b[row] += fe[r];
-      const PetscInt* cols = ja + ia[row];
-      PetscScalar* vals = a + ia[row];
-      for (int k = 0; k < n; ++k) {
-        PetscInt j = 0;
-        while (cols[j] != idx[k]) ++j;  // rows hold ~7-20 entries: a linear scan beats bisection
-        vals[j] += ke[r * n + k];
+        b[row] += fe[r];
+        const PetscInt* cols = ja + ia[row];
+        PetscScalar* vals = a + ia[row];
+        for (int k = 0; k < n; ++k) {
+          PetscInt j = 0;
+          while (cols[j] != idx[k]) ++j;  // rows hold ~7-20 entries: a linear scan beats bisection
+          vals[j] += ke[r * n + k];
+        }
       }
     }
-  }
+  });
   WARPFEM_PETSC_CHECK(VecRestoreArray(b_.get(), &b));
   if (serial) {
     WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(A_.get(), &a));
@@ -370,34 +368,37 @@ petsc::LinearSolveReport PoissonProblem::solve(const petsc::LinearSolveOptions& 
 ErrorNorms PoissonProblem::errors(const ScalarFunction& exact, const GradientFunction& exact_gradient) const {
   const VectorX u = dist_.gather_relevant(u_.get());
   const int n = dofs_.element().num_dofs();
-  const auto& J = geometry_.inverse_transpose();
-  const auto& x = geometry_.physical_points();
-  const auto& w = geometry_.JxW();
   double local[2] = {0, 0};
-  for (Index i = 0; i < geometry_.num_cells(); ++i) {
-    const Index c = geometry_.cells()[i];
-    for (Index q = 0; q < geometry_.points_per_cell(); ++q) {
-      const Index p = geometry_.at(i, q);
-      double uh = 0, gu = 0, gv = 0;
-      for (int k = 0; k < n; ++k) {
-        const double uk = u(dist_.relevant_index(dofs_.cell_dofs()(c, k)));
-        uh += uk * shape_values_(q, k);
-        gu += uk * shape_grads_[0](q, k);
-        gv += uk * shape_grads_[1](q, k);
+  geometry_.for_each_chunk([&](const GeometryChunk& g) {
+    for (Index i = 0; i < g.num_cells(); ++i) {
+      const Index c = geometry_.cells()[static_cast<std::size_t>(g.first_cell() + i)];
+      for (Index q = 0; q < geometry_.points_per_cell(); ++q) {
+        const Index p = g.at(i, q);
+        double uh = 0, gu = 0, gv = 0;
+        for (int k = 0; k < n; ++k) {
+          const double uk = u(dist_.relevant_index(dofs_.cell_dofs()(c, k)));
+          uh += uk * shape_values_(q, k);
+          gu += uk * shape_grads_[0](q, k);
+          gv += uk * shape_grads_[1](q, k);
+        }
+        const Point<2> grad(g.inverse_transpose(p, 0) * gu + g.inverse_transpose(p, 1) * gv,
+                            g.inverse_transpose(p, 2) * gu + g.inverse_transpose(p, 3) * gv);
+        const Point<2> xp = g.point(p);
+        local[0] += g.JxW(p) * std::pow(exact(xp, 0.0) - uh, 2);
+        local[1] += g.JxW(p) * (exact_gradient(xp, 0.0) - grad).squaredNorm();
       }
-      const Point<2> grad(J(p, 0) * gu + J(p, 1) * gv, J(p, 2) * gu + J(p, 3) * gv);
-      const Point<2> xp = x.row(p).transpose();
-      local[0] += w(p) * std::pow(exact(xp, 0.0) - uh, 2);
-      local[1] += w(p) * (exact_gradient(xp, 0.0) - grad).squaredNorm();
     }
-  }
+  });
   double global[2];
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, comm_);
   return {std::sqrt(global[0]), std::sqrt(global[1])};
 }
 
 double PoissonProblem::area() const {
-  double local = geometry_.JxW().sum(), global = 0;
+  double local = 0, global = 0;
+  geometry_.for_each_chunk([&](const GeometryChunk& g) {
+    for (Index p = 0; p < g.num_cells() * geometry_.points_per_cell(); ++p) local += g.JxW(p);
+  });
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, comm_);
   return global;
 }

@@ -45,8 +45,11 @@ struct PoissonSetupTimings {
 
 class PoissonProblem {
  public:
+  /// `storage`: keep the warped geometry (cached, the default: assembly and error
+  /// passes reuse it) or evaluate the map again in every pass (streamed: no
+  /// geometry arrays, for operators assembled once; see warped_geometry.hpp).
   PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
-                 PoissonData data);
+                 PoissonData data, GeometryStorage storage = GeometryStorage::cached);
 
   /// Assembles the stiffness matrix and load vector and applies the boundary conditions.
   /// The sparsity pattern and the matrix itself are created once by the constructor;
@@ -79,8 +82,8 @@ class PoissonProblem {
   int condition_at(const std::vector<BoundaryCondition>& conditions, Index facet, const Point<2>& x0) const;
   void assemble_neumann(std::vector<PetscInt>& rows, std::vector<PetscScalar>& values) const;
   void create_matrix();
-  /// Element stiffness matrix of the i-th local cell (n x n, row-major) from the cached geometry.
-  void element_stiffness(Index i, double* ke) const;
+  /// Element stiffness matrix of local cell i of a geometry chunk (n x n, row-major).
+  void element_stiffness(const GeometryChunk& g, Index i, double* ke) const;
 
   PoissonSetupTimings setup_timings_;  // first: the members below are timed into it
   MPI_Comm comm_;

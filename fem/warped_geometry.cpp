@@ -11,11 +11,13 @@
 namespace warpfem::fem {
 
 WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& cells,
-                               const QuadratureRule<2>& rule, const mapping::Map<2>& map)
-    : mesh_(&mesh), cells_(cells), rule_(rule), nq_(rule.size()) {
+                               const QuadratureRule<2>& rule, const mapping::Map<2>& map,
+                               GeometryStorage storage)
+    : mesh_(&mesh), map_(&map), cells_(cells), rule_(rule), nq_(rule.size()), storage_(storage) {
   const LagrangeElement geo(mesh.cell_type, 1);
   geo_values_ = geo.values(rule.points);
   geo_gradients_ = geo.gradients(rule.points);
+  if (storage_ == GeometryStorage::streamed) return;
   const Index n = num_cells() * nq_;
   x_.resize(n, 2);
   JinvT_.resize(n, 4);
@@ -26,44 +28,75 @@ WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& ce
   const Index cells_per_chunk = std::max<Index>(1, chunk_points / std::max<Index>(1, nq_));
   const Index chunks = (num_cells() + cells_per_chunk - 1) / cells_per_chunk;
   parallel_for(chunks, 1, [&](Index first_chunk, Index last_chunk) {
-    Points<2> x0, x;
-    Jacobians<2> JG, Jf;
+    Scratch s;
     for (Index chunk = first_chunk; chunk < last_chunk; ++chunk) {
       const Index first = chunk * cells_per_chunk, last = std::min(num_cells(), first + cells_per_chunk);
-      const Index m = (last - first) * nq_;
-      x0.resize(m, 2);
-      JG.resize(m, 4);
-      for (Index i = first; i < last; ++i)
-        simple_cell_geometry(mesh, cells_[i], rule.points, geo_values_, geo_gradients_, x0, JG,
-                             (i - first) * nq_);
-      map.eval_with_jacobian(x0, x, Jf);  // one batched evaluation per chunk
       const Index offset = first * nq_;
-      x_.middleRows(offset, m) = x;
-      for (Index k = 0; k < m; ++k) {
-        const Index p = offset + k;
-        const double a = Jf(k, 0), b = Jf(k, 1), c = Jf(k, 2), d = Jf(k, 3);
-        const double e = JG(k, 0), f = JG(k, 1), g = JG(k, 2), h = JG(k, 3);
-        const double j00 = a * e + b * g, j01 = a * f + b * h, j10 = c * e + d * g, j11 = c * f + d * h;
-        const double det = j00 * j11 - j01 * j10;
-        if (!(det > 0)) {
-          std::ostringstream os;
-          os << "the warped cell " << cells_[p / nq_] << " is inverted or degenerate: det J = " << det
-             << " (det J_f = " << a * d - b * c << ") at x0 = (" << x0(k, 0) << ", " << x0(k, 1) << ")";
-          throw Error(os.str(),
-                      {.file = "",
-                       .key_path = "",
-                       .hint = "the map is not bijective there; refine the map's partition (smaller "
-                               "min_interval, higher sample_resolution) or check the polygons"});
-        }
-        const double inv = 1.0 / det;
-        JinvT_(p, 0) = j11 * inv;
-        JinvT_(p, 1) = -j10 * inv;
-        JinvT_(p, 2) = -j01 * inv;
-        JinvT_(p, 3) = j00 * inv;
-        JxW_(p) = rule.weights(k % nq_) * det;
-      }
+      compute(first, last, s, x_.data() + offset, JinvT_.data() + offset, JxW_.data() + offset, n);
     }
   });
+}
+
+void WarpedGeometry::compute(Index first, Index last, Scratch& s, double* x, double* JinvT, double* JxW,
+                             Index ld) const {
+  const Index m = (last - first) * nq_;
+  s.x0.resize(m, 2);
+  s.JG.resize(m, 4);
+  for (Index i = first; i < last; ++i)
+    simple_cell_geometry(*mesh_, cells_[static_cast<std::size_t>(i)], rule_.points, geo_values_,
+                         geo_gradients_, s.x0, s.JG, (i - first) * nq_);
+  map_->eval_with_jacobian(s.x0, s.x, s.Jf);  // one batched evaluation per chunk
+  const auto& Jf = s.Jf;
+  const auto& JG = s.JG;
+  for (Index k = 0; k < m; ++k) {
+    const double a = Jf(k, 0), b = Jf(k, 1), c = Jf(k, 2), d = Jf(k, 3);
+    const double e = JG(k, 0), f = JG(k, 1), g = JG(k, 2), h = JG(k, 3);
+    const double j00 = a * e + b * g, j01 = a * f + b * h, j10 = c * e + d * g, j11 = c * f + d * h;
+    const double det = j00 * j11 - j01 * j10;
+    if (!(det > 0)) {
+      std::ostringstream os;
+      os << "the warped cell " << cells_[static_cast<std::size_t>(first + k / nq_)]
+         << " is inverted or degenerate: det J = " << det << " (det J_f = " << a * d - b * c << ") at x0 = ("
+         << s.x0(k, 0) << ", " << s.x0(k, 1) << ")";
+      throw Error(os.str(), {.file = "",
+                             .key_path = "",
+                             .hint = "the map is not bijective there; refine the map's partition (smaller "
+                                     "min_interval, higher sample_resolution) or check the polygons"});
+    }
+    const double inv = 1.0 / det;
+    x[k] = s.x(k, 0);
+    x[ld + k] = s.x(k, 1);
+    JinvT[k] = j11 * inv;
+    JinvT[ld + k] = -j10 * inv;
+    JinvT[2 * ld + k] = -j01 * inv;
+    JinvT[3 * ld + k] = j00 * inv;
+    JxW[k] = rule_.weights(k % nq_) * det;
+  }
+}
+
+void WarpedGeometry::for_each_chunk(const std::function<void(const GeometryChunk&)>& body) const {
+  if (storage_ == GeometryStorage::cached) {
+    body(GeometryChunk(0, num_cells(), nq_, x_.data(), JinvT_.data(), JxW_.data(), num_cells() * nq_));
+    return;
+  }
+  const Index cells_per_chunk = std::max<Index>(1, chunk_points / std::max<Index>(1, nq_));
+  Scratch s;
+  std::vector<double> x, JinvT, JxW;
+  for (Index first = 0; first < num_cells(); first += cells_per_chunk) {
+    const Index last = std::min(num_cells(), first + cells_per_chunk);
+    const Index m = (last - first) * nq_;
+    x.resize(static_cast<std::size_t>(2 * m));
+    JinvT.resize(static_cast<std::size_t>(4 * m));
+    JxW.resize(static_cast<std::size_t>(m));
+    compute(first, last, s, x.data(), JinvT.data(), JxW.data(), m);
+    body(GeometryChunk(first, last - first, nq_, x.data(), JinvT.data(), JxW.data(), m));
+  }
+}
+
+void WarpedGeometry::throw_not_cached(const char* what) {
+  throw Error(
+      std::string("WarpedGeometry::") + what + ": the geometry is streamed, not stored",
+      {.file = "", .key_path = "", .hint = "use for_each_chunk, or build it with GeometryStorage::cached"});
 }
 
 void WarpedGeometry::cell_reference_geometry(Index i, Points<2>& x0, Jacobians<2>& JG) const {

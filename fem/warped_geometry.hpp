@@ -1,9 +1,16 @@
 #pragma once
-// Geometry of the warped cells f(T) at the quadrature points of a set of cells,
-// computed once from batched calls of the map and cached (thesis eq. 9.2–9.4):
+// Geometry of the warped cells f(T) at the quadrature points of a set of cells
+// (thesis eq. 9.2–9.4):
 //   x0 = G(ξ) (point in Ω0), x = f(x0), J = J_f(x0) · J_G(ξ), J^{-T}, w |det J|.
-// Assembly, Newton iterations and time steps read these arrays and never
-// evaluate f again.
+//
+// Two storage modes:
+//  - cached (default): computed once from batched calls of the map and kept.
+//    Assembly, Newton iterations and time steps read these arrays and never
+//    evaluate f again. 7 numbers per quadrature point (56 bytes).
+//  - streamed: nothing is kept; every pass (for_each_chunk) evaluates the map
+//    again, chunk by chunk. For operators assembled once (multigrid coarse
+//    levels, a linear problem solved once) this saves the memory — the
+//    largest array of a Poisson problem — and the time to fill it.
 //
 // Only what assembly reads is kept: x (2 numbers), J^{-T} (4) and w det J (1)
 // per quadrature point; x0 and J_G are recomputed from the simple mesh when a
@@ -11,6 +18,7 @@
 // evaluated chunk by chunk so that its temporaries stay small.
 
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "fem/mesh.hpp"
@@ -19,11 +27,39 @@
 
 namespace warpfem::fem {
 
+enum class GeometryStorage { cached, streamed };
+
+/// The geometry of the cells [first_cell, first_cell + num_cells) of a
+/// WarpedGeometry's cells(), quadrature point q of local cell i at at(i, q).
+class GeometryChunk {
+ public:
+  GeometryChunk(Index first_cell, Index num_cells, Index nq, const double* x, const double* JinvT,
+                const double* JxW, Index ld)
+      : first_(first_cell), cells_(num_cells), nq_(nq), x_(x), J_(JinvT), w_(JxW), ld_(ld) {}
+
+  Index first_cell() const { return first_; }
+  Index num_cells() const { return cells_; }
+  Index at(Index i, Index q) const { return i * nq_ + q; }
+  /// Component d of x = f(x0).
+  double x(Index p, int d) const { return x_[d * ld_ + p]; }
+  Point<2> point(Index p) const { return {x_[p], x_[ld_ + p]}; }
+  /// Entry k of J^{-T} (row-major: k = 2 row + column).
+  double inverse_transpose(Index p, int k) const { return J_[k * ld_ + p]; }
+  /// w_q |det J|.
+  double JxW(Index p) const { return w_[p]; }
+
+ private:
+  Index first_, cells_, nq_;
+  const double *x_, *J_, *w_;
+  Index ld_;
+};
+
 class WarpedGeometry {
  public:
-  /// Throws warpfem::Error naming the cell and position if det J <= 0 anywhere.
+  /// Throws warpfem::Error naming the cell and position if det J <= 0 anywhere
+  /// (streamed: when a pass reaches that cell).
   WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& cells, const QuadratureRule<2>& rule,
-                 const mapping::Map<2>& map);
+                 const mapping::Map<2>& map, GeometryStorage storage = GeometryStorage::cached);
 
   Index num_cells() const { return static_cast<Index>(cells_.size()); }
   Index points_per_cell() const { return nq_; }
@@ -31,10 +67,26 @@ class WarpedGeometry {
   Index at(Index i, Index q) const { return i * nq_ + q; }
   const std::vector<Index>& cells() const { return cells_; }
   const QuadratureRule<2>& rule() const { return rule_; }
+  GeometryStorage storage() const { return storage_; }
 
-  const Points<2>& physical_points() const { return x_; }  ///< f(x0) in Ω1
-  const Jacobians<2>& inverse_transpose() const { return JinvT_; }
-  const VectorX& JxW() const { return JxW_; }  ///< w_q |det J|
+  /// Calls body(chunk) for consecutive chunks covering all cells, in order
+  /// (cached: one chunk viewing the stored arrays; streamed: the map evaluated
+  /// per chunk of chunk_points points). The map must outlive a streamed geometry.
+  void for_each_chunk(const std::function<void(const GeometryChunk&)>& body) const;
+
+  /// The whole arrays (cached storage only; throws otherwise).
+  const Points<2>& physical_points() const {  ///< f(x0) in Ω1
+    if (storage_ != GeometryStorage::cached) throw_not_cached("physical_points");
+    return x_;
+  }
+  const Jacobians<2>& inverse_transpose() const {
+    if (storage_ != GeometryStorage::cached) throw_not_cached("inverse_transpose");
+    return JinvT_;
+  }
+  const VectorX& JxW() const {  ///< w_q |det J|
+    if (storage_ != GeometryStorage::cached) throw_not_cached("JxW");
+    return JxW_;
+  }
 
   /// x0 = G(ξ_q) and J_G(ξ_q) of the simple (unwarped) cell cells()[i], one row per
   /// quadrature point: recomputed from the mesh, not stored.
@@ -44,10 +96,22 @@ class WarpedGeometry {
   static constexpr Index chunk_points = Index{1} << 16;
 
  private:
+  /// Scratch of one chunk computation.
+  struct Scratch {
+    Points<2> x0, x;
+    Jacobians<2> JG, Jf;
+  };
+  /// Cells [first, last): x, J^{-T}, JxW written with leading dimension ld at
+  /// offset 0 of the given arrays.
+  void compute(Index first, Index last, Scratch& s, double* x, double* JinvT, double* JxW, Index ld) const;
+  [[noreturn]] static void throw_not_cached(const char* what);
+
   const Mesh<2>* mesh_;
+  const mapping::Map<2>* map_;
   std::vector<Index> cells_;
   QuadratureRule<2> rule_;
   Index nq_ = 0;
+  GeometryStorage storage_;
   MatrixX geo_values_;
   std::array<MatrixX, 2> geo_gradients_;
   Points<2> x_;

@@ -229,6 +229,7 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   problem.get_choice("type", "poisson", {"poisson"});
   cfg.poisson.order = static_cast<int>(problem.get_int("order", cfg.poisson.order, 1, 2));
   cfg.poisson.quadrature_degree = static_cast<int>(problem.get_int("quadrature_degree", 0, 0, 30));
+  cfg.poisson.geometry = problem.get_choice("geometry", cfg.poisson.geometry, {"cached", "streamed"});
   cfg.poisson.source = problem.get_expression("source", cfg.poisson.source);
   Expression(cfg.poisson.source, file, problem.path_of("source"));
   cfg.poisson.dirichlet = parse_boundary(problem, "dirichlet", num_edges);

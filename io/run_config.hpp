@@ -28,6 +28,7 @@ struct PoissonSpec {
   std::vector<BoundarySpec> dirichlet;
   std::vector<BoundarySpec> neumann;  ///< ∂u/∂n = h (outward normal)
   std::string exact_solution;         ///< optional: report L2/H1 errors against it
+  std::string geometry = "cached";    ///< cached | streamed (fem::GeometryStorage)
 };
 
 struct SolverSpec {

@@ -24,6 +24,11 @@ struct PoissonMultigridOptions {
   /// the options database may still replace with -<prefix>pc_type). The residual
   /// norm is the unpreconditioned one unless -<prefix>ksp_norm_type says otherwise.
   petsc::LinearSolveOptions linear = default_linear();
+  /// The finest level's geometry (coarse levels are always streamed: their
+  /// operators are assembled once). Streamed saves its memory, the largest
+  /// array of the problem; every later pass over it (errors, re-assembly) then
+  /// evaluates the map again.
+  fem::GeometryStorage finest_geometry = fem::GeometryStorage::cached;
 
   static petsc::LinearSolveOptions default_linear() {
     petsc::LinearSolveOptions o;

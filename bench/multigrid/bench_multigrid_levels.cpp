@@ -8,7 +8,8 @@
 // Options: -order 1|2, -cells triangle|quad, -coarse_h <h> (0.3), -min_refinements/-max_refinements,
 // -map identity|composite (L-shape to an L-shape with a pulled re-entrant corner; -target x0,y0,...,x5,y5
 // gives another target hexagon), -amg 0|1, -galerkin 0|1,
-// -quadrature_degree <q> (default fem::default_quadrature_degree(order)).
+// -quadrature_degree <q> (default fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest
+// level's geometry streamed instead of cached; coarse levels are always streamed).
 // MG set-up = refinement + per-level problems + assembly of every level + prolongations + KSPSetUp.
 // AMG set-up = KSPSetUp only (the finest matrix is shared, its assembly is the "fine asm" column).
 // Any PETSc option applies (-log_view, -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...).
@@ -90,6 +91,7 @@ int main(int argc, char** argv) {
   const int rmax = static_cast<int>(int_option("-max_refinements", 5));
   const bool amg = int_option("-amg", 1) != 0;
   const bool galerkin = int_option("-galerkin", 0) != 0;
+  const bool stream_finest = int_option("-stream_finest", 0) != 0;
   const std::string map_type = string_option("-map", "identity");
   const bool quads = string_option("-cells", "triangle") == "quad";
   const int qdeg = static_cast<int>(int_option("-quadrature_degree", fem::default_quadrature_degree(order)));
@@ -129,6 +131,7 @@ int main(int argc, char** argv) {
   }
   for (int r = rmin; r <= rmax; ++r) {
     multigrid::PoissonMultigridOptions options;
+    if (stream_finest) options.finest_geometry = fem::GeometryStorage::streamed;
     if (galerkin)
       options.multigrid.coarse_operators = multigrid::MultigridSettings::CoarseOperators::galerkin;
     multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, r, map, order, qdeg, data, options);

@@ -115,6 +115,17 @@ TEST(RunConfig, UnknownChoiceListsAlternatives) {
   expect_contains(m, "use one of \"identity\"");
 }
 
+TEST(RunConfig, GeometryStorageIsAChoice) {
+  json j = valid_config();
+  EXPECT_EQ(io::parse_run_config(j, "config.json").poisson.geometry, "cached");
+  j["problem"]["geometry"] = "streamed";
+  EXPECT_EQ(io::parse_run_config(j, "config.json").poisson.geometry, "streamed");
+  j["problem"]["geometry"] = "lazy";
+  const std::string m = error_of(j);
+  expect_contains(m, "/problem/geometry: unknown value \"lazy\"");
+  expect_contains(m, "\"streamed\"");
+}
+
 TEST(RunConfig, MissingBoundaryConditionIsAnError) {
   json j = valid_config();
   j["problem"].erase("dirichlet");

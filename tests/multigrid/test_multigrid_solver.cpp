@@ -132,3 +132,30 @@ TEST(MultigridVariants, SorWCycleFCycleAndGalerkinAllConvergeQuickly) {
 TEST(MultigridSolver, RejectsNegativeRefinements) {
   EXPECT_THROW(solve({fem::CellType::triangle, 1, 12}, -1, {}), Error);
 }
+
+// Coarse levels always stream their geometry; streaming the finest one too must
+// not change the multigrid solve (same operators, same iterations, same solution).
+TEST(MultigridGeometryStorage, StreamedFinestLevelGivesTheCachedSolution) {
+  const auto warp = std::make_shared<SineWarp>();
+  const Case p2{fem::CellType::triangle, 2, 15};
+  auto run = [&](fem::GeometryStorage storage, petsc::Vector& u) {
+    multigrid::PoissonMultigridOptions o;
+    o.finest_geometry = storage;
+    multigrid::PoissonMultigridSolver mg(MPI_COMM_SELF, coarse_l_shape(p2.type, 0.5), 2, warp, p2.order,
+                                         2 * p2.order + 1, multigrid::test::mixed_problem(), o);
+    EXPECT_EQ(mg.finest().geometry().storage(), storage);
+    const auto report = mg.solve();
+    WARPFEM_PETSC_CHECK(VecDuplicate(mg.finest().solution(), u.out()));
+    WARPFEM_PETSC_CHECK(VecCopy(mg.finest().solution(), u.get()));
+    return report.linear.iterations;
+  };
+  petsc::Vector cached, streamed;
+  const int its_cached = run(fem::GeometryStorage::cached, cached);
+  const int its_streamed = run(fem::GeometryStorage::streamed, streamed);
+  EXPECT_EQ(its_streamed, its_cached);
+  PetscReal norm = 0, diff = 0;
+  WARPFEM_PETSC_CHECK(VecNorm(cached.get(), NORM_2, &norm));
+  WARPFEM_PETSC_CHECK(VecAXPY(streamed.get(), -1.0, cached.get()));
+  WARPFEM_PETSC_CHECK(VecNorm(streamed.get(), NORM_2, &diff));
+  EXPECT_LE(diff, 1e-12 * norm);
+}
