@@ -1,0 +1,52 @@
+// The matrix sparsity pattern: every owned row lists, sorted and without
+// duplicates, exactly the DOFs that share a cell with the row's DOF.
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "fem/dof_distribution.hpp"
+#include "fem/dof_map.hpp"
+#include "fem/lagrange_element.hpp"
+#include "fem/polygon_mesher.hpp"
+#include "fem/structured_mesher.hpp"
+#include "fem/uniform_refinement.hpp"
+
+using namespace warpfem;
+
+namespace {
+
+void expect_sparsity_is_the_cell_coupling(const fem::Mesh<2>& mesh, int order) {
+  const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, order));
+  const fem::DofDistribution dist(MPI_COMM_SELF, mesh, dofs);
+  std::vector<PetscInt> row_ptr, cols;
+  dist.sparsity(mesh, dofs, row_ptr, cols);
+  // Brute force: the global DOFs coupled through some cell.
+  std::vector<std::set<PetscInt>> expected(static_cast<std::size_t>(dofs.num_dofs()));
+  const auto& cd = dofs.cell_dofs();
+  for (Index c = 0; c < mesh.num_cells(); ++c)
+    for (Index a = 0; a < cd.cols(); ++a)
+      for (Index b = 0; b < cd.cols(); ++b)
+        expected[static_cast<std::size_t>(dist.global(cd(c, a)))].insert(dist.global(cd(c, b)));
+  ASSERT_EQ(static_cast<Index>(row_ptr.size()), dofs.num_dofs() + 1);
+  for (std::size_t r = 0; r + 1 < row_ptr.size(); ++r) {
+    const std::vector<PetscInt> row(cols.begin() + row_ptr[r], cols.begin() + row_ptr[r + 1]);
+    const std::vector<PetscInt> want(expected[r].begin(), expected[r].end());  // sorted, unique
+    ASSERT_EQ(row, want) << "row " << r << ", order " << order;
+  }
+}
+
+}  // namespace
+
+TEST(Sparsity, RowsAreTheSortedCellCouplingOfTriangles) {
+  const Polygon l_shape = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L");
+  const fem::Mesh<2> mesh = fem::refine_uniformly(fem::mesh_polygon(l_shape, {.max_edge_length = 0.4})).mesh;
+  for (int order : {1, 2}) expect_sparsity_is_the_cell_coupling(mesh, order);
+}
+
+TEST(Sparsity, RowsAreTheSortedCellCouplingOfQuadrilaterals) {
+  const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
+  const fem::Mesh<2> mesh =
+      fem::split_into_quadrilaterals(fem::mesh_polygon(square, {.max_edge_length = 0.3}));
+  for (int order : {1, 2}) expect_sparsity_is_the_cell_coupling(mesh, order);
+}
