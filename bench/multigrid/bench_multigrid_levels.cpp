@@ -7,7 +7,8 @@
 //
 // Options: -order 1|2, -cells triangle|quad, -coarse_h <h> (0.3), -min_refinements/-max_refinements,
 // -map identity|composite (L-shape to an L-shape with a pulled re-entrant corner; -target x0,y0,...,x5,y5
-// gives another target hexagon), -amg 0|1, -galerkin 0|1,
+// gives another target hexagon), -map_config <file.json> (the map of a config file instead, e.g.
+// examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1,
 // -quadrature_degree <q> (default fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest
 // level's geometry streamed instead of cached; coarse levels are always streamed).
 // MG set-up = refinement + per-level problems + assembly of every level + prolongations + KSPSetUp.
@@ -22,6 +23,7 @@
 #include "core/timer.hpp"
 #include "fem/polygon_mesher.hpp"
 #include "fem/structured_mesher.hpp"
+#include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/poisson_multigrid.hpp"
 
@@ -75,7 +77,7 @@ PetscInt int_option(const char* name, PetscInt fallback) {
 }
 
 std::string string_option(const char* name, const char* fallback) {
-  char buf[64] = {0};
+  char buf[PETSC_MAX_PATH_LEN] = {0};
   PetscBool set = PETSC_FALSE;
   WARPFEM_PETSC_CHECK(PetscOptionsGetString(nullptr, nullptr, name, buf, sizeof buf, &set));
   return set ? buf : fallback;
@@ -98,17 +100,23 @@ int main(int argc, char** argv) {
   PetscReal coarse_h = 0.3;
   WARPFEM_PETSC_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-coarse_h", &coarse_h, nullptr));
 
-  // 1. Geometry: the L-shape Ω0 and a map (identity, or a composite mean value map to a bent L).
-  const Polygon source = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L-shape");
+  // 1. Geometry: the L-shape Ω0 and a map (identity, or a composite mean value map to a bent L),
+  // or the map of a config file.
+  const std::string map_config = string_option("-map_config", "");
   mapping::MapSpec spec;
-  spec.type = map_type == "composite" ? "composite_mean_value" : "identity";
-  spec.source = source;
-  PetscReal t[12] = {0, 0, 2, 0, 2.2, 1.4, 1.3, 0.8, 1.1, 2, -0.2, 1.8};
-  PetscInt nt = 12;
-  WARPFEM_PETSC_CHECK(PetscOptionsGetRealArray(nullptr, nullptr, "-target", t, &nt, nullptr));
-  std::vector<Point<2>> target;
-  for (int i = 0; i < 6; ++i) target.emplace_back(t[2 * i], t[2 * i + 1]);
-  spec.target = Polygon::checked(target, "target L");
+  if (!map_config.empty()) {
+    spec = io::parse_required_map(io::ConfigNode(io::ConfigNode::parse_file(map_config), map_config));
+  } else {
+    spec.type = map_type == "composite" ? "composite_mean_value" : "identity";
+    spec.source = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L-shape");
+    PetscReal t[12] = {0, 0, 2, 0, 2.2, 1.4, 1.3, 0.8, 1.1, 2, -0.2, 1.8};
+    PetscInt nt = 12;
+    WARPFEM_PETSC_CHECK(PetscOptionsGetRealArray(nullptr, nullptr, "-target", t, &nt, nullptr));
+    std::vector<Point<2>> target;
+    for (int i = 0; i < 6; ++i) target.emplace_back(t[2 * i], t[2 * i + 1]);
+    spec.target = Polygon::checked(target, "target L");
+  }
+  const Polygon source = *spec.source;
   Stopwatch watch;
   const mapping::MapPtr<2> map = mapping::make_map(spec);
   const double map_seconds = watch.seconds();
