@@ -54,18 +54,24 @@ void CompositeMeanValueMap::run(const Points<2>& x0, Points<2>* x, Jacobians<2>*
   // Blocks are independent: split them over threads (core/threads.hpp).
   const Index blocks = (N + B - 1) / B;
   parallel_for(blocks, 4, [&](Index first_block, Index last_block) {
-    alignas(64) Real cx[kStepBlock], cy[kStepBlock], nx[kStepBlock], ny[kStepBlock];
+    alignas(64) Real bx[2][kStepBlock], by[2][kStepBlock];
     alignas(64) Real A[4 * kStepBlock], P[4 * kStepBlock];  // step Jacobian, product
     for (Index p0 = first_block * B; p0 < std::min(N, last_block * B); p0 += B) {
       const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
-      std::copy(x0.data() + p0, x0.data() + p0 + cnt, cx);
-      std::copy(x0.data() + N + p0, x0.data() + N + p0 + cnt, cy);
       for (int p = 0; p < cnt; ++p) {
         P[p] = P[3 * B + p] = 1;
         P[B + p] = P[2 * B + p] = 0;
       }
-      for (std::size_t k = 0; k < steps_.size(); ++k) {
-        steps_[k].apply(cx, cy, cnt, nx, ny, need_J ? A : nullptr);
+      // Step k reads the previous step's output (the first reads x0 in place)
+      // and writes into the other buffer; the last writes into x if given.
+      const Real* in_x = x0.data() + p0;
+      const Real* in_y = x0.data() + N + p0;
+      const std::size_t m = steps_.size();
+      for (std::size_t k = 0; k < m; ++k) {
+        Real* out_x = bx[k % 2];
+        Real* out_y = by[k % 2];
+        if (k + 1 == m && x) out_x = x->data() + p0, out_y = x->data() + N + p0;
+        steps_[k].apply(in_x, in_y, cnt, out_x, out_y, need_J ? A : nullptr);
         if (need_J) {
           for (int p = 0; p < cnt; ++p) {  // P ← A P
             const Real a = A[p], b = A[B + p], c = A[2 * B + p], d = A[3 * B + p];
@@ -80,12 +86,8 @@ void CompositeMeanValueMap::run(const Points<2>& x0, Points<2>* x, Jacobians<2>*
             for (int p = 0; p < cnt; ++p) col[p] = A[p] * A[3 * B + p] - A[B + p] * A[2 * B + p];
           }
         }
-        std::copy(nx, nx + cnt, cx);
-        std::copy(ny, ny + cnt, cy);
-      }
-      if (x) {
-        std::copy(cx, cx + cnt, x->data() + p0);
-        std::copy(cy, cy + cnt, x->data() + N + p0);
+        in_x = out_x;
+        in_y = out_y;
       }
       if (J)
         for (int c = 0; c < 4; ++c) std::copy(P + c * B, P + c * B + cnt, J->data() + c * N + p0);
@@ -117,7 +119,12 @@ void CompositeMeanValueMap::eval_with_jacobian(const Points<2>& x0, Points<2>& x
 
 void CompositeMeanValueMap::step_determinants(const Points<2>& x0, MatrixX& det_steps, Points<2>* x,
                                               Jacobians<2>* J) const {
-  run(x0, x, J, &det_steps);
+  if (x == &x0) {  // run() writes x while it still reads x0
+    const Points<2> copy = x0;
+    run(copy, x, J, &det_steps);
+  } else {
+    run(x0, x, J, &det_steps);
+  }
 }
 
 std::string CompositeMeanValueMap::describe() const {
