@@ -3,12 +3,13 @@
 // AVX-512F (see mean_value_kernel.hpp for the formulas and the portable kernel).
 //
 // Eight points live in one register for the whole walk around the polygon, so
-// the per-vertex state and the accumulators never leave the registers. Of the
-// one square root and one division per point and vertex, the square root stays
-// on the divider unit while the division becomes the estimate rcp14 refined by
-// two Newton steps (relative error ~1e-16, a few ulps) on the FMA pipes, so the
-// two units work in parallel (replacing both by estimates was no faster: the
-// FMA pipes then saturate).
+// the per-vertex state and the accumulators never leave the registers. On the
+// machine we measure on (AMD Zen 4) the walk is bound by its multiplications and
+// FMAs on the two FMA pipes, so the square roots and the divisions go to the
+// divider unit, which works beside them: with gradients two divisions per point
+// and vertex (1/|s|², tan(α/2)), for values one (1/(|s|² den)). An rcp14 +
+// Newton reciprocal on the FMA pipes was faster before the gradient walk was
+// trimmed to fewer multiplications (A/B figures in BENCHMARKS.md).
 //
 // This header is plain C++; the implementation file alone is compiled with
 // -mavx512f and includes nothing but <immintrin.h>, so no AVX-512 code can leak
