@@ -25,7 +25,7 @@ WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& ce
 
   // Whole cells per chunk; the chunks are spread over the threads (the map's own
   // threading then runs serially inside each), each with its own temporaries.
-  const Index cells_per_chunk = std::max<Index>(1, chunk_points / std::max<Index>(1, nq_));
+  const Index cells_per_chunk = std::max<Index>(1, build_chunk_points / std::max<Index>(1, nq_));
   const Index chunks = (num_cells() + cells_per_chunk - 1) / cells_per_chunk;
   parallel_for(chunks, 1, [&](Index first_chunk, Index last_chunk) {
     Scratch s;

@@ -92,8 +92,13 @@ class WarpedGeometry {
   /// quadrature point: recomputed from the mesh, not stored.
   void cell_reference_geometry(Index i, Points<2>& x0, Jacobians<2>& JG) const;
 
-  /// Points per chunk of the batched map evaluation (bounds the temporaries).
+  /// Points per chunk of a streamed pass (one batched map evaluation, spread
+  /// over the threads by the map; bounds the temporaries).
   static constexpr Index chunk_points = Index{1} << 16;
+  /// Points per chunk when the cached arrays are filled: the chunks go to the
+  /// threads whole, and a chunk's temporaries (~100 bytes per point) stay in L2
+  /// (2^16 points: 1.73-1.79 s for 10^7 points, 2^12: 1.64 s, same run).
+  static constexpr Index build_chunk_points = Index{1} << 12;
 
  private:
   /// Scratch of one chunk computation.
