@@ -5,7 +5,8 @@
 //   build/bench/multigrid/bench_multigrid_levels -order 1 -max_refinements 6 -map composite
 //   mpiexec -n 2 build/bench/multigrid/bench_multigrid_levels -order 1 -min_refinements 6 -max_refinements 6
 //
-// Options: -order 1|2, -cells triangle|quad, -coarse_h <h> (0.3), -min_refinements/-max_refinements,
+// Options: -order 1|2, -cells triangle|quad, -coarse_h <h> (0.3), -structured <n> (an n x n structured
+// coarse mesh of a rectangular source instead of the Delaunay one), -min_refinements/-max_refinements,
 // -map identity|composite (L-shape to an L-shape with a pulled re-entrant corner; -target x0,y0,...,x5,y5
 // gives another target hexagon), -map_config <file.json> (the map of a config file instead, e.g.
 // examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1,
@@ -120,8 +121,13 @@ int main(int argc, char** argv) {
   Stopwatch watch;
   const mapping::MapPtr<2> map = mapping::make_map(spec);
   const double map_seconds = watch.seconds();
-  fem::Mesh<2> coarse = fem::mesh_polygon(source, {.max_edge_length = coarse_h});
-  if (quads) coarse = fem::split_into_quadrilaterals(coarse);
+  const PetscInt structured = int_option("-structured", 0);  // n x n structured coarse mesh instead
+  fem::Mesh<2> coarse =
+      structured > 0
+          ? fem::structured_mesh(source, static_cast<int>(structured), static_cast<int>(structured),
+                                 quads ? fem::CellType::quadrilateral : fem::CellType::triangle)
+          : fem::mesh_polygon(source, {.max_edge_length = coarse_h});
+  if (quads && structured == 0) coarse = fem::split_into_quadrilaterals(coarse);
 
   // 2. Problem: −Δu = 1 on f(Ω0), u = 0 on the whole boundary.
   fem::PoissonData data;
