@@ -1,8 +1,13 @@
 #include "core/environment.hpp"
 
 #include <petscsys.h>
+#include <unistd.h>
 
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <sstream>
+#include <system_error>
 #include <vector>
 
 #include "core/error.hpp"
@@ -10,7 +15,23 @@
 
 namespace warpfem {
 
+std::string Environment::singleton_session_base(const std::function<const char*(const char*)>& env,
+                                                long pid) {
+  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "OMPI_MCA_orte_tmpdir_base"})
+    if (env(launched)) return {};
+  const char* tmp = env("TMPDIR");
+  return std::string(tmp && *tmp ? tmp : "/tmp") + "/warpfem-mpi-" + std::to_string(pid);
+}
+
 Environment::Environment(int& argc, char**& argv) {
+  int mpi_initialized = 0;
+  MPI_Initialized(&mpi_initialized);
+  if (!mpi_initialized) {
+    session_base_ = singleton_session_base([](const char* name) { return std::getenv(name); },
+                                           static_cast<long>(getpid()));
+    if (!session_base_.empty() && setenv("OMPI_MCA_orte_tmpdir_base", session_base_.c_str(), 0) != 0)
+      session_base_.clear();
+  }
   WARPFEM_PETSC_CHECK(PetscInitialize(&argc, &argv, nullptr, nullptr));
   // Let exceptions, not PETSc's default handler, report problems; PETSc still
   // returns the error code through WARPFEM_PETSC_CHECK.
@@ -20,6 +41,10 @@ Environment::Environment(int& argc, char**& argv) {
 Environment::~Environment() {
   PetscPopErrorHandler();
   PetscFinalize();
+  if (!session_base_.empty()) {
+    std::error_code ignored;  // best effort: Open MPI has removed its own directories by now
+    std::filesystem::remove_all(session_base_, ignored);
+  }
 }
 
 int Environment::rank(MPI_Comm comm) {

@@ -5,6 +5,7 @@
 
 #include <mpi.h>
 
+#include <functional>
 #include <string>
 
 namespace warpfem {
@@ -13,6 +14,14 @@ class Environment {
  public:
   /// Initializes MPI (if not yet) and PETSc. PETSc reads its options from
   /// argv, so `-ksp_type cg` on the command line reaches every solver.
+  ///
+  /// A process not started by mpiexec (an Open MPI singleton) gets its own
+  /// Open MPI session directory, `$TMPDIR/warpfem-mpi-<pid>` (removed again at
+  /// exit), unless OMPI_MCA_orte_tmpdir_base is set: singletons started at the
+  /// same moment otherwise race on creating the shared one and one of them
+  /// aborts ("A call to mkdir was unable to create the desired directory ...
+  /// File exists", open-mpi/ompi#8510) — seen under `ctest -j`, and possible in
+  /// any script that starts several runs at once.
   Environment(int& argc, char**& argv);
   ~Environment();
   Environment(const Environment&) = delete;
@@ -24,6 +33,17 @@ class Environment {
   /// Inserts a string of PETSc options ("-ksp_type cg -pc_type gamg") into the
   /// global options database. Options already given on the command line win.
   static void insert_petsc_options(const std::string& options, const std::string& origin);
+
+  /// The private Open MPI session base of this singleton, empty if none was set.
+  const std::string& private_session_base() const { return session_base_; }
+  /// The base a process with environment `env` and id `pid` gets before MPI
+  /// starts: "$TMPDIR/warpfem-mpi-<pid>" (TMPDIR empty: /tmp), or empty if a
+  /// launcher started it (OMPI_COMM_WORLD_SIZE, PMIX_RANK or PMI_RANK set) or
+  /// OMPI_MCA_orte_tmpdir_base is already set.
+  static std::string singleton_session_base(const std::function<const char*(const char*)>& env, long pid);
+
+ private:
+  std::string session_base_;
 };
 
 }  // namespace warpfem

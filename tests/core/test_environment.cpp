@@ -1,5 +1,11 @@
 #include <gtest/gtest.h>
 #include <petscsys.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
 
 #include "core/environment.hpp"
 #include "core/error.hpp"
@@ -19,6 +25,35 @@ TEST(Environment, CommandLineOptionsWinOverConfigOptions) {
   PetscOptionsGetInt(nullptr, nullptr, "-warpfem_test_other", &other, &set);
   EXPECT_TRUE(set);
   EXPECT_EQ(other, 3);
+}
+
+TEST(Environment, SingletonsGetTheirOwnMpiSessionBase) {
+  std::map<std::string, std::string> vars;
+  const auto env = [&vars](const char* name) -> const char* {
+    const auto it = vars.find(name);
+    return it == vars.end() ? nullptr : it->second.c_str();
+  };
+  EXPECT_EQ(Environment::singleton_session_base(env, 4242), "/tmp/warpfem-mpi-4242");
+  vars["TMPDIR"] = "";
+  EXPECT_EQ(Environment::singleton_session_base(env, 7), "/tmp/warpfem-mpi-7");
+  vars["TMPDIR"] = "/scratch/me";
+  EXPECT_EQ(Environment::singleton_session_base(env, 7), "/scratch/me/warpfem-mpi-7");
+  for (const char* launched :
+       {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "OMPI_MCA_orte_tmpdir_base"}) {
+    vars[launched] = "1";
+    EXPECT_EQ(Environment::singleton_session_base(env, 7), "") << launched;
+    vars.erase(launched);
+  }
+}
+
+// This test process: if it set its own base (a singleton under CTest), Open
+// MPI has put its session directory there by now.
+TEST(Environment, OwnSessionBaseIsUsedByOpenMpi) {
+  const char* base = std::getenv("OMPI_MCA_orte_tmpdir_base");
+  const std::string own = "/warpfem-mpi-" + std::to_string(static_cast<long>(getpid()));
+  if (!base || std::string(base).find(own) == std::string::npos)
+    GTEST_SKIP() << "not a singleton with its own session base (started by mpiexec, or the caller chose one)";
+  EXPECT_TRUE(std::filesystem::is_directory(base)) << base;
 }
 
 TEST(Environment, MalformedPetscOptionStringIsAnError) {
