@@ -200,16 +200,16 @@ void map_step_impl(const double* vx, const double* vy, const double* ux, const d
   }
 }
 
-/// Unnormalized weights stay in a contiguous buffer until W is known, for G
-/// groups of eight points at a time (G n ≤ kBuffered, G ≤ kMaxGroups). The
-/// normalized outputs are then written row by row, the G groups' lines of one
-/// output row back to back. Writing one group's 3n lines at once, one per
-/// output row, is slow when the stride ld is a multiple of 2 KiB (batches of
-/// 256 or 512 points): all of them then fall into one or two L1 sets. Zen 4,
-/// 256-point batches of a 32-gon, values + gradients: 12.6–13.2 M points/s
-/// one group at a time, 13.8–14.2 M with G = 4, 14.1–15.3 M with G = 8 (the
-/// buffer, 48 KB, then spills to L2, which costs less than the conflicts),
-/// 17.4 M for comparison with a 248-point stride; values 22–24 → 25–26 M.
+/// Unnormalized weights stay in a buffer until W is known, for G groups of
+/// eight points at a time (G n ≤ kBuffered, G ≤ kMaxGroups). The normalized
+/// outputs are then written row by row, the G groups' lines of one output row
+/// back to back. Writing one group's 3n lines at once, one per output row, is
+/// slow when the stride ld is a multiple of 2 KiB (batches of 256 or 512
+/// points): all of them then fall into one or two L1 sets. Zen 4, 256-point
+/// batches of a 32-gon, values + gradients: 12.6–13.2 M points/s one group at
+/// a time, 13.8–14.2 M with G = 4, 14.1–15.3 M with G = 8, 16.4–16.6 M with
+/// G = 8 and vertex-major records (the row pass then reads the buffer in
+/// order; G = 4 or 16 were slower); values 22–24 → 25–27 M.
 constexpr int kBuffered = 256;
 constexpr int kMaxGroups = 8;
 
@@ -257,8 +257,14 @@ void coordinates_impl(const double* vx, const double* vy, int n, const double* p
     coordinates_unbuffered<kGrad>(vx, vy, n, px, py, cnt, rtol, phi, dxo, dyo, ld, robust);
     return;
   }
-  alignas(64) double buffer[kGrad ? 3 : 1][kBuffered][8];
+  // One record per (vertex i, group g): w, and with gradients ∂x w, ∂y w (one
+  // cache line each). Values keep a group's vertices together (g major), the
+  // gradient records are vertex major, so the row-by-row pass below reads them
+  // in order (A/B: values + gradients +5-9 %, values −3 % with that layout).
+  constexpr int kRecord = kGrad ? 3 : 1;
+  alignas(64) double buffer[kBuffered][kRecord][8];
   const int G = kBuffered / n < kMaxGroups ? kBuffered / n : kMaxGroups;
+  const auto slot = [G, n](int i, int g) { return kGrad ? i * G + g : g * n + i; };
   for (int q0 = 0; q0 < cnt; q0 += 8 * G) {
     __m512d iW[kMaxGroups], Wx[kMaxGroups], Wy[kMaxGroups];
     __mmask8 mask[kMaxGroups];
@@ -268,15 +274,16 @@ void coordinates_impl(const double* vx, const double* vy, int n, const double* p
       const __mmask8 m = lane_mask(cnt - p0);
       Walk walk = begin_walk(vx, vy, n, px, py, p0, m, rtol);
       __m512d W = _mm512_setzero_pd(), Sx = W, Sy = W;
-      const int slot = groups * n;
+      const int g = groups;
       walk_polygon<kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
+        double(*record)[8] = buffer[slot(i, g)];
         W = _mm512_add_pd(W, w);
-        _mm512_store_pd(buffer[0][slot + i], w);
+        _mm512_store_pd(record[0], w);
         if constexpr (kGrad) {
           Sx = _mm512_add_pd(Sx, wx);
           Sy = _mm512_add_pd(Sy, wy);
-          _mm512_store_pd(buffer[1][slot + i], wx);
-          _mm512_store_pd(buffer[2][slot + i], wy);
+          _mm512_store_pd(record[1], wx);
+          _mm512_store_pd(record[2], wy);
         }
       });
       iW[groups] = _mm512_div_pd(bcast(1.0), W);
@@ -288,12 +295,13 @@ void coordinates_impl(const double* vx, const double* vy, int n, const double* p
     // Normalize: φ = w/W, ∇φ = (∇w − φ ∇W)/W, row by row.
     for (int i = 0; i < n; ++i)
       for (int g = 0; g < groups; ++g) {
+        const double(*record)[8] = buffer[slot(i, g)];
         const long at = i * ld + q0 + 8 * g;
-        const __m512d ph = _mm512_mul_pd(_mm512_load_pd(buffer[0][g * n + i]), iW[g]);
+        const __m512d ph = _mm512_mul_pd(_mm512_load_pd(record[0]), iW[g]);
         _mm512_mask_storeu_pd(phi + at, mask[g], ph);
         if constexpr (kGrad) {
-          const __m512d wx = _mm512_load_pd(buffer[1][g * n + i]);
-          const __m512d wy = _mm512_load_pd(buffer[2][g * n + i]);
+          const __m512d wx = _mm512_load_pd(record[1]);
+          const __m512d wy = _mm512_load_pd(record[2]);
           _mm512_mask_storeu_pd(dxo + at, mask[g], _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wx[g], wx), iW[g]));
           _mm512_mask_storeu_pd(dyo + at, mask[g], _mm512_mul_pd(_mm512_fnmadd_pd(ph, Wy[g], wy), iW[g]));
         }
