@@ -80,7 +80,7 @@ struct Walk {
   /// ∇w_i = w_i n_i + (∇t_{i−1} + ∇t_i)/|s_i|. Each n_i is computed once and
   /// used by both edges at v_i: 33 instead of 36 multiply-class operations per
   /// edge in the map step, which bound it on the two FMA pipes.
-  template <bool kGrad, bool kEmit, class Emit>
+  template <bool kGrad, bool kEmit, bool kTwoDivisions, class Emit>
   inline void edge(double ax, double ay, Emit&& emit) {
     const Offset after = offset(ax, ay);
     const __m512d sxn = next.sx, syn = next.sy, r2n = next.r2, rn = next.r;
@@ -91,11 +91,12 @@ struct Walk {
     const __mmask8 pos = _mm512_cmp_pd_mask(dt, _mm512_setzero_pd(), _CMP_GE_OQ);
     const __m512d num = _mm512_mask_blend_pd(pos, _mm512_sub_pd(rr, dt), cr);
     const __m512d den = _mm512_mask_blend_pd(pos, cr, _mm512_add_pd(rr, dt));
-    // Divisions on the divider unit, beside the square roots, off the FMA pipes
-    // (which bound the walk). With gradients there are enough multiplications
-    // for the FMA pipes that two divisions pay; values alone share one.
+    // Divisions on the divider unit, beside the square roots, off the FMA pipes.
+    // Two (1/|s|² and tan(α/2) directly) where the FMA pipes are the busier
+    // unit (the map step's accumulation), else one of |s|²·den followed by
+    // three multiplications.
     __m512d ir2n, t;
-    if constexpr (kGrad) {
+    if constexpr (kTwoDivisions) {
       ir2n = _mm512_div_pd(bcast(1.0), r2n);
       t = _mm512_div_pd(num, den);
     } else {
@@ -131,15 +132,15 @@ struct Walk {
 };
 
 /// The whole polygon: emit(i, w_i, ∂x w_i, ∂y w_i) for i = 0 .. n−1 (n ≥ 3).
-template <bool kGrad, class Emit>
+template <bool kGrad, bool kTwoDivisions, class Emit>
 inline void walk_polygon(Walk& a, const double* vx, const double* vy, int n, Emit&& emit) {
   a.start(vx[n - 1], vy[n - 1], vx[0], vy[0]);
-  a.template edge<kGrad, false>(vx[1], vy[1], [](__m512d, __m512d, __m512d) {});
+  a.template edge<kGrad, false, kTwoDivisions>(vx[1], vy[1], [](__m512d, __m512d, __m512d) {});
   for (int i = 0; i < n; ++i) {
     int j = i + 2;
     if (j >= n) j -= n;
-    a.template edge<kGrad, true>(vx[j], vy[j],
-                                 [&](__m512d w, __m512d wx, __m512d wy) { emit(i, w, wx, wy); });
+    a.template edge<kGrad, true, kTwoDivisions>(
+        vx[j], vy[j], [&](__m512d w, __m512d wx, __m512d wy) { emit(i, w, wx, wy); });
   }
 }
 
@@ -171,7 +172,7 @@ void map_step_impl(const double* vx, const double* vy, const double* ux, const d
     const __mmask8 m = lane_mask(cnt - p0);
     Walk walk = begin_walk(vx, vy, n, px, py, p0, m, rtol);
     __m512d W = _mm512_setzero_pd(), Fx = W, Fy = W, Wx = W, Wy = W, Gxx = W, Gxy = W, Gyx = W, Gyy = W;
-    walk_polygon<kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
+    walk_polygon<kGrad, kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
       const __m512d a = bcast(ux[i]), b = bcast(uy[i]);
       W = _mm512_add_pd(W, w);
       Fx = _mm512_fmadd_pd(w, a, Fx);
@@ -221,7 +222,7 @@ void coordinates_unbuffered(const double* vx, const double* vy, int n, const dou
     const __mmask8 m = lane_mask(cnt - p0);
     Walk walk = begin_walk(vx, vy, n, px, py, p0, m, rtol);
     __m512d W = _mm512_setzero_pd(), Wx = W, Wy = W;
-    walk_polygon<kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
+    walk_polygon<kGrad, false>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
       W = _mm512_add_pd(W, w);
       _mm512_mask_storeu_pd(phi + i * ld + p0, m, w);
       if constexpr (kGrad) {
@@ -275,7 +276,7 @@ void coordinates_impl(const double* vx, const double* vy, int n, const double* p
       Walk walk = begin_walk(vx, vy, n, px, py, p0, m, rtol);
       __m512d W = _mm512_setzero_pd(), Sx = W, Sy = W;
       const int g = groups;
-      walk_polygon<kGrad>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
+      walk_polygon<kGrad, false>(walk, vx, vy, n, [&](int i, __m512d w, __m512d wx, __m512d wy) {
         double(*record)[8] = buffer[slot(i, g)];
         W = _mm512_add_pd(W, w);
         _mm512_store_pd(record[0], w);
