@@ -182,14 +182,19 @@ WARPFEM_KERNEL_INLINE void mean_value_batch(const PolygonArrays& P, const Points
       }
     }
   };
-  for (Index p0 = 0; p0 < N; p0 += detail::kBlock) {
-    const int cnt = static_cast<int>(std::min<Index>(detail::kBlock, N - p0));
+#if defined(WARPFEM_HAVE_AVX512_KERNELS)
+  const Index block = detail::avx512_kernels_enabled() ? detail::avx512::kCoordinatesBlock : detail::kBlock;
+#else
+  const Index block = detail::kBlock;
+#endif
+  for (Index p0 = 0; p0 < N; p0 += block) {
+    const int cnt = static_cast<int>(std::min<Index>(block, N - p0));
     Real* F = phi.data() + p0;
     Real* DX = kGrad ? dphi_dx->data() + p0 : nullptr;
     Real* DY = kGrad ? dphi_dy->data() + p0 : nullptr;
 #if defined(WARPFEM_HAVE_AVX512_KERNELS)
     if (detail::avx512_kernels_enabled()) {
-      unsigned char robust[detail::kBlock];
+      unsigned char robust[detail::avx512::kCoordinatesBlock];
       detail::avx512::coordinates(P.x.data(), P.y.data(), static_cast<int>(n), X + p0, Y + p0, cnt, rtol, F,
                                   DX, DY, static_cast<long>(N), robust);
       fix_robust_points(p0, cnt, F, DX, DY, [&](int p) { return robust[p] != 0; });

@@ -24,6 +24,10 @@ bool set_avx512_kernels_enabled(bool enabled);
 
 namespace avx512 {
 
+/// Points per call of coordinates() (several tiles of 64 points, so that one
+/// tile's normalization overlaps the next one's walk); the map step takes kBlock.
+inline constexpr int kCoordinatesBlock = 256;
+
 /// One barycentric step f(x) = x + Σ φ_i(x) u_i (and J_f if J != nullptr) for cnt
 /// points: vertices (vx, vy), displacements (ux, uy), n vertices. J is four arrays
 /// of stride ldJ (J[0] ∂fx/∂x, J[ldJ] ∂fx/∂y, J[2 ldJ] ∂fy/∂x, J[3 ldJ] ∂fy/∂y).
