@@ -34,8 +34,6 @@ class Environment {
   /// global options database. Options already given on the command line win.
   static void insert_petsc_options(const std::string& options, const std::string& origin);
 
-  /// The private Open MPI session base of this singleton, empty if none was set.
-  const std::string& private_session_base() const { return session_base_; }
   /// The base a process with environment `env` and id `pid` gets before MPI
   /// starts: "$TMPDIR/warpfem-mpi-<pid>" (TMPDIR empty: /tmp), or empty if a
   /// launcher started it (OMPI_COMM_WORLD_SIZE, PMIX_RANK or PMI_RANK set) or
@@ -43,7 +41,7 @@ class Environment {
   static std::string singleton_session_base(const std::function<const char*(const char*)>& env, long pid);
 
  private:
-  std::string session_base_;
+  std::string session_base_;  ///< this singleton's own session base, removed at exit; empty if none
 };
 
 }  // namespace warpfem

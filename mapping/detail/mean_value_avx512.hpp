@@ -3,13 +3,16 @@
 // AVX-512F (see mean_value_kernel.hpp for the formulas and the portable kernel).
 //
 // Eight points live in one register for the whole walk around the polygon, so
-// the per-vertex state and the accumulators never leave the registers. On the
-// machine we measure on (AMD Zen 4) the walk is bound by its multiplications and
-// FMAs on the two FMA pipes, so the square roots and the divisions go to the
-// divider unit, which works beside them: with gradients two divisions per point
-// and vertex (1/|s|², tan(α/2)), for values one (1/(|s|² den)). An rcp14 +
-// Newton reciprocal on the FMA pipes was faster before the gradient walk was
-// trimmed to fewer multiplications (A/B figures in BENCHMARKS.md).
+// the per-vertex state and the accumulators never leave the registers. The
+// square roots and divisions go to the divider unit, which works beside the
+// FMA pipes: two divisions per point and vertex in the map step (1/|s|² and
+// tan(α/2), its accumulation keeps the FMA pipes busy), one in the coordinates
+// walk (1/(|s|² den)). The coordinates are normalized and written row by row
+// for 8 groups of 8 points at a time, inside the walk of the next 8 groups
+// (the output stride of a power-of-two batch otherwise puts all of one group's
+// stores into one or two L1 sets). A/B figures on AMD Zen 4 in BENCHMARKS.md;
+// an rcp14 + Newton reciprocal on the FMA pipes was faster on the Sapphire
+// Rapids host of earlier measurements, before the walk was trimmed.
 //
 // This header is plain C++; the implementation file alone is compiled with
 // -mavx512f and includes nothing but <immintrin.h>, so no AVX-512 code can leak
