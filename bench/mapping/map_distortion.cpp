@@ -1,0 +1,74 @@
+// How the Jacobian of a config's map behaves under refinement: J_f at the cell
+// centres of n × n grids over the source polygon's bounding box (points inside
+// the polygon only), n = 64 … 2048. Prints per n the median, 99th and 99.9th
+// percentiles and the maximum of σ1/σ2 (the pulled-back Laplacian's coefficient
+// det J J⁻¹J⁻ᵀ has anisotropy (σ1/σ2)²) and the smallest det J_f. A maximum that
+// keeps growing while the percentiles stay put marks a Jacobian that is singular
+// at points (docs/multigrid.md: why multigrid iterations grow on such maps).
+//
+//   build/bench/mapping/map_distortion examples/study_gear64.json
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/environment.hpp"
+#include "core/error.hpp"
+#include "io/run_config.hpp"
+#include "mapping/make_map.hpp"
+
+using namespace warpfem;
+
+int main(int argc, char** argv) {
+  Environment env(argc, argv);
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: map_distortion <config.json with a \"map\" object>\n");
+    return 2;
+  }
+  try {
+    const std::string file = argv[1];
+    const mapping::MapSpec spec =
+        io::parse_required_map(io::ConfigNode(io::ConfigNode::parse_file(file), file));
+    const mapping::MapPtr<2> map = mapping::make_map(spec);
+    const Polygon& source = *spec.source;
+    const Point<2> lo = source.bbox_min(), hi = source.bbox_max();
+    std::printf("%s: %s\n", file.c_str(), map->describe().c_str());
+    for (int n = 64; n <= 2048; n *= 2) {
+      std::vector<Point<2>> inside;
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+          const Point<2> p(lo.x() + (a + 0.5) * (hi.x() - lo.x()) / n,
+                           lo.y() + (b + 0.5) * (hi.y() - lo.y()) / n);
+          if (source.side_of(p) > 0) inside.push_back(p);
+        }
+      Points<2> x0(static_cast<Index>(inside.size()), 2), x;
+      for (std::size_t k = 0; k < inside.size(); ++k) x0.row(static_cast<Index>(k)) = inside[k].transpose();
+      Jacobians<2> J;
+      map->eval_with_jacobian(x0, x, J);
+      std::vector<double> ratio(inside.size());
+      double min_det = 1e300;
+      for (Index p = 0; p < x0.rows(); ++p) {
+        const double a = J(p, 0), b = J(p, 1), c = J(p, 2), d = J(p, 3);
+        const double det = a * d - b * c, half_frob = 0.5 * (a * a + b * b + c * c + d * d);
+        const double root = std::sqrt(std::max(0.0, half_frob * half_frob - det * det));
+        const double s1 = std::sqrt(half_frob + root), s2 = std::sqrt(std::max(1e-300, half_frob - root));
+        ratio[static_cast<std::size_t>(p)] = s1 / s2;
+        min_det = std::min(min_det, det);
+      }
+      std::sort(ratio.begin(), ratio.end());
+      const auto q = [&](double f) {
+        return ratio[static_cast<std::size_t>(f * static_cast<double>(ratio.size() - 1))];
+      };
+      std::printf(
+          "n %5d (%8zu points): sigma1/sigma2 median %.2f, p99 %.1f, p99.9 %.1f, max %.1f; min det J_f "
+          "%.4f\n",
+          n, inside.size(), q(0.5), q(0.99), q(0.999), ratio.back(), min_det);
+    }
+  } catch (const Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
