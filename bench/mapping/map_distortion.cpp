@@ -17,6 +17,7 @@
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "io/run_config.hpp"
+#include "mapping/distortion.hpp"
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
@@ -48,15 +49,11 @@ int main(int argc, char** argv) {
       Jacobians<2> J;
       map->eval_with_jacobian(x0, x, J);
       std::vector<double> ratio(inside.size());
-      double min_det = 1e300;
       for (Index p = 0; p < x0.rows(); ++p) {
-        const double a = J(p, 0), b = J(p, 1), c = J(p, 2), d = J(p, 3);
-        const double det = a * d - b * c, half_frob = 0.5 * (a * a + b * b + c * c + d * d);
-        const double root = std::sqrt(std::max(0.0, half_frob * half_frob - det * det));
-        const double s1 = std::sqrt(half_frob + root), s2 = std::sqrt(std::max(1e-300, half_frob - root));
-        ratio[static_cast<std::size_t>(p)] = s1 / s2;
-        min_det = std::min(min_det, det);
+        const auto [s1, s2] = mapping::extreme_singular_values<2>(J, p);
+        ratio[static_cast<std::size_t>(p)] = s1 / std::max(s2, 1e-300);
       }
+      const double min_det = mapping::jacobian_determinants<2>(J).minCoeff();
       std::sort(ratio.begin(), ratio.end());
       const auto q = [&](double f) {
         return ratio[static_cast<std::size_t>(f * static_cast<double>(ratio.size() - 1))];
