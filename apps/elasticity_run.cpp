@@ -155,7 +155,10 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
 
   // 2. The simple mesh of Ω0 and its uniform refinements (kept as a hierarchy for multigrid).
   watch.reset();
-  const fem::MeshHierarchy hierarchy(fem::make_coarse_mesh(*cfg.map.source, cfg.mesh), cfg.mesh.refinements);
+  const fem::MeshHierarchy hierarchy(
+      fem::make_coarse_mesh(*cfg.map.source, cfg.map.target ? *cfg.map.target : *cfg.map.source, *map,
+                            cfg.mesh),
+      cfg.mesh.refinements);
   const fem::Mesh<2>& mesh = hierarchy.finest();
   result.num_cells = mesh.num_cells();
   result.h = mesh.max_edge_length();

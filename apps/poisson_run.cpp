@@ -27,6 +27,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   log::info("map: ", map->describe(), " (", format_seconds(watch.seconds()), ")");
 
   const Polygon& source = *cfg.map.source;
+  const Polygon& target = cfg.map.target ? *cfg.map.target : source;
   fem::PoissonData data;
   data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
   data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
@@ -47,11 +48,11 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
     multigrid::PoissonMultigridOptions mg_options;
     mg_options.linear = cfg.solver.linear;
     mg_options.finest_geometry = storage;
-    mg = std::make_unique<multigrid::PoissonMultigridSolver>(comm, fem::make_coarse_mesh(source, cfg.mesh),
-                                                             cfg.mesh.refinements, map, cfg.poisson.order,
-                                                             qdeg, data, mg_options);
+    mg = std::make_unique<multigrid::PoissonMultigridSolver>(
+        comm, fem::make_coarse_mesh(source, target, *map, cfg.mesh), cfg.mesh.refinements, map,
+        cfg.poisson.order, qdeg, data, mg_options);
   } else {
-    single_mesh = std::make_unique<fem::Mesh<2>>(fem::make_coarse_mesh(source, cfg.mesh));
+    single_mesh = std::make_unique<fem::Mesh<2>>(fem::make_coarse_mesh(source, target, *map, cfg.mesh));
     for (int r = 0; r < cfg.mesh.refinements; ++r) *single_mesh = fem::refine_uniformly(*single_mesh).mesh;
     single = std::make_unique<fem::PoissonProblem>(comm, *single_mesh, map, cfg.poisson.order, qdeg, data,
                                                    storage);

@@ -8,24 +8,32 @@
 #include "core/polygon.hpp"
 #include "fem/mesh.hpp"
 #include "fem/uniform_refinement.hpp"
+#include "mapping/map.hpp"
 
 namespace warpfem::fem {
 
 struct MeshSpec {
   /// delaunay: CGAL constrained Delaunay triangles; quad_split: the Delaunay
   /// triangles split into 3 quadrilaterals each; structured: an nx x ny grid
-  /// of the (rectangular) source polygon; gmsh: read from `file`.
+  /// of the (rectangular) source polygon; gmsh: read from `file`; pullback:
+  /// CGAL's Delaunay mesh of the *target* polygon pulled back through f⁻¹
+  /// (fem/pullback_mesher.hpp; triangles, or quadrilaterals by splitting).
   std::string type = "delaunay";
   CellType cell_type = CellType::triangle;  ///< structured: triangle or quadrilateral
-  double max_edge_length = 0;               ///< delaunay/quad_split: 0 = a tenth of the bbox diagonal
-  double shape_bound = 0.125;               ///< delaunay/quad_split: CGAL shape bound
-  int nx = 4, ny = 4;                       ///< structured: cells per direction
-  std::string file;                         ///< gmsh: path of the .msh file
-  int refinements = 0;                      ///< uniform refinements of the generated mesh
+  double max_edge_length =
+      0;  ///< delaunay/quad_split/pullback: 0 = a tenth of the meshed polygon's bbox diagonal
+  double shape_bound = 0.125;  ///< delaunay/quad_split/pullback: CGAL shape bound
+  int nx = 4, ny = 4;          ///< structured: cells per direction
+  std::string file;            ///< gmsh: path of the .msh file
+  int refinements = 0;         ///< uniform refinements of the generated mesh
 };
 
-/// The coarse mesh (before refinements).
+/// The coarse mesh (before refinements) of a type that does not need the map.
 Mesh<2> make_coarse_mesh(const Polygon& source, const MeshSpec& spec);
+
+/// The coarse mesh for the map f: `source` → `target`; any type, "pullback" included.
+Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const mapping::Map<2>& map,
+                         const MeshSpec& spec);
 
 /// Nested meshes: level 0 is the coarse mesh, level k + 1 the uniform refinement of level k.
 struct MeshHierarchy {

@@ -30,13 +30,15 @@ double distance_to_segment(const Point<2>& p, const Point<2>& a, const Point<2>&
 }
 }  // namespace
 
-Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options) {
+Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
+                     const std::vector<Point<2>>& interior_points) {
   const Index n = polygon.size();
   Cdt cdt;
   std::vector<Cdt::Vertex_handle> corners;
   for (Index i = 0; i < n; ++i)
     corners.push_back(cdt.insert(Cdt::Point(polygon.vertex(i).x(), polygon.vertex(i).y())));
   for (Index i = 0; i < n; ++i) cdt.insert_constraint(corners[i], corners[polygon.wrap(i + 1)]);
+  for (const Point<2>& p : interior_points) cdt.insert(Cdt::Point(p.x(), p.y()));
 
   // A seed-free refinement meshes every bounded component; the polygon is
   // simple so the only bounded component is its interior.

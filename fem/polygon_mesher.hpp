@@ -1,6 +1,8 @@
 #pragma once
 // Triangle meshes of a polygon by CGAL's constrained Delaunay refinement.
 
+#include <vector>
+
 #include "core/polygon.hpp"
 #include "fem/mesh.hpp"
 
@@ -17,6 +19,8 @@ struct PolygonMeshOptions {
 
 /// Meshes the (validated) polygon. Every polygon vertex is a mesh vertex and
 /// every boundary facet is tagged with the polygon edge it lies on.
-Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options = {});
+/// `interior_points` (strictly inside the polygon) become vertices too, inserted before the refinement.
+Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options = {},
+                     const std::vector<Point<2>>& interior_points = {});
 
 }  // namespace warpfem::fem

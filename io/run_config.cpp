@@ -169,7 +169,8 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
 
 MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
   MeshSpec spec;
-  spec.type = mesh.get_choice("type", spec.type, {"delaunay", "quad_split", "structured", "gmsh"});
+  spec.type =
+      mesh.get_choice("type", spec.type, {"delaunay", "quad_split", "structured", "gmsh", "pullback"});
   spec.max_edge_length = mesh.get_double("max_edge_length", spec.max_edge_length, 0.0);
   spec.shape_bound = mesh.get_double("shape_bound", spec.shape_bound, 0.125);
   spec.refinements = static_cast<int>(mesh.get_int("refinements", spec.refinements, 0, 12));
