@@ -1,9 +1,47 @@
 #include "fem/uniform_refinement.hpp"
 
+#include <vector>
+
 #include "core/error.hpp"
 #include "fem/edge_numbering.hpp"
 
 namespace warpfem::fem {
+
+namespace {
+/// Renumbers the fine vertices in the order the fine cells first use them.
+/// Built above, they come as [coarse vertices, edge midpoints, centres]: the
+/// vertices of one cell lie up to a whole mesh apart in memory, and every
+/// vertex- or DOF-ordered loop over a fine level (sparsity pattern, assembly
+/// scatter, matrix rows, SpMV) jumps across the mesh. The cells are already
+/// ordered hierarchically (children 4c … 4c+3 of cell c), so first use keeps
+/// a cell's vertices, and hence its matrix rows, close together.
+void number_vertices_by_first_use(RefinedMesh& r) {
+  Mesh<2>& m = r.mesh;
+  const Index nv = m.num_vertices();
+  std::vector<Index> new_index(static_cast<std::size_t>(nv), -1);
+  Index next = 0;
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (Index k = 0; k < m.cells.cols(); ++k) {
+      Index& v = m.cells(c, k);
+      if (new_index[v] < 0) new_index[v] = next++;
+      v = new_index[v];
+    }
+  for (Index v = 0; v < nv; ++v)  // a vertex used by no cell keeps a place at the end
+    if (new_index[v] < 0) new_index[v] = next++;
+  Points<2> vertices(nv, 2);
+  std::vector<VertexParents> parents(static_cast<std::size_t>(nv));
+  for (Index v = 0; v < nv; ++v) {
+    vertices.row(new_index[v]) = m.vertices.row(v);
+    parents[static_cast<std::size_t>(new_index[v])] = r.vertex_parents[static_cast<std::size_t>(v)];
+  }
+  m.vertices = std::move(vertices);
+  r.vertex_parents = std::move(parents);
+  for (Index f = 0; f < m.num_boundary_facets(); ++f)
+    for (Index k = 0; k < m.boundary_facets.cols(); ++k)
+      m.boundary_facets(f, k) = new_index[m.boundary_facets(f, k)];
+  r.fine_vertex_of_node = std::move(new_index);  // the nodes were built as vertices in this order
+}
+}  // namespace
 
 RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   const bool quads = coarse.cell_type == CellType::quadrilateral;
@@ -62,6 +100,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
     fine.boundary_facets.row(2 * f + 1) << nv + e, b;
     fine.facet_tags[2 * f] = fine.facet_tags[2 * f + 1] = coarse.facet_tags[f];
   }
+  number_vertices_by_first_use(out);
   return out;
 }
 

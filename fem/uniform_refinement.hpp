@@ -28,6 +28,12 @@ struct RefinedMesh {
   std::vector<VertexParents> vertex_parents;
   /// For every fine cell, the coarse cell it lies in.
   std::vector<Index> cell_parent;
+  /// The fine vertex at each coarse node, in DofMap's node order: coarse
+  /// vertex v, then the midpoint of coarse edge e (EdgeNumbering of the coarse
+  /// mesh) at nv + e, then, for quadrilaterals, the centre of cell c at
+  /// nv + ne + c. Fine vertices are numbered by first use in the fine cells,
+  /// so this is not the identity.
+  std::vector<Index> fine_vertex_of_node;
 };
 
 RefinedMesh refine_uniformly(const Mesh<2>& coarse);

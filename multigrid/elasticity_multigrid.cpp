@@ -33,25 +33,29 @@ ComponentMasks finest_masks(const fem::Mesh<2>& mesh, const fem::DofMap& dofs,
   return m;
 }
 
-/// A coarse node is constrained where the fine node at the same place is. With
-/// refine_uniformly's numbering coarse DOF d sits at fine DOF d (vertices keep
-/// their index; the midpoint of coarse edge e is fine vertex nv + e, a quad's
-/// centre nv + ne + c), which is checked here.
+/// A coarse node is constrained where the fine node at the same place is: the
+/// fine vertex at coarse node d is transfer.fine_vertex_of_node[d], and fine
+/// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
+/// checked.
 ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine_dofs,
-                             const fem::DofMap& coarse_dofs) {
+                             const fem::DofMap& coarse_dofs, const fem::RefinedMesh& transfer) {
   const Index n = coarse_dofs.num_dofs();
-  require(n <= fine_dofs.num_dofs(), "ElasticityMultigrid: the coarse level has more DOFs than the fine one");
+  require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
+          "ElasticityMultigrid: the coarse level has more DOFs than the refinement has nodes");
   const double scale = 1 + fine_dofs.dof_points().cwiseAbs().maxCoeff();
-  for (Index d = 0; d < n; ++d)
-    if ((coarse_dofs.dof_points().row(d) - fine_dofs.dof_points().row(d)).cwiseAbs().maxCoeff() >
+  ComponentMasks m;
+  for (int c = 0; c < 2; ++c) m[static_cast<std::size_t>(c)].assign(static_cast<std::size_t>(n), 0);
+  for (Index d = 0; d < n; ++d) {
+    const Index f = transfer.fine_vertex_of_node[static_cast<std::size_t>(d)];
+    if ((coarse_dofs.dof_points().row(d) - fine_dofs.dof_points().row(f)).cwiseAbs().maxCoeff() >
         1e-12 * scale)
       throw Error("ElasticityMultigrid: coarse DOF " + std::to_string(d) +
-                  " is not at the fine DOF with the same index; the hierarchy must come from "
+                  " is not at the fine vertex its refinement records; the hierarchy must come from "
                   "refine_uniformly");
-  ComponentMasks m;
-  for (int c = 0; c < 2; ++c)
-    m[static_cast<std::size_t>(c)].assign(fine[static_cast<std::size_t>(c)].begin(),
-                                          fine[static_cast<std::size_t>(c)].begin() + n);
+    for (int c = 0; c < 2; ++c)
+      m[static_cast<std::size_t>(c)][static_cast<std::size_t>(d)] =
+          fine[static_cast<std::size_t>(c)][static_cast<std::size_t>(f)];
+  }
   return m;
 }
 
@@ -110,7 +114,8 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
   masks.back() = finest_masks(hierarchy.finest(), finest.dofs(), data);
   for (int l = levels - 2; l >= 0; --l)
     masks[static_cast<std::size_t>(l)] =
-        coarser_masks(masks[static_cast<std::size_t>(l) + 1], dofs_at(l + 1), dofs_at(l));
+        coarser_masks(masks[static_cast<std::size_t>(l) + 1], dofs_at(l + 1), dofs_at(l),
+                      hierarchy.transfers[static_cast<std::size_t>(l)]);
   for (int l = 1; l < levels; ++l) {
     std::array<petsc::Matrix, 2> scalar;
     for (int c = 0; c < 2; ++c)

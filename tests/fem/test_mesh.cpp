@@ -3,7 +3,9 @@
 #include <set>
 
 #include "fem/cell_partition.hpp"
+#include "fem/edge_numbering.hpp"
 #include "fem/polygon_mesher.hpp"
+#include "fem/structured_mesher.hpp"
 #include "fem/uniform_refinement.hpp"
 
 using namespace warpfem;
@@ -61,12 +63,49 @@ TEST(UniformRefinement, QuadruplesCellsKeepsAreaAndIsNested) {
   EXPECT_EQ(fine.mesh.num_boundary_facets(), 2 * coarse.num_boundary_facets());
   EXPECT_NEAR(mesh_area(fine.mesh), 3.0, 1e-12);
   EXPECT_NEAR(fine.mesh.max_edge_length(), 0.5 * coarse.max_edge_length(), 1e-12);
-  // Coarse vertices keep their index and position; new vertices are averages of their parents.
+  // Every fine vertex is the average of its parents (a copied coarse vertex has one).
   for (Index v = 0; v < fine.mesh.num_vertices(); ++v) {
     Point<2> avg = Point<2>::Zero();
     for (Index p : fine.vertex_parents[v]) avg += coarse.vertex(p);
     avg /= static_cast<double>(fine.vertex_parents[v].size());
     EXPECT_NEAR((avg - fine.mesh.vertex(v)).norm(), 0.0, 1e-15);
+  }
+}
+
+// Fine vertices are numbered by first use in the fine cells (locality of every DOF-ordered
+// loop), and fine_vertex_of_node says where each coarse node went.
+TEST(UniformRefinement, NumbersVerticesByFirstUseAndRecordsWhereCoarseNodesWent) {
+  for (const bool quads : {false, true}) {
+    Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.4});
+    if (quads) coarse = split_into_quadrilaterals(coarse);
+    const RefinedMesh r = refine_uniformly(coarse);
+    const Mesh<2>& fine = r.mesh;
+    Index next = 0;
+    for (Index c = 0; c < fine.num_cells(); ++c)
+      for (Index k = 0; k < fine.cells.cols(); ++k) {
+        ASSERT_LE(fine.cells(c, k), next) << "vertex used before all lower indices were";
+        if (fine.cells(c, k) == next) ++next;
+      }
+    EXPECT_EQ(next, fine.num_vertices());
+    const EdgeNumbering edges(coarse);
+    const Index nv = coarse.num_vertices(), ne = edges.num_edges();
+    ASSERT_EQ(r.fine_vertex_of_node.size(),
+              static_cast<std::size_t>(nv + ne + (quads ? coarse.num_cells() : 0)));
+    for (Index v = 0; v < nv; ++v) EXPECT_EQ(fine.vertex(r.fine_vertex_of_node[v]), coarse.vertex(v));
+    for (Index e = 0; e < ne; ++e) {
+      const auto& ev = edges.vertices(e);
+      EXPECT_EQ(fine.vertex(r.fine_vertex_of_node[nv + e]),
+                0.5 * (coarse.vertex(ev[0]) + coarse.vertex(ev[1])));
+    }
+    // Every fine vertex is the average of its recorded parents, boundary facets stay on the boundary.
+    for (Index v = 0; v < fine.num_vertices(); ++v) {
+      Point<2> sum = Point<2>::Zero();
+      for (const Index p : r.vertex_parents[v]) sum += coarse.vertex(p);
+      EXPECT_LE((fine.vertex(v) - sum / static_cast<double>(r.vertex_parents[v].size())).norm(), 1e-15);
+    }
+    if (!quads) {
+      EXPECT_NEAR(mesh_area(fine), 3.0, 1e-12);  // mesh_area takes triangles
+    }
   }
 }
 
