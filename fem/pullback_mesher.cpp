@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <vector>
 
 #include "core/error.hpp"
 #include "fem/cell_locator.hpp"
+#include "mapping/distortion.hpp"
 #include "mapping/map_inverse.hpp"
 
 namespace warpfem::fem {
@@ -28,31 +30,43 @@ Error pullback_error(const std::string& what) {
                               "this size too much), or \"type\": \"delaunay\" to mesh Ω0 directly"});
 }
 
-/// Initial guesses for f⁻¹ at interior points: a Delaunay mesh of Ω0 finer than
-/// the target mesh, warped vertex by vertex, located with straight cells.
-Points<2> initial_guesses(const Polygon& source, const mapping::Map<2>& map, const Points<2>& y) {
-  const Real diagonal = (source.bbox_max() - source.bbox_min()).norm();
-  Mesh<2> guide = mesh_polygon(source, {.max_edge_length = diagonal / 64});
-  const Points<2> guide_source = guide.vertices;
-  map.eval(guide_source, guide.vertices);  // straight cells through the warped vertices
-  const CellLocator locator(guide);
-  Points<2> x(y.rows(), 2);
-  for (Index p = 0; p < y.rows(); ++p) {
-    const Point<2> q = y.row(p).transpose();
-    const CellLocator::Location loc = locator.locate(q);
-    if (loc.cell >= 0) {
-      const Point<2> v0 = guide_source.row(guide.cells(loc.cell, 0)).transpose();
-      const Point<2> v1 = guide_source.row(guide.cells(loc.cell, 1)).transpose();
-      const Point<2> v2 = guide_source.row(guide.cells(loc.cell, 2)).transpose();
-      x.row(p) = (v0 + loc.xi.x() * (v1 - v0) + loc.xi.y() * (v2 - v0)).transpose();
-    } else {  // a warped guide cell folded over q: start from the nearest warped vertex
-      Index best = 0;
-      (guide.vertices.rowwise() - q.transpose()).rowwise().squaredNorm().minCoeff(&best);
-      x.row(p) = guide_source.row(best);
-    }
+/// Initial guesses for f⁻¹: a Delaunay mesh of Ω0, warped vertex by vertex and
+/// searched with straight cells; a point falls into a warped cell and gets the
+/// same barycentric combination of the cell's source vertices.
+class InitialGuess {
+ public:
+  InitialGuess(const Polygon& source, const mapping::Map<2>& map) {
+    const Real diagonal = (source.bbox_max() - source.bbox_min()).norm();
+    warped_ = mesh_polygon(source, {.max_edge_length = diagonal / 64});
+    source_vertices_ = warped_.vertices;
+    map.eval(source_vertices_, warped_.vertices);
+    locator_ = std::make_unique<CellLocator>(warped_);
   }
-  return x;
-}
+
+  Points<2> operator()(const Points<2>& y) const {
+    Points<2> x(y.rows(), 2);
+    for (Index p = 0; p < y.rows(); ++p) {
+      const Point<2> q = y.row(p).transpose();
+      const CellLocator::Location loc = locator_->locate(q);
+      if (loc.cell >= 0) {
+        const Point<2> v0 = source_vertices_.row(warped_.cells(loc.cell, 0)).transpose();
+        const Point<2> v1 = source_vertices_.row(warped_.cells(loc.cell, 1)).transpose();
+        const Point<2> v2 = source_vertices_.row(warped_.cells(loc.cell, 2)).transpose();
+        x.row(p) = (v0 + loc.xi.x() * (v1 - v0) + loc.xi.y() * (v2 - v0)).transpose();
+      } else {  // a warped cell folded over q: start from the nearest warped vertex
+        Index best = 0;
+        (warped_.vertices.rowwise() - q.transpose()).rowwise().squaredNorm().minCoeff(&best);
+        x.row(p) = source_vertices_.row(best);
+      }
+    }
+    return x;
+  }
+
+ private:
+  Mesh<2> warped_;  ///< connectivity of the Ω0 mesh, warped vertices (the locator refers to it)
+  Points<2> source_vertices_;
+  std::unique_ptr<CellLocator> locator_;
+};
 
 struct Pulled {
   Mesh<2> mesh;               ///< connectivity of the target mesh, vertices in Ω0
@@ -61,7 +75,8 @@ struct Pulled {
 };
 
 Pulled pull_back_once(const Polygon& source, const Polygon& target, const mapping::Map<2>& map,
-                      const PolygonMeshOptions& options, const std::vector<Point<2>>& extra_points) {
+                      const InitialGuess& initial_guess, const PolygonMeshOptions& options,
+                      const std::vector<Point<2>>& extra_points) {
   Pulled out;
   Mesh<2>& mesh = out.mesh;
   mesh = mesh_polygon(target, options, extra_points);
@@ -77,7 +92,7 @@ Pulled pull_back_once(const Polygon& source, const Polygon& target, const mappin
   for (Index v = 0; v < nv; ++v)
     if (edge_of[v] < 0) interior.push_back(v);
   Points<2> x(nv, 2);
-  const Points<2> guesses = initial_guesses(source, map, y(interior, Eigen::all));
+  const Points<2> guesses = initial_guess(y(interior, Eigen::all));
   for (std::size_t k = 0; k < interior.size(); ++k) x.row(interior[k]) = guesses.row(static_cast<Index>(k));
   for (Index v = 0; v < nv; ++v) {
     if (edge_of[v] < 0) continue;
@@ -137,22 +152,22 @@ std::vector<double> cell_distortion(const Mesh<2>& mesh, const Points<2>& target
   }
   Jacobians<2> J;
   map.jacobian(x, J);
-  std::vector<double> distortion(static_cast<std::size_t>(nc), 0.0);
-  for (Index c = 0; c < nc; ++c) {
+  for (Index c = 0; c < nc; ++c) {  // J ← A_T⁻¹ J_f at the cell's sample points
     Matrix<2> e0, e1;
     e0 << mesh.vertex(mesh.cells(c, 1)) - mesh.vertex(mesh.cells(c, 0)),
         mesh.vertex(mesh.cells(c, 2)) - mesh.vertex(mesh.cells(c, 0));
     e1 << (target_vertices.row(mesh.cells(c, 1)) - target_vertices.row(mesh.cells(c, 0))).transpose(),
         (target_vertices.row(mesh.cells(c, 2)) - target_vertices.row(mesh.cells(c, 0))).transpose();
     const Matrix<2> affine_inverse = e0 * e1.inverse();  // A_T⁻¹ = E0 E1⁻¹
-    for (int k = 0; k < samples; ++k) {
-      const Matrix<2> m = affine_inverse * jacobian_at<2>(J, samples * c + k);
-      // σ1/σ2 of a 2 × 2 matrix from its Frobenius norm and determinant.
-      const double f2 = m.squaredNorm(), det = std::abs(m.determinant());
-      const double root = std::sqrt(std::max(0.0, f2 * f2 - 4 * det * det));
-      const double ratio = det > 0 ? std::sqrt((f2 + root) / std::max(f2 - root, 1e-300)) : 1e300;
-      distortion[static_cast<std::size_t>(c)] = std::max(distortion[static_cast<std::size_t>(c)], ratio);
-    }
+    for (Index p = samples * c; p < samples * (c + 1); ++p)
+      set_jacobian_at<2>(J, p, affine_inverse * jacobian_at<2>(J, p));
+  }
+  const VectorX det = mapping::jacobian_determinants<2>(J);
+  std::vector<double> distortion(static_cast<std::size_t>(nc), 0.0);
+  for (Index p = 0; p < J.rows(); ++p) {
+    const auto [s1, s2] = mapping::extreme_singular_values<2>(J, p);
+    double& d = distortion[static_cast<std::size_t>(p / samples)];
+    d = std::max(d, det(p) > 0 ? s1 / s2 : std::numeric_limits<double>::infinity());
   }
   return distortion;
 }
@@ -169,8 +184,9 @@ Mesh<2> pull_back_target_mesh(const Polygon& source, const Polygon& target, cons
   // cells as extra vertices and is pulled back again.
   constexpr int max_fold_repairs = 8;
   std::vector<Point<2>> extra_points;
+  const InitialGuess initial_guess(source, map);
   for (int repairs = 0;; ++repairs) {
-    Pulled pulled = pull_back_once(source, target, map, options, extra_points);
+    Pulled pulled = pull_back_once(source, target, map, initial_guess, options, extra_points);
     const Mesh<2>& mesh = pulled.mesh;
     const Index nv = mesh.num_vertices();
     if (pulled.inverse.converged < nv) {
