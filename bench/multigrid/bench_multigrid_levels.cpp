@@ -11,7 +11,9 @@
 // gives another target hexagon), -map_config <file.json> (the map of a config file instead, e.g.
 // examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1,
 // -quadrature_degree <q> (default fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest
-// level's geometry streamed instead of cached; coarse levels are always streamed).
+// level's geometry streamed instead of cached; coarse levels are always streamed), -pullback 1 (coarse
+// mesh: CGAL's mesh of the map's target pulled back through f⁻¹, -coarse_h in target units), -prerefine k
+// (refine the coarse mesh k times before the hierarchy starts, e.g. with -mg_coarse_pc_type hypre).
 // MG set-up = refinement + per-level problems + assembly of every level + prolongations + KSPSetUp.
 // AMG set-up = KSPSetUp only (the finest matrix is shared, its assembly is the "fine asm" column).
 // Any PETSc option applies (-log_view, -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...).
@@ -25,6 +27,7 @@
 #include "fem/polygon_mesher.hpp"
 #include "fem/pullback_mesher.hpp"
 #include "fem/structured_mesher.hpp"
+#include "fem/uniform_refinement.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/poisson_multigrid.hpp"
@@ -133,6 +136,9 @@ int main(int argc, char** argv) {
                                               {.max_edge_length = coarse_h}, &pullback_report)
                  : fem::mesh_polygon(source, {.max_edge_length = coarse_h});
   if (quads && structured == 0) coarse = fem::split_into_quadrilaterals(coarse);
+  // -prerefine k: refine the coarse mesh k times first, so PCMG gets only the finer levels (its
+  // coarse solve, e.g. -mg_coarse_pc_type hypre, then works on a mid-size level).
+  for (PetscInt k = int_option("-prerefine", 0); k > 0; --k) coarse = fem::refine_uniformly(coarse).mesh;
   if (pullback && Environment::rank() == 0)
     std::printf(
         "# pulled-back coarse mesh: %ld cells, %d fold repairs, max distortion %.3g, min area ratio %.3g\n",
