@@ -42,6 +42,10 @@ Points<2> grid_sample(const Polygon& polygon, int resolution) {
 }
 
 Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int levels) {
+  // Next to a vertex J_f depends on the direction; a fold there can occupy a
+  // narrow wedge of directions (5 angles missed one of about 10° at the
+  // re-entrant corner of a bent L), so the wedge gets 23 directions.
+  constexpr int kCornerAngles = 23;
   std::vector<Point<2>> pts;
   const Index n = polygon.size();
   auto keep = [&](const Point<2>& p) {
@@ -63,8 +67,8 @@ Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int leve
     Real wedge = std::atan2(f.y(), f.x()) - a0;
     while (wedge <= 0) wedge += 2 * std::numbers::pi;
     const Real rad = std::min(len, f.norm());
-    for (int k = 1; k <= 5; ++k) {
-      const Real ang = a0 + wedge * k / 6.0;
+    for (int k = 1; k <= kCornerAngles; ++k) {
+      const Real ang = a0 + wedge * k / (kCornerAngles + 1.0);
       for (int l = 1; l <= levels; ++l)
         keep(a + std::pow(10.0, -l) * rad * Point<2>(std::cos(ang), std::sin(ang)));
     }

@@ -5,7 +5,7 @@
 // vertices and edges. bijectivity_sample() therefore adds points clustered
 // geometrically toward every edge (distances 10^-1 … 10^-6 of the edge length)
 // and into every corner (radii 10^-1 … 10^-6 of the shorter adjacent edge,
-// several angles across the interior wedge). Only points strictly inside are kept.
+// 23 directions across the interior wedge). Only points strictly inside are kept.
 
 #include "core/polygon.hpp"
 #include "core/types.hpp"

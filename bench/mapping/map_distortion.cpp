@@ -3,8 +3,12 @@
 // the polygon only), n = 64 … 2048. Prints per n the median, 99th and 99.9th
 // percentiles and the maximum of σ1/σ2 (the pulled-back Laplacian's coefficient
 // det J J⁻¹J⁻ᵀ has anisotropy (σ1/σ2)²) and the smallest det J_f. A maximum that
-// keeps growing while the percentiles stay put marks a Jacobian that is singular
-// at points (docs/multigrid.md: why multigrid iterations grow on such maps).
+// keeps growing while the percentiles stay put marks a thin set of points where
+// J_f is singular or depends on the direction of approach: the polygon's vertices.
+// So then, per vertex, the largest σ1/σ2 and smallest det J_f in 720 directions
+// at distances 1e-3, 1e-5, 1e-7: settled values mean a direction-dependent but
+// bounded Jacobian, drifting ones a singular vertex (docs/multigrid.md: why
+// multigrid iterations grow on such maps).
 //
 //   build/bench/mapping/map_distortion examples/study_gear64.json
 
@@ -21,6 +25,52 @@
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
+
+namespace {
+/// J_f next to every polygon vertex: in 720 directions across the source angle at
+/// distances 1e-3, 1e-5, 1e-7, the largest σ1/σ2 and the smallest det J_f. A map
+/// whose values settle is direction-dependent but bounded there; one whose det J_f
+/// keeps falling (or σ1/σ2 keeps rising) is singular at the vertex.
+void print_vertex_limits(const mapping::Map<2>& map, const Polygon& source, const Polygon& target) {
+  std::printf("\nnext to the vertices (720 directions; distance 1e-3, 1e-5, 1e-7):\n");
+  std::printf("vertex  angle source -> target   max sigma1/sigma2            min det J_f\n");
+  auto interior_angle = [](const Polygon& p, Index i, double& start) {
+    const Point<2> a = p.vertex(i + 1) - p.vertex(i), b = p.vertex(i - 1) - p.vertex(i);
+    start = std::atan2(a.y(), a.x());
+    double span = std::atan2(b.y(), b.x()) - start;
+    return span <= 0 ? span + 2 * M_PI : span;
+  };
+  int singular = 0;
+  for (Index i = 0; i < source.size(); ++i) {
+    double start = 0, unused = 0;
+    const double span = interior_angle(source, i, start), target_span = interior_angle(target, i, unused);
+    constexpr int directions = 720;
+    double ratio[3], det[3];
+    int level = 0;
+    for (const double r : {1e-3, 1e-5, 1e-7}) {
+      Points<2> x0(directions, 2), x;
+      for (int k = 0; k < directions; ++k) {
+        const double t = start + span * (k + 0.5) / directions;
+        x0.row(k) << source.vertex(i).x() + r * std::cos(t), source.vertex(i).y() + r * std::sin(t);
+      }
+      Jacobians<2> J;
+      map.eval_with_jacobian(x0, x, J);
+      ratio[level] = 0;
+      for (Index k = 0; k < directions; ++k) {
+        const auto [s1, s2] = mapping::extreme_singular_values<2>(J, k);
+        ratio[level] = std::max(ratio[level], s1 / std::max(s2, 1e-300));
+      }
+      det[level++] = mapping::jacobian_determinants<2>(J).minCoeff();
+    }
+    const bool is_singular = det[2] < 0.5 * det[1] || ratio[2] > 2 * ratio[1];
+    singular += is_singular ? 1 : 0;
+    std::printf("%6ld  %6.1f -> %6.1f   %8.1f %8.1f %8.1f   %.2e %.2e %.2e%s\n", static_cast<long>(i),
+                span * 180 / M_PI, target_span * 180 / M_PI, ratio[0], ratio[1], ratio[2], det[0], det[1],
+                det[2], is_singular ? "  singular" : "");
+  }
+  std::printf("%d of %ld vertices singular\n", singular, static_cast<long>(source.size()));
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   Environment env(argc, argv);
@@ -63,6 +113,7 @@ int main(int argc, char** argv) {
           "%.4f\n",
           n, inside.size(), q(0.5), q(0.99), q(0.999), ratio.back(), min_det);
     }
+    print_vertex_limits(*map, source, spec.target ? *spec.target : source);
   } catch (const Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

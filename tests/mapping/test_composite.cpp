@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -72,6 +74,42 @@ TEST(CompositeMap, AdaptiveCompositeUnfoldsTheCounterexample) {
   EXPECT_GT(min_det_jacobian(*a.map, bijectivity_sample(test::diamond(), 157)), 0.0);
   expect_boundary_reproduced(*a.map, test::diamond(), test::dart());
   EXPECT_LT(jacobian_fd_error(*a.map, grid_sample(test::diamond(), 10), 1e-6), 1e-6);
+}
+
+/// min det J_f in `directions` directions across the interior wedge of every vertex, at distance r.
+Real min_det_next_to_vertices(const Map<2>& f, const Polygon& p, Real r, int directions = 720) {
+  Real worst = std::numeric_limits<Real>::infinity();
+  for (Index i = 0; i < p.size(); ++i) {
+    const Point<2> a = p.vertex(i + 1) - p.vertex(i), b = p.vertex(i - 1) - p.vertex(i);
+    const Real start = std::atan2(a.y(), a.x());
+    Real wedge = std::atan2(b.y(), b.x()) - start;
+    if (wedge <= 0) wedge += 2 * M_PI;
+    Points<2> x(directions, 2);
+    for (int k = 0; k < directions; ++k) {
+      const Real t = start + wedge * (k + 0.5) / directions;
+      x.row(k) = (p.vertex(i) + r * Point<2>(std::cos(t), std::sin(t))).transpose();
+    }
+    worst = std::min(worst, min_det_jacobian(f, x));
+  }
+  return worst;
+}
+
+// Next to a vertex J_f depends only on the direction (it is homogeneous of degree 0 there), and a
+// fold can fill a narrow wedge of directions: the 2-step map the adaptive partition used to accept
+// for this bent L has det J_f < 0 at distances ≤ 1e-5 from the re-entrant corner, in a wedge of
+// about 10° that five sample directions per corner missed.
+TEST(CompositeMap, AdaptivePartitionSeesFoldsInNarrowWedgesAtVertices) {
+  MapSpec spec;
+  spec.type = "composite_mean_value";
+  spec.source = test::polygon({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L-shape");
+  spec.target = test::polygon({{0, 0}, {2, 0}, {2.2, 1.4}, {1.3, 0.8}, {1.1, 2}, {-0.2, 1.8}}, "bent L");
+  const MapPtr<2> f = make_map(spec);
+  for (const Real r : {1e-3, 1e-5, 1e-7})
+    EXPECT_GT(min_det_next_to_vertices(*f, *spec.source, r), 0.0) << "fold at distance " << r;
+  const auto two_steps = std::make_shared<CompositeMeanValueMap>(
+      VertexPath(*spec.source, *spec.target, VertexPathType::linear), std::vector<Real>{0.0, 0.5, 1.0});
+  EXPECT_LT(min_det_next_to_vertices(*two_steps, *spec.source, 1e-5), 0.0)
+      << "the example no longer folds in two steps; it does not test the corner sample";
 }
 
 TEST(CompositeMap, ThrowsWhenEpsilonIsReachedWithoutBijectivity) {
