@@ -19,9 +19,8 @@ struct MeshSpec {
   /// CGAL's Delaunay mesh of the *target* polygon pulled back through f⁻¹
   /// (fem/pullback_mesher.hpp; triangles, or quadrilaterals by splitting).
   std::string type = "delaunay";
-  CellType cell_type = CellType::triangle;  ///< structured: triangle or quadrilateral
-  double max_edge_length =
-      0;  ///< delaunay/quad_split/pullback: 0 = a tenth of the meshed polygon's bbox diagonal
+  CellType cell_type = CellType::triangle;  ///< structured, pullback: triangle or quadrilateral
+  double max_edge_length = 0;  ///< delaunay/quad_split/pullback: 0 = meshed polygon's bbox diagonal / 10
   double shape_bound = 0.125;  ///< delaunay/quad_split/pullback: CGAL shape bound
   int nx = 4, ny = 4;          ///< structured: cells per direction
   std::string file;            ///< gmsh: path of the .msh file
