@@ -41,6 +41,15 @@ Points<2> grid_sample(const Polygon& polygon, int resolution) {
   return to_points(pts);
 }
 
+CornerWedge corner_wedge(const Polygon& polygon, Index i) {
+  const Point<2> e = polygon.vertex(i + 1) - polygon.vertex(i), f = polygon.vertex(i - 1) - polygon.vertex(i);
+  CornerWedge w;
+  w.start = std::atan2(e.y(), e.x());
+  w.angle = std::atan2(f.y(), f.x()) - w.start;
+  while (w.angle <= 0) w.angle += 2 * std::numbers::pi;
+  return w;
+}
+
 Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int levels) {
   // Next to a vertex J_f depends on the direction; a fold there can occupy a
   // narrow wedge of directions (5 angles missed one of about 10° at the
@@ -62,13 +71,10 @@ Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int leve
       for (int l = 1; l <= levels; ++l) keep(a + s * e + std::pow(10.0, -l) * len * normal);
     }
     // into corner i: angles across the interior wedge from edge i (to b) counter-clockwise to c
-    const Real a0 = std::atan2(e.y(), e.x());
-    const Point<2> f = c - a;
-    Real wedge = std::atan2(f.y(), f.x()) - a0;
-    while (wedge <= 0) wedge += 2 * std::numbers::pi;
-    const Real rad = std::min(len, f.norm());
+    const CornerWedge wedge = corner_wedge(polygon, i);
+    const Real rad = std::min(len, (c - a).norm());
     for (int k = 1; k <= kCornerAngles; ++k) {
-      const Real ang = a0 + wedge * k / (kCornerAngles + 1.0);
+      const Real ang = wedge.start + wedge.angle * k / (kCornerAngles + 1.0);
       for (int l = 1; l <= levels; ++l)
         keep(a + std::pow(10.0, -l) * rad * Point<2>(std::cos(ang), std::sin(ang)));
     }

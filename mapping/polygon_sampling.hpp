@@ -12,6 +12,14 @@
 
 namespace warpfem::mapping {
 
+/// The interior wedge at vertex i: directions start … start + angle (radians,
+/// counter-clockwise from edge i towards edge i − 1; angle in (0, 2π)).
+struct CornerWedge {
+  Real start = 0;
+  Real angle = 0;
+};
+CornerWedge corner_wedge(const Polygon& polygon, Index i);
+
 /// Even-odd crossing test, fast, for batches; boundary points may go either way.
 bool inside_polygon(const Polygon& polygon, Real x, Real y);
 

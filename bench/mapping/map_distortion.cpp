@@ -23,6 +23,7 @@
 #include "io/run_config.hpp"
 #include "mapping/distortion.hpp"
 #include "mapping/make_map.hpp"
+#include "mapping/polygon_sampling.hpp"
 
 using namespace warpfem;
 
@@ -34,16 +35,11 @@ namespace {
 void print_vertex_limits(const mapping::Map<2>& map, const Polygon& source, const Polygon& target) {
   std::printf("\nnext to the vertices (720 directions; distance 1e-3, 1e-5, 1e-7):\n");
   std::printf("vertex  angle source -> target   max sigma1/sigma2            min det J_f\n");
-  auto interior_angle = [](const Polygon& p, Index i, double& start) {
-    const Point<2> a = p.vertex(i + 1) - p.vertex(i), b = p.vertex(i - 1) - p.vertex(i);
-    start = std::atan2(a.y(), a.x());
-    double span = std::atan2(b.y(), b.x()) - start;
-    return span <= 0 ? span + 2 * M_PI : span;
-  };
   int singular = 0;
   for (Index i = 0; i < source.size(); ++i) {
-    double start = 0, unused = 0;
-    const double span = interior_angle(source, i, start), target_span = interior_angle(target, i, unused);
+    const mapping::CornerWedge wedge = mapping::corner_wedge(source, i);
+    const double start = wedge.start, span = wedge.angle,
+                 target_span = mapping::corner_wedge(target, i).angle;
     constexpr int directions = 720;
     double ratio[3], det[3];
     int level = 0;

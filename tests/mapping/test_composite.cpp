@@ -80,13 +80,10 @@ TEST(CompositeMap, AdaptiveCompositeUnfoldsTheCounterexample) {
 Real min_det_next_to_vertices(const Map<2>& f, const Polygon& p, Real r, int directions = 720) {
   Real worst = std::numeric_limits<Real>::infinity();
   for (Index i = 0; i < p.size(); ++i) {
-    const Point<2> a = p.vertex(i + 1) - p.vertex(i), b = p.vertex(i - 1) - p.vertex(i);
-    const Real start = std::atan2(a.y(), a.x());
-    Real wedge = std::atan2(b.y(), b.x()) - start;
-    if (wedge <= 0) wedge += 2 * M_PI;
+    const CornerWedge wedge = corner_wedge(p, i);
     Points<2> x(directions, 2);
     for (int k = 0; k < directions; ++k) {
-      const Real t = start + wedge * (k + 0.5) / directions;
+      const Real t = wedge.start + wedge.angle * (k + 0.5) / directions;
       x.row(k) = (p.vertex(i) + r * Point<2>(std::cos(t), std::sin(t))).transpose();
     }
     worst = std::min(worst, min_det_jacobian(f, x));
