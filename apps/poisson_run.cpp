@@ -47,6 +47,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   if (use_mg) {
     multigrid::PoissonMultigridOptions mg_options;
     mg_options.linear = cfg.solver.linear;
+    mg_options.multigrid = cfg.solver.multigrid;
     mg_options.finest_geometry = storage;
     mg = std::make_unique<multigrid::PoissonMultigridSolver>(
         comm, fem::make_coarse_mesh(source, target, *map, cfg.mesh), cfg.mesh.refinements, map,

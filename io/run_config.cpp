@@ -251,6 +251,24 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   lin.atol = solver.get_double("atol", lin.atol, 0.0);
   lin.max_iterations = static_cast<int>(solver.get_int("max_iterations", lin.max_iterations, 1));
   cfg.solver.petsc_options = solver.get_string("petsc_options", "");
+  {
+    using S = multigrid::MultigridSettings;
+    const ConfigNode mg = solver.child("multigrid");
+    S& m = cfg.solver.multigrid;
+    const std::string smoother =
+        mg.get_choice("smoother", "chebyshev_jacobi", {"chebyshev_jacobi", "chebyshev_sor", "sor"});
+    m.smoother = smoother == "sor"             ? S::Smoother::sor
+                 : smoother == "chebyshev_sor" ? S::Smoother::chebyshev_sor
+                                               : S::Smoother::chebyshev_jacobi;
+    const std::string cycle = mg.get_choice("cycle", "v", {"v", "w", "f"});
+    m.cycle = cycle == "w" ? S::Cycle::w : cycle == "f" ? S::Cycle::f : S::Cycle::v;
+    m.coarse_operators =
+        mg.get_choice("coarse_operators", "rediscretization", {"rediscretization", "galerkin"}) == "galerkin"
+            ? S::CoarseOperators::galerkin
+            : S::CoarseOperators::rediscretization;
+    m.smoothing_steps = static_cast<int>(mg.get_int("smoothing_steps", m.smoothing_steps, 1, 20));
+    mg.finish();
+  }
   solver.finish();
 
   const ConfigNode output = root.child("output");

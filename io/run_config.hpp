@@ -10,6 +10,7 @@
 #include "fem/mesh_factory.hpp"
 #include "io/config_node.hpp"
 #include "mapping/map_spec.hpp"
+#include "multigrid/pcmg.hpp"
 
 namespace warpfem::io {
 
@@ -33,7 +34,8 @@ struct PoissonSpec {
 
 struct SolverSpec {
   petsc::LinearSolveOptions linear;
-  std::string petsc_options;  ///< extra PETSc options, e.g. "-ksp_monitor"
+  multigrid::MultigridSettings multigrid;  ///< "multigrid": smoother, cycle, coarse operators, steps
+  std::string petsc_options;               ///< extra PETSc options, e.g. "-ksp_monitor"
 };
 
 struct OutputSpec {

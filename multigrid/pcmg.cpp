@@ -11,10 +11,15 @@ namespace {
 void configure_smoother(KSP smoother, const MultigridSettings& s) {
   PC pc = nullptr;
   WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
-  if (s.smoother == MultigridSettings::Smoother::chebyshev_jacobi) {
+  if (s.smoother != MultigridSettings::Smoother::sor) {
     WARPFEM_PETSC_CHECK(KSPSetType(smoother, KSPCHEBYSHEV));
-    WARPFEM_PETSC_CHECK(PCSetType(pc, PCJACOBI));
-    // Target [0.1, 1.1] λmax of D⁻¹A, λmax from a few CG iterations at set-up.
+    if (s.smoother == MultigridSettings::Smoother::chebyshev_jacobi) {
+      WARPFEM_PETSC_CHECK(PCSetType(pc, PCJACOBI));
+    } else {
+      WARPFEM_PETSC_CHECK(PCSetType(pc, PCSOR));
+      WARPFEM_PETSC_CHECK(PCSORSetSymmetric(pc, SOR_LOCAL_SYMMETRIC_SWEEP));
+    }
+    // Target [0.1, 1.1] λmax of M⁻¹A, λmax from a few CG iterations at set-up.
     WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.1, 0.0, 1.1));
     KSP est = nullptr;
     WARPFEM_PETSC_CHECK(KSPChebyshevEstEigGetKSP(smoother, &est));

@@ -126,6 +126,29 @@ TEST(RunConfig, GeometryStorageIsAChoice) {
   expect_contains(m, "\"streamed\"");
 }
 
+TEST(RunConfig, MultigridSettingsAreChoices) {
+  using S = multigrid::MultigridSettings;
+  json j = valid_config();
+  const io::RunConfig defaults = io::parse_run_config(j, "config.json");
+  EXPECT_EQ(defaults.solver.multigrid.smoother, S::Smoother::chebyshev_jacobi);
+  EXPECT_EQ(defaults.solver.multigrid.cycle, S::Cycle::v);
+  EXPECT_EQ(defaults.solver.multigrid.coarse_operators, S::CoarseOperators::rediscretization);
+  EXPECT_EQ(defaults.solver.multigrid.smoothing_steps, 2);
+  j["solver"]["multigrid"] = json::parse(
+      R"({"smoother": "chebyshev_sor", "cycle": "w", "coarse_operators": "galerkin", "smoothing_steps": 3})");
+  const io::RunConfig cfg = io::parse_run_config(j, "config.json");
+  EXPECT_EQ(cfg.solver.multigrid.smoother, S::Smoother::chebyshev_sor);
+  EXPECT_EQ(cfg.solver.multigrid.cycle, S::Cycle::w);
+  EXPECT_EQ(cfg.solver.multigrid.coarse_operators, S::CoarseOperators::galerkin);
+  EXPECT_EQ(cfg.solver.multigrid.smoothing_steps, 3);
+  j["solver"]["multigrid"]["smoother"] = "gauss";
+  expect_contains(error_of(j), "/solver/multigrid/smoother: unknown value \"gauss\"");
+  j["solver"]["multigrid"] = json::parse(R"({"smoothing_steps": 0})");
+  expect_contains(error_of(j), "/solver/multigrid/smoothing_steps");
+  j["solver"]["multigrid"] = json::parse(R"({"cycles": "w"})");
+  expect_contains(error_of(j), "/solver/multigrid/cycles: unknown key");
+}
+
 TEST(RunConfig, MissingBoundaryConditionIsAnError) {
   json j = valid_config();
   j["problem"].erase("dirichlet");

@@ -114,11 +114,12 @@ TEST(MultigridIterationsOnWarpedGeometry, AreBoundedIndependentlyOfMeshSize) {
   }
 }
 
-TEST(MultigridVariants, SorWCycleFCycleAndGalerkinAllConvergeQuickly) {
+TEST(MultigridVariants, SorChebyshevSorWCycleFCycleAndGalerkinAllConvergeQuickly) {
   using S = multigrid::MultigridSettings;
   const Case p2{fem::CellType::triangle, 2, 15};
-  for (const S s : {S{.smoother = S::Smoother::sor}, S{.cycle = S::Cycle::w}, S{.cycle = S::Cycle::f},
-                    S{.coarse_operators = S::CoarseOperators::galerkin}}) {
+  for (const S s :
+       {S{.smoother = S::Smoother::sor}, S{.smoother = S::Smoother::chebyshev_sor}, S{.cycle = S::Cycle::w},
+        S{.cycle = S::Cycle::f}, S{.coarse_operators = S::CoarseOperators::galerkin}}) {
     multigrid::PoissonMultigridOptions o;
     o.multigrid = s;
     double residual = 0;
@@ -126,6 +127,30 @@ TEST(MultigridVariants, SorWCycleFCycleAndGalerkinAllConvergeQuickly) {
     EXPECT_LE(residual, 1.01e-8);
     EXPECT_LE(report.linear.iterations, 15);
     EXPECT_EQ(report.linear.pc_type, "mg");
+  }
+}
+
+// The smoother setting reaches every level's KSP (Chebyshev + SOR for chebyshev_sor).
+TEST(MultigridVariants, ChebyshevSorSettingConfiguresEveryLevel) {
+  using S = multigrid::MultigridSettings;
+  multigrid::PoissonMultigridOptions o;
+  o.multigrid = S{.smoother = S::Smoother::chebyshev_sor};
+  multigrid::PoissonMultigridSolver mg(MPI_COMM_SELF, coarse_l_shape(fem::CellType::triangle, 0.5), 2,
+                                       std::make_shared<mapping::IdentityMap<2>>(), 1, 3,
+                                       multigrid::test::mixed_problem(), o);
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
+  for (PetscInt l = 1; l <= 2; ++l) {
+    KSP smoother = nullptr;
+    PC spc = nullptr;
+    KSPType ktype = nullptr;
+    PCType ptype = nullptr;
+    WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, l, &smoother));
+    WARPFEM_PETSC_CHECK(KSPGetType(smoother, &ktype));
+    WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &spc));
+    WARPFEM_PETSC_CHECK(PCGetType(spc, &ptype));
+    EXPECT_STREQ(ktype, KSPCHEBYSHEV) << "level " << l;
+    EXPECT_STREQ(ptype, PCSOR) << "level " << l;
   }
 }
 
