@@ -136,14 +136,14 @@ int main(int argc, char** argv) {
                                               {.max_edge_length = coarse_h}, &pullback_report)
                  : fem::mesh_polygon(source, {.max_edge_length = coarse_h});
   if (quads && structured == 0) coarse = fem::split_into_quadrilaterals(coarse);
-  // -prerefine k: refine the coarse mesh k times first, so PCMG gets only the finer levels (its
-  // coarse solve, e.g. -mg_coarse_pc_type hypre, then works on a mid-size level).
-  for (PetscInt k = int_option("-prerefine", 0); k > 0; --k) coarse = fem::refine_uniformly(coarse).mesh;
   if (pullback && Environment::rank() == 0)
     std::printf(
         "# pulled-back coarse mesh: %ld cells, %d fold repairs, max distortion %.3g, min area ratio %.3g\n",
         static_cast<long>(coarse.num_cells()), pullback_report.fold_repairs, pullback_report.max_distortion,
         pullback_report.min_area_ratio);
+  // -prerefine k: refine the coarse mesh k times first, so PCMG gets only the finer levels (its
+  // coarse solve, e.g. -mg_coarse_pc_type hypre, then works on a mid-size level).
+  for (PetscInt k = int_option("-prerefine", 0); k > 0; --k) coarse = fem::refine_uniformly(coarse).mesh;
 
   // 2. Problem: −Δu = 1 on f(Ω0), u = 0 on the whole boundary.
   fem::PoissonData data;
