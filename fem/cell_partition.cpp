@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <numeric>
+#include <string>
 #include <utility>
+
+#include "core/error.hpp"
 
 namespace warpfem::fem {
 namespace {
@@ -52,6 +55,20 @@ std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts) {
   }
   for (int p = 0; p < num_parts; ++p)
     for (auto it = split(p); it != split(p + 1); ++it) owner[static_cast<std::size_t>(it->second)] = p;
+  return owner;
+}
+
+std::vector<int> inherit_partition(const std::vector<Index>& cell_parent,
+                                   const std::vector<int>& coarse_owner) {
+  std::vector<int> owner(cell_parent.size());
+  for (std::size_t c = 0; c < cell_parent.size(); ++c) {
+    const Index p = cell_parent[c];
+    if (p < 0 || p >= static_cast<Index>(coarse_owner.size()))
+      throw Error("inherit_partition: fine cell " + std::to_string(c) + " lies in coarse cell " +
+                  std::to_string(p) + ", not one of the " + std::to_string(coarse_owner.size()) +
+                  " coarse cells");
+    owner[c] = coarse_owner[static_cast<std::size_t>(p)];
+  }
   return owner;
 }
 

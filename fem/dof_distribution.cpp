@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <numeric>
+#include <string>
 
+#include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/scatter.hpp"
 #include "core/threads.hpp"
@@ -10,11 +12,29 @@
 
 namespace warpfem::fem {
 
+namespace {
+int communicator_size(MPI_Comm comm) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  return size;
+}
+}  // namespace
+
 DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs)
+    : DofDistribution(comm, mesh, dofs, partition_cells(mesh, communicator_size(comm))) {}
+
+DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs,
+                                 const std::vector<int>& cell_owner)
     : comm_(comm), dofs_(&dofs) {
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
-  const std::vector<int> cell_owner = partition_cells(mesh, size_);
+  require(static_cast<Index>(cell_owner.size()) == mesh.num_cells(),
+          "DofDistribution: " + std::to_string(cell_owner.size()) + " cell owners for " +
+              std::to_string(mesh.num_cells()) + " cells");
+  const auto [lowest, highest] = std::minmax_element(cell_owner.begin(), cell_owner.end());
+  if (!cell_owner.empty() && (*lowest < 0 || *highest >= size_))
+    throw Error("DofDistribution: cell owner " + std::to_string(*lowest < 0 ? *lowest : *highest) +
+                " is not a rank of a communicator of size " + std::to_string(size_));
   const IndexTable& cd = dofs.cell_dofs();
   const Index nd = dofs.num_dofs();
   owner_.assign(static_cast<std::size_t>(nd), size_);

@@ -1,7 +1,7 @@
 #pragma once
 // Parallel ownership and PETSc numbering of the DOFs of a DofMap.
 //
-// Cells are owned by the rank partition_cells() gives them; a DOF is owned by
+// Cells are owned by the rank partition_cells() (or the caller) gives them; a DOF is owned by
 // the lowest rank among the cells that contain it. PETSc global indices number
 // the DOFs of rank 0 first, then rank 1, ..., each block in mesh order, so
 // every rank owns one contiguous range [owned_begin, owned_end).
@@ -18,7 +18,11 @@ namespace warpfem::fem {
 
 class DofDistribution {
  public:
+  /// Cells partitioned by partition_cells().
   DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs);
+  /// Cells partitioned by `cell_owner` (one rank in [0, size) per cell, the same
+  /// on every rank), e.g. a nested partition of a hierarchy (nested_partitions()).
+  DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs, const std::vector<int>& cell_owner);
 
   MPI_Comm comm() const { return comm_; }
   int rank() const { return rank_; }

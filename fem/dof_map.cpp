@@ -22,7 +22,12 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
     for (int k = 0; k < interior; ++k)
       cell_dofs_(c, nloc - interior + k) = nv + ne * per_edge + c * interior + k;
   }
-  // Node positions: map the reference nodes through the straight cell geometry.
+  // Node positions: map the reference nodes through the straight cell geometry
+  // (for P1/Q1 the nodes are the vertices).
+  if (element.order() == 1) {
+    dof_points_ = mesh.vertices;
+    return;
+  }
   const LagrangeElement geo(mesh.cell_type, 1);
   const MatrixX N = geo.values(element.nodes());
   dof_points_.resize(num_dofs_, 2);

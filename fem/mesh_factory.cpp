@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "fem/cell_partition.hpp"
 #include "fem/gmsh_reader.hpp"
 #include "fem/polygon_mesher.hpp"
 #include "fem/pullback_mesher.hpp"
@@ -53,6 +54,27 @@ MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements) {
     transfers.push_back(refine_uniformly(levels.back()));
     levels.push_back(std::move(transfers.back().mesh));  // the parent maps stay in `transfers`
   }
+}
+
+std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
+                                                Index min_cells_per_part) {
+  require(num_parts >= 1, "nested_partitions: need at least one part");
+  std::vector<std::vector<int>> owners(static_cast<std::size_t>(h.num_levels()));
+  bool base_found = false;
+  for (int l = 0; l < h.num_levels(); ++l) {
+    const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];
+    auto& owner = owners[static_cast<std::size_t>(l)];
+    if (num_parts == 1) {
+      owner.assign(static_cast<std::size_t>(mesh.num_cells()), 0);
+    } else if (!base_found) {
+      owner = partition_cells(mesh, num_parts);
+      base_found = mesh.num_cells() >= min_cells_per_part * num_parts;
+    } else {
+      owner = inherit_partition(h.transfers[static_cast<std::size_t>(l - 1)].cell_parent,
+                                owners[static_cast<std::size_t>(l - 1)]);
+    }
+  }
+  return owners;
 }
 
 }  // namespace warpfem::fem

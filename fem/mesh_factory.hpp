@@ -46,4 +46,14 @@ struct MeshHierarchy {
   int num_levels() const { return static_cast<int>(levels.size()); }
 };
 
+/// Cell owners for every level of `h` (the same on every rank, no communication):
+/// the coarsest level with at least `min_cells_per_part` cells per part, and every
+/// coarser one, is cut along its Morton curve (partition_cells); each finer level
+/// inherits its parents' owners (inherit_partition). The partition of the fine
+/// levels is therefore nested (a rank's fine cells cover its coarse cells, so
+/// prolongation rows need no other rank's coarse DOFs) and balanced to one base
+/// cell's descendants; the per-level Morton sort of the large levels is skipped.
+std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
+                                                Index min_cells_per_part = 256);
+
 }  // namespace warpfem::fem

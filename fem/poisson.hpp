@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "core/petsc/handles.hpp"
 #include "core/petsc/linear_solve.hpp"
@@ -48,8 +49,10 @@ class PoissonProblem {
   /// `storage`: keep the warped geometry (cached, the default: assembly and error
   /// passes reuse it) or evaluate the map again in every pass (streamed: no
   /// geometry arrays, for operators assembled once; see warped_geometry.hpp).
+  /// `cell_owner`: the rank of every cell (empty: partition_cells()).
   PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
-                 PoissonData data, GeometryStorage storage = GeometryStorage::cached);
+                 PoissonData data, GeometryStorage storage = GeometryStorage::cached,
+                 const std::vector<int>& cell_owner = {});
 
   /// Assembles the stiffness matrix and load vector and applies the boundary conditions.
   /// The sparsity pattern and the matrix itself are created once by the constructor;

@@ -29,14 +29,19 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   const bool galerkin = options.multigrid.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
   report_.levels = levels;
 
-  // 1. One PoissonProblem (DOF map, distribution, warped geometry) per level. The
-  // coarse levels' operators are assembled once: their geometry is streamed.
+  // 1. One PoissonProblem (DOF map, distribution, warped geometry) per level, on a
+  // nested cell partition. The coarse levels' operators are assembled once: their
+  // geometry is streamed.
   watch.reset();
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const std::vector<std::vector<int>> owners = fem::nested_partitions(hierarchy_, ranks);
   for (int l = 0; l < levels; ++l) {
     const fem::GeometryStorage storage =
         l == levels - 1 ? options.finest_geometry : fem::GeometryStorage::streamed;
     problems_.push_back(std::make_unique<fem::PoissonProblem>(
-        comm, hierarchy_.levels[static_cast<std::size_t>(l)], map, order, quadrature_degree, data, storage));
+        comm, hierarchy_.levels[static_cast<std::size_t>(l)], map, order, quadrature_degree, data, storage,
+        owners[static_cast<std::size_t>(l)]));
     report_.level_dofs.push_back(problems_.back()->dofs().num_dofs());
     const fem::PoissonSetupTimings& p = problems_.back()->setup_timings();
     t.problem_parts.dof_map += p.dof_map;

@@ -5,6 +5,7 @@
 
 #include <set>
 
+#include "core/error.hpp"
 #include "fem/dof_distribution.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/lagrange_element.hpp"
@@ -49,4 +50,20 @@ TEST(Sparsity, RowsAreTheSortedCellCouplingOfQuadrilaterals) {
   const fem::Mesh<2> mesh =
       fem::split_into_quadrilaterals(fem::mesh_polygon(square, {.max_edge_length = 0.3}));
   for (int order : {1, 2}) expect_sparsity_is_the_cell_coupling(mesh, order);
+}
+
+TEST(DofDistribution, GivenCellOwnersAreCheckedAndUsed) {
+  const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
+  const fem::Mesh<2> mesh = fem::mesh_polygon(square, {.max_edge_length = 0.3});
+  const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, 2));
+  const std::vector<int> all_mine(static_cast<std::size_t>(mesh.num_cells()), 0);
+  const fem::DofDistribution given(MPI_COMM_SELF, mesh, dofs, all_mine), morton(MPI_COMM_SELF, mesh, dofs);
+  EXPECT_EQ(given.local_cells(), morton.local_cells());
+  EXPECT_EQ(given.num_owned(), dofs.num_dofs());
+  // One owner too few, or a rank the communicator does not have.
+  const std::vector<int> short_list(all_mine.begin(), all_mine.end() - 1);
+  EXPECT_THROW(fem::DofDistribution(MPI_COMM_SELF, mesh, dofs, short_list), warpfem::Error);
+  std::vector<int> foreign = all_mine;
+  foreign[3] = 1;
+  EXPECT_THROW(fem::DofDistribution(MPI_COMM_SELF, mesh, dofs, foreign), warpfem::Error);
 }

@@ -1,9 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <set>
 
+#include "core/error.hpp"
 #include "fem/cell_partition.hpp"
 #include "fem/edge_numbering.hpp"
+#include "fem/mesh_factory.hpp"
 #include "fem/polygon_mesher.hpp"
 #include "fem/structured_mesher.hpp"
 #include "fem/uniform_refinement.hpp"
@@ -116,4 +120,43 @@ TEST(CellPartition, BalancedAndDeterministic) {
   for (int p : parts) ++count[p];
   for (int c : count) EXPECT_NEAR(c, m.num_cells() / 3.0, 1.0);
   EXPECT_EQ(parts, partition_cells(m, 3));
+}
+
+TEST(CellPartition, NestedPartitionsInheritTheBaseLevelsOwners) {
+  const MeshHierarchy h(mesh_polygon(lshape(), {.max_edge_length = 0.5}), 4);
+  const int parts = 3;
+  const Index min_cells_per_part = 8;
+  const auto owners = nested_partitions(h, parts, min_cells_per_part);
+  ASSERT_EQ(static_cast<int>(owners.size()), h.num_levels());
+  // The base: the coarsest level with at least 8 cells per part; it and every
+  // coarser level are cut along the Morton curve.
+  int base = 0;
+  while (h.levels[static_cast<std::size_t>(base)].num_cells() < min_cells_per_part * parts) ++base;
+  ASSERT_LT(base + 2, h.num_levels()) << "the test needs levels finer than the base";
+  for (int l = 0; l <= base; ++l)
+    EXPECT_EQ(owners[static_cast<std::size_t>(l)],
+              partition_cells(h.levels[static_cast<std::size_t>(l)], parts));
+  for (int l = base + 1; l < h.num_levels(); ++l) {
+    const auto& owner = owners[static_cast<std::size_t>(l)];
+    const auto& parent = h.transfers[static_cast<std::size_t>(l - 1)].cell_parent;
+    ASSERT_EQ(static_cast<Index>(owner.size()), h.levels[static_cast<std::size_t>(l)].num_cells());
+    std::vector<Index> count(parts, 0);
+    for (std::size_t c = 0; c < owner.size(); ++c) {
+      ASSERT_EQ(owner[c], owners[static_cast<std::size_t>(l - 1)][static_cast<std::size_t>(parent[c])])
+          << "level " << l << ", cell " << c;
+      ++count[static_cast<std::size_t>(owner[c])];
+    }
+    // Balanced to one base cell's descendants.
+    const double descendants = std::pow(4.0, l - base), mean = static_cast<double>(owner.size()) / parts;
+    for (const Index n : count)
+      EXPECT_LE(std::abs(static_cast<double>(n) - mean), descendants) << "level " << l;
+  }
+  for (const auto& owner : nested_partitions(h, 1))
+    EXPECT_TRUE(std::all_of(owner.begin(), owner.end(), [](int r) { return r == 0; }));
+}
+
+TEST(CellPartition, InheritingFromAMissingParentIsAnError) {
+  EXPECT_EQ(inherit_partition({0, 0, 1, 1}, {2, 5}), (std::vector<int>{2, 2, 5, 5}));
+  EXPECT_THROW(inherit_partition({0, 2}, {0, 1}), warpfem::Error);
+  EXPECT_THROW(inherit_partition({-1}, {0}), warpfem::Error);
 }

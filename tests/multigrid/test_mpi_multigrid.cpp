@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <set>
+
 #include "elasticity_multigrid_fixtures.hpp"
 #include "multigrid/poisson_multigrid.hpp"
 #include "multigrid_fixtures.hpp"
@@ -40,6 +43,41 @@ TEST_P(MpiMultigrid, TwoRanksEqualSerial) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Orders, MpiMultigrid, ::testing::Values(1, 2));
+
+TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
+  // Five refinements: the levels beyond the first with >= 256 cells per rank
+  // inherit their parents' owners, so each rank's fine cells lie in its coarse cells.
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
+  const auto solver = [](MPI_Comm comm) {
+    multigrid::PoissonMultigridOptions o;
+    o.linear.rtol = 1e-11;
+    return std::make_unique<multigrid::PoissonMultigridSolver>(
+        comm, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 5,
+        std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
+  };
+  const auto mg = solver(MPI_COMM_WORLD);
+  const fem::MeshHierarchy& h = mg->hierarchy();
+  int nested_levels = 0;
+  for (int l = 1; l < h.num_levels(); ++l) {
+    if (h.levels[static_cast<std::size_t>(l - 1)].num_cells() < 256 * size) continue;  // not yet inherited
+    ++nested_levels;
+    const auto& coarse_cells = mg->level(l - 1).distribution().local_cells();
+    const std::set<Index> coarse(coarse_cells.begin(), coarse_cells.end());
+    const auto& parent = h.transfers[static_cast<std::size_t>(l - 1)].cell_parent;
+    const auto& fine_cells = mg->level(l).distribution().local_cells();
+    EXPECT_EQ(fine_cells.size(), 4 * coarse_cells.size()) << "level " << l;
+    for (const Index c : fine_cells)
+      ASSERT_TRUE(coarse.count(parent[static_cast<std::size_t>(c)])) << "level " << l << ", cell " << c;
+  }
+  EXPECT_GE(nested_levels, 2);
+  const VectorX parallel = (mg->solve(), mg->finest().distribution().gather_all(mg->finest().solution()));
+  const auto serial_mg = solver(MPI_COMM_SELF);
+  serial_mg->solve();
+  const VectorX serial = serial_mg->finest().distribution().gather_all(serial_mg->finest().solution());
+  EXPECT_LT((parallel - serial).lpNorm<Eigen::Infinity>(), 1e-8 * serial.lpNorm<Eigen::Infinity>());
+}
 
 TEST(MpiElasticityMultigrid, TwoRankSolveMatchesTheDirectSolver) {
   // The vector prolongations across rank boundaries: GMRES + multigrid on 2 ranks
