@@ -14,6 +14,11 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
   const int nloc = element.num_dofs();
   const int nvert = element.num_vertex_dofs();
   const auto& edges = cell_edges(mesh.cell_type);
+  if (per_edge == 0 && interior == 0 && nloc == nvert) {
+    cell_dofs_ = mesh.cells;  // P1/Q1: the DOFs are the vertices (one block copy)
+    dof_points_ = mesh.vertices;
+    return;
+  }
   cell_dofs_.resize(nc, nloc);
   for (Index c = 0; c < nc; ++c) {
     for (int k = 0; k < nvert; ++k) cell_dofs_(c, k) = mesh.cells(c, k);
@@ -22,12 +27,7 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
     for (int k = 0; k < interior; ++k)
       cell_dofs_(c, nloc - interior + k) = nv + ne * per_edge + c * interior + k;
   }
-  // Node positions: map the reference nodes through the straight cell geometry
-  // (for P1/Q1 the nodes are the vertices).
-  if (element.order() == 1) {
-    dof_points_ = mesh.vertices;
-    return;
-  }
+  // Node positions: map the reference nodes through the straight cell geometry.
   const LagrangeElement geo(mesh.cell_type, 1);
   const MatrixX N = geo.values(element.nodes());
   dof_points_.resize(num_dofs_, 2);

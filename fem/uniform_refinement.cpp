@@ -1,5 +1,7 @@
 #include "fem/uniform_refinement.hpp"
 
+#include <array>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -25,7 +27,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   for (Index c = 0; c < nc; ++c) {
     const Index* v = &coarse.cells(c, 0);
     for (int k = 0; k < 4; ++k) out.cell_parent[4 * c + k] = c;
-    if (!quads) {
+    if (!quads) {  // layouts: child_reference_vertices()
       const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1),
                   m20 = nv + edges.cell_edge(c, 2);
       fine.cells.row(4 * c + 0) << v[0], m01, m20;
@@ -33,7 +35,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
       fine.cells.row(4 * c + 2) << m20, m12, v[2];
       fine.cells.row(4 * c + 3) << m01, m12, m20;
     } else {
-      const Index centre = nv + ne + c;
+      const Index centre = nv + ne + c;  // layouts: child_reference_vertices()
       Index m[4];
       for (int k = 0; k < 4; ++k) m[k] = nv + edges.cell_edge(c, k);
       fine.cells.row(4 * c + 0) << v[0], m[0], centre, m[3];
@@ -62,27 +64,21 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   for (Index& v : vertex_of)  // a coarse vertex in no cell keeps a place at the end
     if (v < 0) v = next++;
 
-  // 3. Positions and parents, written once at the final numbers.
+  // 3. Positions, written once at the final numbers.
   fine.vertices.resize(nf_vertices, 2);
-  out.vertex_parents.resize(static_cast<std::size_t>(nf_vertices));
-  for (Index v = 0; v < nv; ++v) {
-    const Index f = vertex_of[static_cast<std::size_t>(v)];
-    fine.vertices.row(f) = coarse.vertices.row(v);
-    out.vertex_parents[static_cast<std::size_t>(f)] = {{v, 0, 0, 0}, 1};
-  }
+  for (Index v = 0; v < nv; ++v)
+    fine.vertices.row(vertex_of[static_cast<std::size_t>(v)]) = coarse.vertices.row(v);
   for (Index e = 0; e < ne; ++e) {
     const auto& ev = edges.vertices(e);
-    const Index f = vertex_of[static_cast<std::size_t>(nv + e)];
-    fine.vertices.row(f) = 0.5 * (coarse.vertices.row(ev[0]) + coarse.vertices.row(ev[1]));
-    out.vertex_parents[static_cast<std::size_t>(f)] = {{ev[0], ev[1], 0, 0}, 2};
+    fine.vertices.row(vertex_of[static_cast<std::size_t>(nv + e)]) =
+        0.5 * (coarse.vertices.row(ev[0]) + coarse.vertices.row(ev[1]));
   }
   if (quads)
     for (Index c = 0; c < nc; ++c) {
       const Index* v = &coarse.cells(c, 0);
-      const Index f = vertex_of[static_cast<std::size_t>(nv + ne + c)];
-      fine.vertices.row(f) = 0.25 * (coarse.vertices.row(v[0]) + coarse.vertices.row(v[1]) +
-                                     coarse.vertices.row(v[2]) + coarse.vertices.row(v[3]));
-      out.vertex_parents[static_cast<std::size_t>(f)] = {{v[0], v[1], v[2], v[3]}, 4};
+      fine.vertices.row(vertex_of[static_cast<std::size_t>(nv + ne + c)]) =
+          0.25 * (coarse.vertices.row(v[0]) + coarse.vertices.row(v[1]) + coarse.vertices.row(v[2]) +
+                  coarse.vertices.row(v[3]));
     }
 
   const Index nb = coarse.num_boundary_facets();
@@ -99,6 +95,34 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
     fine.facet_tags[2 * f] = fine.facet_tags[2 * f + 1] = coarse.facet_tags[f];
   }
   return out;
+}
+
+const Points<2>& child_reference_vertices(CellType type, int child) {
+  if (child < 0 || child > 3)
+    throw Error("child_reference_vertices: child " + std::to_string(child) + " is not in 0..3");
+  // The layout of step 1 of refine_uniformly: vertices v0 v1 v2 (v3), edge
+  // midpoints m01 = (1/2, 0), ..., and the quadrilateral's centre (1/2, 1/2).
+  static const std::array<Points<2>, 4> triangle = [] {
+    std::array<Points<2>, 4> t;
+    for (auto& p : t) p.resize(3, 2);
+    t[0] << 0, 0, 0.5, 0, 0, 0.5;      // v0, m01, m20
+    t[1] << 0.5, 0, 1, 0, 0.5, 0.5;    // m01, v1, m12
+    t[2] << 0, 0.5, 0.5, 0.5, 0, 1;    // m20, m12, v2
+    t[3] << 0.5, 0, 0.5, 0.5, 0, 0.5;  // m01, m12, m20
+    return t;
+  }();
+  static const std::array<Points<2>, 4> quadrilateral = [] {
+    std::array<Points<2>, 4> q;
+    for (auto& p : q) p.resize(4, 2);
+    q[0] << 0, 0, 0.5, 0, 0.5, 0.5, 0, 0.5;  // v0, m0, centre, m3
+    q[1] << 0.5, 0, 1, 0, 1, 0.5, 0.5, 0.5;  // m0, v1, m1, centre
+    q[2] << 0.5, 0.5, 1, 0.5, 1, 1, 0.5, 1;  // centre, m1, v2, m2
+    q[3] << 0, 0.5, 0.5, 0.5, 0.5, 1, 0, 1;  // m3, centre, m2, v3
+    return q;
+  }();
+  require(type == CellType::triangle || type == CellType::quadrilateral,
+          "child_reference_vertices: unsupported cell type");
+  return (type == CellType::triangle ? triangle : quadrilateral)[static_cast<std::size_t>(child)];
 }
 
 }  // namespace warpfem::fem

@@ -3,30 +3,16 @@
 // refinement), every quadrilateral into 4. The refined mesh is nested in the
 // coarse one in Ω0, which is what makes warped hierarchies nested too.
 
-#include <array>
-#include <cstddef>
 #include <vector>
 
 #include "fem/mesh.hpp"
 
 namespace warpfem::fem {
 
-/// The coarse vertices a fine vertex is the average of, stored inline (no heap
-/// allocation per vertex): 1 (a copied coarse vertex), 2 (an edge midpoint) or
-/// 4 (a quadrilateral's centre). Iterable like a container.
-struct VertexParents {
-  std::array<Index, 4> ids{};
-  int count = 0;
-  const Index* begin() const { return ids.data(); }
-  const Index* end() const { return ids.data() + count; }
-  std::size_t size() const { return static_cast<std::size_t>(count); }
-};
-
 struct RefinedMesh {
   Mesh<2> mesh;
-  /// For every fine vertex, the coarse vertices it is the average of.
-  std::vector<VertexParents> vertex_parents;
-  /// For every fine cell, the coarse cell it lies in.
+  /// For every fine cell, the coarse cell it lies in: fine cells 4c … 4c+3 are
+  /// the children of coarse cell c, child k laid out as child_reference_vertices(k).
   std::vector<Index> cell_parent;
   /// The fine vertex at each coarse node, in DofMap's node order: coarse
   /// vertex v, then the midpoint of coarse edge e (EdgeNumbering of the coarse
@@ -37,5 +23,12 @@ struct RefinedMesh {
 };
 
 RefinedMesh refine_uniformly(const Mesh<2>& coarse);
+
+/// Where the vertices of child `child` (0..3) of a refined cell sit in the
+/// parent's reference cell (triangle (0,0), (1,0), (0,1); quadrilateral
+/// (0,0), (1,0), (1,1), (0,1)): one row per child vertex, in the child's
+/// vertex order. The same for every cell of a refinement, which is what lets
+/// prolongations be tabulated once per child.
+const Points<2>& child_reference_vertices(CellType type, int child);
 
 }  // namespace warpfem::fem

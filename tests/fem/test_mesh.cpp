@@ -67,13 +67,37 @@ TEST(UniformRefinement, QuadruplesCellsKeepsAreaAndIsNested) {
   EXPECT_EQ(fine.mesh.num_boundary_facets(), 2 * coarse.num_boundary_facets());
   EXPECT_NEAR(mesh_area(fine.mesh), 3.0, 1e-12);
   EXPECT_NEAR(fine.mesh.max_edge_length(), 0.5 * coarse.max_edge_length(), 1e-12);
-  // Every fine vertex is the average of its parents (a copied coarse vertex has one).
-  for (Index v = 0; v < fine.mesh.num_vertices(); ++v) {
-    Point<2> avg = Point<2>::Zero();
-    for (Index p : fine.vertex_parents[v]) avg += coarse.vertex(p);
-    avg /= static_cast<double>(fine.vertex_parents[v].size());
-    EXPECT_NEAR((avg - fine.mesh.vertex(v)).norm(), 0.0, 1e-15);
+}
+
+// Child k of every coarse cell c is fine cell 4c + k, and its vertices sit where
+// child_reference_vertices(k) says in c's reference cell (what the prolongation
+// tabulates once per child).
+TEST(UniformRefinement, ChildrenSitAtTheirReferencePositionsInTheParent) {
+  for (const bool quads : {false, true}) {
+    Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.5});
+    if (quads) coarse = split_into_quadrilaterals(coarse);
+    const RefinedMesh r = refine_uniformly(coarse);
+    const int nv = vertices_per_cell(coarse.cell_type);
+    ASSERT_EQ(r.cell_parent.size(), static_cast<std::size_t>(r.mesh.num_cells()));
+    for (Index f = 0; f < r.mesh.num_cells(); ++f) {
+      const Index c = f / 4;
+      ASSERT_EQ(r.cell_parent[static_cast<std::size_t>(f)], c);
+      const Points<2>& eta = child_reference_vertices(coarse.cell_type, static_cast<int>(f % 4));
+      ASSERT_EQ(eta.rows(), nv);
+      for (int a = 0; a < nv; ++a) {
+        // The parent's straight (bilinear) geometry at eta(a).
+        const double s = eta(a, 0), t = eta(a, 1);
+        const std::vector<double> w =
+            quads ? std::vector<double>{(1 - s) * (1 - t), s * (1 - t), s * t, (1 - s) * t}
+                  : std::vector<double>{1 - s - t, s, t};
+        Point<2> x = Point<2>::Zero();
+        for (int k = 0; k < nv; ++k) x += w[static_cast<std::size_t>(k)] * coarse.vertex(coarse.cells(c, k));
+        EXPECT_LE((x - r.mesh.vertex(r.mesh.cells(f, a))).norm(), 1e-14)
+            << (quads ? "quad" : "triangle") << " child " << f % 4 << ", vertex " << a;
+      }
+    }
   }
+  EXPECT_THROW(child_reference_vertices(CellType::triangle, 4), warpfem::Error);
 }
 
 // Fine vertices are numbered by first use in the fine cells (locality of every DOF-ordered
@@ -100,12 +124,6 @@ TEST(UniformRefinement, NumbersVerticesByFirstUseAndRecordsWhereCoarseNodesWent)
       const auto& ev = edges.vertices(e);
       EXPECT_EQ(fine.vertex(r.fine_vertex_of_node[nv + e]),
                 0.5 * (coarse.vertex(ev[0]) + coarse.vertex(ev[1])));
-    }
-    // Every fine vertex is the average of its recorded parents, boundary facets stay on the boundary.
-    for (Index v = 0; v < fine.num_vertices(); ++v) {
-      Point<2> sum = Point<2>::Zero();
-      for (const Index p : r.vertex_parents[v]) sum += coarse.vertex(p);
-      EXPECT_LE((fine.vertex(v) - sum / static_cast<double>(r.vertex_parents[v].size())).norm(), 1e-15);
     }
     if (!quads) {
       EXPECT_NEAR(mesh_area(fine), 3.0, 1e-12);  // mesh_area takes triangles
