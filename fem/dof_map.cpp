@@ -14,9 +14,8 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
   const int nloc = element.num_dofs();
   const int nvert = element.num_vertex_dofs();
   const auto& edges = cell_edges(mesh.cell_type);
-  if (per_edge == 0 && interior == 0 && nloc == nvert) {
-    cell_dofs_ = mesh.cells;  // P1/Q1: the DOFs are the vertices (one block copy)
-    dof_points_ = mesh.vertices;
+  if (per_edge == 0 && interior == 0 && nloc == nvert && mesh.cells.cols() == nvert) {
+    vertex_dofs_ = &mesh;  // P1/Q1: the DOFs are the vertices, numbered as the mesh numbers them
     return;
   }
   cell_dofs_.resize(nc, nloc);

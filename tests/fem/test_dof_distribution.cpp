@@ -67,3 +67,19 @@ TEST(DofDistribution, GivenCellOwnersAreCheckedAndUsed) {
   foreign[3] = 1;
   EXPECT_THROW(fem::DofDistribution(MPI_COMM_SELF, mesh, dofs, foreign), warpfem::Error);
 }
+
+TEST(DofMap, FirstOrderDofsAreTheMeshVerticesWithoutACopy) {
+  const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
+  const fem::Mesh<2> triangles = fem::mesh_polygon(square, {.max_edge_length = 0.3});
+  const fem::Mesh<2> quads = fem::split_into_quadrilaterals(triangles);
+  for (const fem::Mesh<2>* mesh : {&triangles, &quads}) {
+    const fem::DofMap p1(*mesh, fem::LagrangeElement(mesh->cell_type, 1));
+    EXPECT_EQ(p1.num_dofs(), mesh->num_vertices());
+    EXPECT_EQ(&p1.cell_dofs(), &mesh->cells);  // documented: P1/Q1 refer to the mesh
+    EXPECT_EQ(&p1.dof_points(), &mesh->vertices);
+    // Order 2 numbers its own table: vertices first, then one DOF per edge.
+    const fem::DofMap p2(*mesh, fem::LagrangeElement(mesh->cell_type, 2));
+    EXPECT_EQ(p2.cell_dofs().leftCols(mesh->cells.cols()), mesh->cells);
+    EXPECT_EQ(p2.dof_points().topRows(mesh->num_vertices()), mesh->vertices);
+  }
+}
