@@ -1,5 +1,9 @@
 #include "fem/edge_numbering.hpp"
 
+#include <algorithm>
+#include <memory>
+#include <utility>
+
 namespace warpfem::fem {
 
 template <int dim>
@@ -7,40 +11,52 @@ EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
   const auto& edges = cell_edges(mesh.cell_type);
   const Index nc = mesh.num_cells(), nv = mesh.num_vertices(), ne = static_cast<Index>(edges.size());
   cell_edge_.resize(nc, ne);
-  // 1. Bucket every cell edge by its smaller vertex.
-  std::vector<Index> count(static_cast<std::size_t>(nv) + 1, 0);
+  // 1. Every cell edge (a, b), a < b, reserves a slot with its smaller vertex a:
+  // an upper bound on the number of distinct edges (a, ·).
+  std::vector<Index> slot_start(static_cast<std::size_t>(nv) + 1, 0);
   for (Index c = 0; c < nc; ++c)
     for (Index e = 0; e < ne; ++e)
-      ++count[std::min(mesh.cells(c, edges[e][0]), mesh.cells(c, edges[e][1])) + 1];
-  for (Index v = 0; v < nv; ++v) count[v + 1] += count[v];
-  std::vector<Index> slot(count.begin(), count.end() - 1);
-  std::vector<Index> bucket_other(static_cast<std::size_t>(count[nv])), bucket_ref(bucket_other.size());
+      ++slot_start[std::min(mesh.cells(c, edges[e][0]), mesh.cells(c, edges[e][1])) + 1];
+  for (Index v = 0; v < nv; ++v) slot_start[v + 1] += slot_start[v];
+  // 2. One pass over the cells in order: an edge is numbered when a cell first
+  // uses it, so edge ids (and the P2 DOFs nv + e) follow the cells' order.
+  const std::size_t slots = static_cast<std::size_t>(slot_start[nv]);
+  const auto slot_other = std::make_unique_for_overwrite<Index[]>(slots);
+  const auto slot_id = std::make_unique_for_overwrite<Index[]>(slots);
+  std::vector<Index> slot_end(slot_start.begin(), slot_start.end() - 1);
+  edge_vertices_.reserve(slots);  // untouched capacity costs no memory traffic
   for (Index c = 0; c < nc; ++c)
     for (Index e = 0; e < ne; ++e) {
-      const Index a = mesh.cells(c, edges[e][0]), b = mesh.cells(c, edges[e][1]);
-      const Index k = slot[std::min(a, b)]++;
-      bucket_other[k] = std::max(a, b);
-      bucket_ref[k] = c * ne + e;
-    }
-  // 2. Deduplicate inside each (small) bucket and number the edges.
-  start_.assign(static_cast<std::size_t>(nv) + 1, 0);
-  for (Index a = 0; a < nv; ++a) {
-    start_[a] = static_cast<Index>(other_.size());
-    for (Index k = count[a]; k < count[a + 1]; ++k) {
-      const Index b = bucket_other[k];
+      Index a = mesh.cells(c, edges[e][0]), b = mesh.cells(c, edges[e][1]);
+      if (a > b) std::swap(a, b);
       Index id = -1;
-      for (Index m = start_[a]; m < static_cast<Index>(other_.size()); ++m)
-        if (other_[m] == b) id = id_[m];
+      for (Index m = slot_start[a]; m < slot_end[a]; ++m)
+        if (slot_other[m] == b) {
+          id = slot_id[m];
+          break;
+        }
       if (id < 0) {
         id = static_cast<Index>(edge_vertices_.size());
         edge_vertices_.push_back({a, b});
-        other_.push_back(b);
-        id_.push_back(id);
+        slot_other[slot_end[a]] = b;
+        slot_id[slot_end[a]++] = id;
       }
-      cell_edge_(bucket_ref[k] / ne, bucket_ref[k] % ne) = id;
+      cell_edge_(c, e) = id;
+    }
+  // 3. Compact the used slots into the lookup table of find().
+  const Index num = static_cast<Index>(edge_vertices_.size());
+  start_.resize(static_cast<std::size_t>(nv) + 1);
+  other_.resize(static_cast<std::size_t>(num));
+  id_.resize(static_cast<std::size_t>(num));
+  Index out = 0;
+  for (Index a = 0; a < nv; ++a) {
+    start_[a] = out;
+    for (Index m = slot_start[a]; m < slot_end[a]; ++m, ++out) {
+      other_[out] = slot_other[m];
+      id_[out] = slot_id[m];
     }
   }
-  start_[nv] = static_cast<Index>(other_.size());
+  start_[nv] = out;
 }
 
 Index EdgeNumbering::find(Index a, Index b) const {

@@ -1,5 +1,6 @@
 #pragma once
-// Global numbering of the edges of a 2D mesh (each undirected edge once).
+// Global numbering of the edges of a mesh (each undirected edge once), in the
+// order the cells first use them.
 
 #include <vector>
 
@@ -23,8 +24,9 @@ class EdgeNumbering {
 
  private:
   // Edges grouped by their smaller vertex (CSR): for vertex a, the edges (a, b > a)
-  // are other_[start_[a] .. start_[a + 1]) with ids id_[...]. Built by counting,
-  // without hashing, so numbering 10^7 edges takes a fraction of a second.
+  // are other_[start_[a] .. start_[a + 1]) with ids id_[...]. Built by counting
+  // and one pass over the cells, without hashing; ids follow the cells' order
+  // (an edge is numbered when a cell first uses it).
   std::vector<Index> start_, other_, id_;
   std::vector<std::array<Index, 2>> edge_vertices_;
   IndexTable cell_edge_;
