@@ -178,3 +178,32 @@ TEST(CellPartition, InheritingFromAMissingParentIsAnError) {
   EXPECT_THROW(inherit_partition({0, 2}, {0, 1}), warpfem::Error);
   EXPECT_THROW(inherit_partition({-1}, {0}), warpfem::Error);
 }
+
+// Every undirected edge gets one id, in the order the cells first use the edges;
+// find() answers for both orientations and only for edges of the mesh.
+TEST(EdgeNumbering, NumbersEachEdgeOnceInFirstUseOrder) {
+  for (const bool quads : {false, true}) {
+    Mesh<2> mesh = mesh_polygon(lshape(), {.max_edge_length = 0.3});
+    if (quads) mesh = split_into_quadrilaterals(mesh);
+    const EdgeNumbering edges(mesh);
+    const auto& local = cell_edges(mesh.cell_type);
+    std::set<std::pair<Index, Index>> distinct;
+    Index next = 0;
+    for (Index c = 0; c < mesh.num_cells(); ++c)
+      for (int e = 0; e < static_cast<int>(local.size()); ++e) {
+        const Index a = mesh.cells(c, local[e][0]), b = mesh.cells(c, local[e][1]);
+        const Index id = edges.cell_edge(c, e);
+        ASSERT_LE(id, next) << "edge used before all lower ids were";
+        if (id == next) ++next;
+        EXPECT_EQ(edges.vertices(id)[0], std::min(a, b));
+        EXPECT_EQ(edges.vertices(id)[1], std::max(a, b));
+        EXPECT_EQ(edges.find(a, b), id);
+        EXPECT_EQ(edges.find(b, a), id);
+        distinct.insert({std::min(a, b), std::max(a, b)});
+      }
+    EXPECT_EQ(edges.num_edges(), static_cast<Index>(distinct.size()));
+    // Euler: V − E + F = 1 for a simply connected polygon.
+    EXPECT_EQ(mesh.num_vertices() - edges.num_edges() + mesh.num_cells(), 1);
+    EXPECT_EQ(edges.find(0, 0), -1);
+  }
+}
