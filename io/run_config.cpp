@@ -267,6 +267,16 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
             ? S::CoarseOperators::galerkin
             : S::CoarseOperators::rediscretization;
     m.smoothing_steps = static_cast<int>(mg.get_int("smoothing_steps", m.smoothing_steps, 1, 20));
+    const std::string bounds = mg.get_choice("chebyshev_bounds", "auto", {"auto", "estimate", "gershgorin"});
+    m.chebyshev_bounds = bounds == "estimate"     ? S::ChebyshevBounds::estimate
+                         : bounds == "gershgorin" ? S::ChebyshevBounds::gershgorin
+                                                  : S::ChebyshevBounds::automatic;
+    if (m.chebyshev_bounds == S::ChebyshevBounds::gershgorin &&
+        (m.smoother != S::Smoother::chebyshev_jacobi || m.coarse_operators == S::CoarseOperators::galerkin))
+      throw mg.error("chebyshev_bounds",
+                     "\"gershgorin\" bounds the Jacobi-preconditioned operator of rediscretized levels only",
+                     "use \"auto\" or \"estimate\", or the smoother \"chebyshev_jacobi\" with "
+                     "\"coarse_operators\": \"rediscretization\"");
     mg.finish();
   }
   solver.finish();

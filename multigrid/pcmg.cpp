@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
+#include "multigrid/chebyshev_bounds.hpp"
 
 namespace warpfem::multigrid {
 namespace {
@@ -63,11 +64,25 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
   WARPFEM_PETSC_CHECK(PCMGSetNumberSmooth(pc, settings.smoothing_steps));
   for (int l = 1; l < levels; ++l) WARPFEM_PETSC_CHECK(PCMGSetInterpolation(pc, l, interpolations[l - 1]));
 
+  const bool gershgorin = settings.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin;
+  if (gershgorin && (settings.smoother != MultigridSettings::Smoother::chebyshev_jacobi || galerkin))
+    throw Error(
+        "Gershgorin bounds for the Chebyshev smoothers need the smoother chebyshev_jacobi and "
+        "rediscretized level operators",
+        {.file = "",
+         .key_path = "/solver/multigrid/chebyshev_bounds",
+         .hint = "use \"estimate\" (or \"auto\") with this smoother or with Galerkin coarse operators"});
   for (int l = 1; l < levels; ++l) {
     KSP smoother = nullptr;
     WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, l, &smoother));
     if (!galerkin) WARPFEM_PETSC_CHECK(KSPSetOperators(smoother, operators[l], operators[l]));
     configure_smoother(smoother, settings);
+    if (gershgorin) {
+      // No Krylov estimate: target [0.1, 1]·g with g >= λmax(D⁻¹A_l) guaranteed.
+      const double g = jacobi_gershgorin_bound(operators[l]);
+      WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.0, 0.0, 0.0));
+      WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(smoother, g, 0.1 * g));
+    }
   }
   KSP coarse = nullptr;
   WARPFEM_PETSC_CHECK(PCMGGetCoarseSolve(pc, &coarse));

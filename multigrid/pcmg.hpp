@@ -23,6 +23,15 @@ struct MultigridSettings {
   Smoother smoother = Smoother::chebyshev_jacobi;
   CoarseOperators coarse_operators = CoarseOperators::rediscretization;  ///< -pc_mg_galerkin
   int smoothing_steps = 2;  ///< pre- and post-smoothing steps; override: -mg_levels_ksp_max_it
+  /// Where the Chebyshev smoothers' target interval [0.1, 1.1]·λmax comes from:
+  /// `estimate`: λmax of M⁻¹A from 10 CG steps per level at set-up (PETSc's way);
+  /// `gershgorin`: [0.1, 1]·jacobi_gershgorin_bound(A_l), a guaranteed upper bound
+  /// found in one pass over each level's matrix (chebyshev_jacobi with
+  /// rediscretized levels only); `automatic`: what the solver that builds the
+  /// levels picks (PoissonMultigridSolver: gershgorin for order-1 elements with
+  /// chebyshev_jacobi, else estimate); configure_pcmg itself treats it as estimate.
+  enum class ChebyshevBounds { automatic, estimate, gershgorin };
+  ChebyshevBounds chebyshev_bounds = ChebyshevBounds::automatic;
 };
 
 /// Makes the preconditioner of `ksp` a PCMG with interpolations.size() + 1

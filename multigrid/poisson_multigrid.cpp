@@ -87,7 +87,16 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   WARPFEM_PETSC_CHECK(KSPSetNormType(ksp_.get(), KSP_NORM_UNPRECONDITIONED));
   WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp_.get(), lin.rtol, lin.atol, PETSC_DEFAULT, lin.max_iterations));
   WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_.get(), PETSC_TRUE));
-  configure_pcmg(ksp_.get(), interpolations, operators, options.multigrid);
+  // Automatic Chebyshev bounds: Gershgorin's is tight for first-order stiffness
+  // matrices (no eigenvalue estimates at set-up), loose for higher orders.
+  MultigridSettings settings = options.multigrid;
+  using Bounds = MultigridSettings::ChebyshevBounds;
+  if (settings.chebyshev_bounds == Bounds::automatic)
+    settings.chebyshev_bounds =
+        order == 1 && !galerkin && settings.smoother == MultigridSettings::Smoother::chebyshev_jacobi
+            ? Bounds::gershgorin
+            : Bounds::estimate;
+  configure_pcmg(ksp_.get(), interpolations, operators, settings);
   WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp_.get()));
   WARPFEM_PETSC_CHECK(KSPSetUp(ksp_.get()));
   t.pc_setup = watch.seconds();

@@ -134,6 +134,15 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   EXPECT_EQ(defaults.solver.multigrid.cycle, S::Cycle::v);
   EXPECT_EQ(defaults.solver.multigrid.coarse_operators, S::CoarseOperators::rediscretization);
   EXPECT_EQ(defaults.solver.multigrid.smoothing_steps, 2);
+  EXPECT_EQ(defaults.solver.multigrid.chebyshev_bounds, S::ChebyshevBounds::automatic);
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "estimate"})");
+  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_bounds,
+            S::ChebyshevBounds::estimate);
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "gershgorin"})");
+  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_bounds,
+            S::ChebyshevBounds::gershgorin);
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "gershgorin", "smoother": "sor"})");
+  expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"gershgorin\" bounds");
   j["solver"]["multigrid"] = json::parse(
       R"({"smoother": "chebyshev_sor", "cycle": "w", "coarse_operators": "galerkin", "smoothing_steps": 3})");
   const io::RunConfig cfg = io::parse_run_config(j, "config.json");

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "elasticity_multigrid_fixtures.hpp"
+#include "multigrid/chebyshev_bounds.hpp"
 #include "multigrid/poisson_multigrid.hpp"
 #include "multigrid_fixtures.hpp"
 
@@ -72,8 +73,11 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
       ASSERT_TRUE(coarse.count(parent[static_cast<std::size_t>(c)])) << "level " << l << ", cell " << c;
   }
   EXPECT_GE(nested_levels, 2);
-  const VectorX parallel = (mg->solve(), mg->finest().distribution().gather_all(mg->finest().solution()));
+  // The Chebyshev bound is global: the same on two ranks as on one.
   const auto serial_mg = solver(MPI_COMM_SELF);
+  EXPECT_DOUBLE_EQ(multigrid::jacobi_gershgorin_bound(mg->finest().matrix()),
+                   multigrid::jacobi_gershgorin_bound(serial_mg->finest().matrix()));
+  const VectorX parallel = (mg->solve(), mg->finest().distribution().gather_all(mg->finest().solution()));
   serial_mg->solve();
   const VectorX serial = serial_mg->finest().distribution().gather_all(serial_mg->finest().solution());
   EXPECT_LT((parallel - serial).lpNorm<Eigen::Infinity>(), 1e-8 * serial.lpNorm<Eigen::Infinity>());
