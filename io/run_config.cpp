@@ -251,6 +251,11 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   lin.atol = solver.get_double("atol", lin.atol, 0.0);
   lin.max_iterations = static_cast<int>(solver.get_int("max_iterations", lin.max_iterations, 1));
   cfg.solver.petsc_options = solver.get_string("petsc_options", "");
+  if (solver.has("multigrid") && lin.pc_type != "mg")
+    throw solver.error(
+        "multigrid",
+        "multigrid settings are given, but \"pc_type\" is \"" + lin.pc_type + "\", so they would be ignored",
+        "remove \"multigrid\", or set \"pc_type\": \"mg\" (the default)");
   {
     using S = multigrid::MultigridSettings;
     const ConfigNode mg = solver.child("multigrid");

@@ -16,7 +16,9 @@
 // (refine the coarse mesh k times before the hierarchy starts, e.g. with -mg_coarse_pc_type hypre).
 // MG set-up = refinement + per-level problems + assembly of every level + prolongations + KSPSetUp.
 // AMG set-up = KSPSetUp only (the finest matrix is shared, its assembly is the "fine asm" column).
-// Any PETSc option applies (-log_view, -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...).
+// Any PETSc option applies (-log_view, -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...);
+// P1/Q1 Chebyshev smoothers use Gershgorin bounds (no eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig
+// 0,0.1,0,1.1 brings the estimate back.
 
 #include <cstdio>
 #include <string>

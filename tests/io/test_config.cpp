@@ -156,6 +156,11 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   expect_contains(error_of(j), "/solver/multigrid/smoothing_steps");
   j["solver"]["multigrid"] = json::parse(R"({"cycles": "w"})");
   expect_contains(error_of(j), "/solver/multigrid/cycles: unknown key");
+  // Settings that would be silently ignored are refused.
+  j["solver"]["multigrid"] = json::parse(R"({"cycle": "w"})");
+  j["solver"]["pc_type"] = "hypre";
+  expect_contains(error_of(j),
+                  "/solver/multigrid: multigrid settings are given, but \"pc_type\" is \"hypre\"");
 }
 
 TEST(RunConfig, MissingBoundaryConditionIsAnError) {
