@@ -51,8 +51,9 @@ struct MeshHierarchy {
 /// coarser one, is cut along its Morton curve (partition_cells); each finer level
 /// inherits its parents' owners (inherit_partition). The partition of the fine
 /// levels is therefore nested (a rank's fine cells cover its coarse cells, so
-/// prolongation rows need no other rank's coarse DOFs) and balanced to one base
-/// cell's descendants; the per-level Morton sort of the large levels is skipped.
+/// only prolongation rows along the interface read other ranks' coarse DOFs)
+/// and balanced to one base cell's descendants; the per-level Morton sort of
+/// the large levels is skipped.
 std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
                                                 Index min_cells_per_part = 256);
 
