@@ -95,4 +95,33 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
   WARPFEM_PETSC_CHECK(PCSetType(coarse_pc, size == 1 ? PCLU : PCREDUNDANT));
 }
 
+void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings) {
+  if (settings.chebyshev_bounds != MultigridSettings::ChebyshevBounds::gershgorin) return;
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(ksp, &pc));
+  PetscBool is_mg = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCMG, &is_mg));
+  if (!is_mg) return;
+  PetscInt levels = 0;
+  WARPFEM_PETSC_CHECK(PCMGGetLevels(pc, &levels));
+  for (PetscInt l = 1; l < levels; ++l) {
+    KSP smoother = nullptr, estimator = nullptr;
+    PC spc = nullptr;
+    PetscBool chebyshev = PETSC_FALSE, jacobi = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, l, &smoother));
+    // PCMG reads the level options only in PCSetUp; read them now to see what they changed.
+    WARPFEM_PETSC_CHECK(KSPSetFromOptions(smoother));
+    WARPFEM_PETSC_CHECK(
+        PetscObjectTypeCompare(reinterpret_cast<PetscObject>(smoother), KSPCHEBYSHEV, &chebyshev));
+    if (!chebyshev) continue;
+    WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &spc));
+    WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(spc), PCJACOBI, &jacobi));
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigGetKSP(smoother, &estimator));
+    if (jacobi || estimator) continue;
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.1, 0.0, 1.1));
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigGetKSP(smoother, &estimator));
+    if (estimator) WARPFEM_PETSC_CHECK(KSPSetType(estimator, KSPCG));
+  }
+}
+
 }  // namespace warpfem::multigrid

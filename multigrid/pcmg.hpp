@@ -45,4 +45,11 @@ struct MultigridSettings {
 void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::vector<Mat>& operators,
                     const MultigridSettings& settings = {});
 
+/// Call after KSPSetFromOptions: a level whose Chebyshev smoother got Gershgorin
+/// bounds from configure_pcmg but whose preconditioner the options database
+/// changed from Jacobi (e.g. -mg_levels_pc_type sor) gets PETSc's eigenvalue
+/// estimate back, since the bound is one for D⁻¹A only. Levels where the
+/// options asked for an estimate or for eigenvalues themselves are left alone.
+void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings);
+
 }  // namespace warpfem::multigrid

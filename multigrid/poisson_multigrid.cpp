@@ -98,6 +98,7 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
             : Bounds::estimate;
   configure_pcmg(ksp_.get(), interpolations, operators, settings);
   WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp_.get()));
+  reconcile_chebyshev_bounds(ksp_.get(), settings);
   WARPFEM_PETSC_CHECK(KSPSetUp(ksp_.get()));
   t.pc_setup = watch.seconds();
 }

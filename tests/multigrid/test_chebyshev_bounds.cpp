@@ -103,3 +103,29 @@ TEST(ChebyshevBounds, AutomaticChoiceReachesTheSmoothers) {
     EXPECT_EQ(e.context().key_path, "/solver/multigrid/chebyshev_bounds");
   }
 }
+
+// -mg_levels_pc_type sor from the options database replaces Jacobi after the
+// Gershgorin bounds were set: those levels go back to PETSc's estimate.
+TEST(ChebyshevBounds, ASmootherPreconditionerFromTheOptionsGetsTheEstimateBack) {
+  multigrid::PoissonMultigridOptions o;
+  o.linear.prefix = "cheby_bounds_test_";
+  WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, "-cheby_bounds_test_mg_levels_pc_type", "sor"));
+  multigrid::PoissonMultigridSolver mg(
+      MPI_COMM_SELF, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 2,
+      std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
+  WARPFEM_PETSC_CHECK(PetscOptionsClearValue(nullptr, "-cheby_bounds_test_mg_levels_pc_type"));
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
+  for (PetscInt l = 1; l <= 2; ++l) {
+    KSP smoother = nullptr, estimator = nullptr;
+    PC spc = nullptr;
+    PCType type = nullptr;
+    WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, l, &smoother));
+    WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &spc));
+    WARPFEM_PETSC_CHECK(PCGetType(spc, &type));
+    EXPECT_STREQ(type, PCSOR) << "level " << l;
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigGetKSP(smoother, &estimator));
+    EXPECT_NE(estimator, nullptr) << "level " << l << " kept the Jacobi bound with SOR";
+  }
+  EXPECT_LE(mg.solve().linear.iterations, 12);
+}
