@@ -1,6 +1,7 @@
 #include "fem/dof_distribution.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <numeric>
 #include <string>
 
@@ -88,22 +89,6 @@ VectorX DofDistribution::gather_all(Vec v) const {
   return out;
 }
 
-void DofDistribution::owned_dof_cells(const Mesh<2>& mesh, const DofMap& dofs, std::vector<Index>& start,
-                                      std::vector<Index>& cells) const {
-  const IndexTable& cd = dofs.cell_dofs();
-  const Index nd = dofs.num_dofs();
-  start.assign(static_cast<std::size_t>(nd) + 1, 0);
-  for (Index c = 0; c < mesh.num_cells(); ++c)
-    for (Index k = 0; k < cd.cols(); ++k)
-      if (owner_[cd(c, k)] == rank_) ++start[cd(c, k) + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  cells.resize(static_cast<std::size_t>(start.back()));
-  std::vector<Index> fill(start.begin(), start.end() - 1);
-  for (Index c = 0; c < mesh.num_cells(); ++c)
-    for (Index k = 0; k < cd.cols(); ++k)
-      if (owner_[cd(c, k)] == rank_) cells[fill[cd(c, k)]++] = c;
-}
-
 void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
                                     std::vector<PetscInt>& o_nnz) const {
   std::vector<PetscInt> row_ptr, cols;
@@ -118,54 +103,62 @@ void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std
 void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
                                std::vector<PetscInt>& cols) const {
   const IndexTable& cd = dofs.cell_dofs();
-  const Index nd = dofs.num_dofs();
-  std::vector<Index> start, cells;
-  owned_dof_cells(mesh, dofs, start, cells);
-  // Owned DOFs in global order (row r of this rank is global index owned_begin + r).
-  std::vector<Index> row_dof(static_cast<std::size_t>(num_owned()));
-  for (Index d = 0; d < nd; ++d)
-    if (owner_[d] == rank_) row_dof[static_cast<std::size_t>(global_[d] - owned_begin_)] = d;
-  // One pass over the DOF -> cells adjacency: each row's candidate columns are
-  // gathered, sorted and deduplicated in a small buffer (no mesh-sized marker
-  // array, whose random accesses dominated on large meshes). Blocks of rows run
-  // on the threads into their own buffers, which are then concatenated.
+  const Index nc = mesh.num_cells(), nloc = cd.cols();
   const PetscInt rows = num_owned();
+  const auto owned_row = [&](Index d) {
+    return owner_[d] == rank_ ? global_[d] - owned_begin_ : PetscInt{-1};
+  };
+  // 1. Every cell offers its nloc global DOFs as candidate columns to each of its
+  // owned rows: count the candidates per row.
+  std::vector<PetscInt> slot(static_cast<std::size_t>(rows) + 1, 0);
+  for (Index c = 0; c < nc; ++c)
+    for (Index k = 0; k < nloc; ++k)
+      if (const PetscInt r = owned_row(cd(c, k)); r >= 0) slot[r + 1] += static_cast<PetscInt>(nloc);
+  for (PetscInt r = 0; r < rows; ++r) slot[r + 1] += slot[r];
+  // 2. One pass over the cells in order: the cell table is read sequentially and
+  // the rows of a cell lie close together (DOFs are numbered by first use), so
+  // the candidates are written to nearby buckets.
+  const auto candidates = std::make_unique_for_overwrite<PetscInt[]>(static_cast<std::size_t>(slot[rows]));
+  std::vector<PetscInt> fill(slot.begin(), slot.end() - 1), global_cell(static_cast<std::size_t>(nloc));
+  for (Index c = 0; c < nc; ++c) {
+    for (Index k = 0; k < nloc; ++k) global_cell[k] = global_[cd(c, k)];
+    for (Index k = 0; k < nloc; ++k)
+      if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
+        std::copy(global_cell.begin(), global_cell.end(), candidates.get() + fill[r]);
+        fill[r] += static_cast<PetscInt>(nloc);
+      }
+  }
+  // 3. Sort and deduplicate every row's candidates in place (blocks of rows on
+  // the threads), then pack the rows.
   const Index blocks = std::max<Index>(1, std::min<Index>(64, rows / 4096));
-  std::vector<std::vector<PetscInt>> block_cols(static_cast<std::size_t>(blocks));
   row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
-    std::vector<PetscInt> row;
-    for (Index blk = first_block; blk < last_block; ++blk) {
-      const PetscInt r0 = static_cast<PetscInt>(rows * blk / blocks),
-                     r1 = static_cast<PetscInt>(rows * (blk + 1) / blocks);
-      std::vector<PetscInt>& out = block_cols[static_cast<std::size_t>(blk)];
-      out.reserve(static_cast<std::size_t>(r1 - r0) * static_cast<std::size_t>(cd.cols() + 4));
-      for (PetscInt r = r0; r < r1; ++r) {
-        const Index d = row_dof[static_cast<std::size_t>(r)];
-        // Insertion into the sorted, duplicate-free row: a row has few distinct
-        // columns (7 for P1) among many candidates (18), so this beats sort + unique.
-        row.clear();
-        for (Index i = start[d]; i < start[d + 1]; ++i)
-          for (Index k = 0; k < cd.cols(); ++k) {
-            const PetscInt g = global_[cd(cells[i], k)];
-            std::size_t j = row.size();
-            while (j > 0 && row[j - 1] > g) --j;
-            if (j > 0 && row[j - 1] == g) continue;
-            row.insert(row.begin() + static_cast<std::ptrdiff_t>(j), g);
-          }
-        out.insert(out.end(), row.begin(), row.end());
-        row_ptr[r + 1] = static_cast<PetscInt>(row.size());  // a length for now
+    for (Index blk = first_block; blk < last_block; ++blk)
+      for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r) {
+        PetscInt* begin = candidates.get() + slot[r];
+        PetscInt* end = candidates.get() + slot[r + 1];
+        // Insertion into the sorted, duplicate-free prefix: a row has few distinct
+        // columns (7 for P1) among its candidates (18), so this beats sort + unique.
+        PetscInt* kept = begin;
+        for (PetscInt* it = begin; it != end; ++it) {
+          const PetscInt g = *it;
+          PetscInt* j = kept;
+          while (j > begin && j[-1] > g) --j;
+          if (j > begin && j[-1] == g) continue;
+          std::copy_backward(j, kept, kept + 1);
+          *j = g;
+          ++kept;
+        }
+        row_ptr[r + 1] = static_cast<PetscInt>(kept - begin);  // a length for now
       }
-    }
   });
   for (PetscInt r = 0; r < rows; ++r) row_ptr[r + 1] += row_ptr[r];
-  cols.resize(static_cast<std::size_t>(row_ptr.back()));
+  cols.resize(static_cast<std::size_t>(row_ptr[rows]));
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
-    for (Index blk = first_block; blk < last_block; ++blk) {
-      const PetscInt r0 = static_cast<PetscInt>(rows * blk / blocks);
-      const auto& in = block_cols[static_cast<std::size_t>(blk)];
-      std::copy(in.begin(), in.end(), cols.begin() + row_ptr[r0]);
-    }
+    for (Index blk = first_block; blk < last_block; ++blk)
+      for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r)
+        std::copy(candidates.get() + slot[r], candidates.get() + slot[r] + (row_ptr[r + 1] - row_ptr[r]),
+                  cols.begin() + row_ptr[r]);
   });
 }
 

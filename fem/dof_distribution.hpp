@@ -57,10 +57,6 @@ class DofDistribution {
                 std::vector<PetscInt>& cols) const;
 
  private:
-  /// Owned DOF d lies in cells[start[d] .. start[d + 1]) (empty for DOFs of other ranks).
-  void owned_dof_cells(const Mesh<2>& mesh, const DofMap& dofs, std::vector<Index>& start,
-                       std::vector<Index>& cells) const;
-
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   std::vector<Index> local_cells_;
