@@ -5,9 +5,11 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
+#include "core/petsc/csr_matrix.hpp"
 
 namespace warpfem::multigrid {
 namespace {
@@ -106,11 +108,11 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
       count[row] = m;
     }
   }
-  // CSR with sorted columns.
-  std::vector<PetscInt> ia(static_cast<std::size_t>(rows) + 1, 0), ja;
-  std::vector<PetscScalar> va;
-  ja.reserve(static_cast<std::size_t>(rows) * 4);
-  va.reserve(static_cast<std::size_t>(rows) * 4);
+  // Compressed rows with sorted columns, adopted by PETSc without a copy.
+  petsc::OwnedRows csr;
+  csr.row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
+  csr.cols.reserve(static_cast<std::size_t>(rows) * 4);
+  csr.vals.reserve(static_cast<std::size_t>(rows) * 4);
   std::vector<int> order(static_cast<std::size_t>(n));
   for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
     if (count[r] < 0) throw Error("assemble_prolongation: an owned fine DOF lies in no local cell");
@@ -118,18 +120,13 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
     std::iota(order.begin(), order.begin() + count[r], 0);
     std::sort(order.begin(), order.begin() + count[r], [cr](int a, int b) { return cr[a] < cr[b]; });
     for (PetscInt k = 0; k < count[r]; ++k) {
-      ja.push_back(cr[order[k]]);
-      va.push_back(vals[r * n + order[k]]);
+      csr.cols.push_back(cr[order[k]]);
+      csr.vals.push_back(vals[r * n + order[k]]);
     }
-    ia[r + 1] = static_cast<PetscInt>(ja.size());
+    csr.row_ptr[r + 1] = static_cast<PetscInt>(csr.cols.size());
   }
-  petsc::Matrix P;
-  WARPFEM_PETSC_CHECK(MatCreate(fdist.comm(), P.out()));
-  WARPFEM_PETSC_CHECK(MatSetSizes(P.get(), rows, cdist.num_owned(), fdist.num_global(), cdist.num_global()));
-  WARPFEM_PETSC_CHECK(MatSetType(P.get(), MATAIJ));
-  WARPFEM_PETSC_CHECK(MatSeqAIJSetPreallocationCSR(P.get(), ia.data(), ja.data(), va.data()));
-  WARPFEM_PETSC_CHECK(MatMPIAIJSetPreallocationCSR(P.get(), ia.data(), ja.data(), va.data()));
-  return P;
+  return petsc::adopt_owned_rows(fdist.comm(), std::move(csr), cdist.num_owned(), cdist.owned_begin(),
+                                 fdist.num_global(), cdist.num_global());
 }
 
 }  // namespace warpfem::multigrid
