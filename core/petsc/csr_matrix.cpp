@@ -51,6 +51,8 @@ Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, Pets
     OwnedRows& o = storage->off_diagonal;
     d.row_ptr.assign(static_cast<std::size_t>(local_rows) + 1, 0);
     o.row_ptr.assign(static_cast<std::size_t>(local_rows) + 1, 0);
+    d.cols.reserve(rows.cols.size());  // most columns are local
+    d.vals.reserve(rows.vals.size());
     for (PetscInt r = 0; r < local_rows; ++r) {
       for (PetscInt k = rows.row_ptr[r]; k < rows.row_ptr[r + 1]; ++k) {
         const PetscInt c = rows.cols[k] - first_col;
