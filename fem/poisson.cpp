@@ -5,6 +5,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/petsc/check.hpp"
+#include "core/petsc/csr_matrix.hpp"
 #include "core/timer.hpp"
 
 namespace warpfem::fem {
@@ -74,47 +75,21 @@ void PoissonProblem::create_matrix() {
   int size = 1;
   MPI_Comm_size(comm_, &size);
   serial_ = size == 1;
+  // PETSc adopts the pattern without copying it (split into diagonal and
+  // off-diagonal blocks under MPI). Serial assembly writes into the matrix's own
+  // arrays; under MPI it fills a copy laid out like row_ptr_/cols_ and moves it
+  // into the blocks, so only then do those stay here.
+  petsc::OwnedRows rows;
   if (serial_) {
-    // Serial: PETSc uses our compressed rows in place (no copy); assembly writes into them.
-    seq_values_.assign(cols_.size(), 0.0);
-    WARPFEM_PETSC_CHECK(MatCreateSeqAIJWithArrays(comm_, dist_.num_owned(), dist_.num_owned(),
-                                                  row_ptr_.data(), cols_.data(), seq_values_.data(),
-                                                  A_.out()));
+    rows.row_ptr = std::move(row_ptr_);
+    rows.cols = std::move(cols_);
   } else {
-    // Parallel: split every owned row into its diagonal block (local columns) and
-    // off-diagonal block (global columns) and hand both to PETSc without a copy.
-    const PetscInt owned = dist_.num_owned(), begin = dist_.owned_begin(), end = begin + owned;
-    diag_begin_.resize(static_cast<std::size_t>(owned));
-    diag_end_.resize(static_cast<std::size_t>(owned));
-    diag_ptr_.assign(static_cast<std::size_t>(owned) + 1, 0);
-    off_ptr_.assign(static_cast<std::size_t>(owned) + 1, 0);
-    diag_cols_.clear();
-    off_cols_.clear();
-    for (PetscInt r = 0; r < owned; ++r) {
-      PetscInt lo = row_ptr_[r], hi = row_ptr_[r];
-      for (PetscInt k = row_ptr_[r]; k < row_ptr_[r + 1]; ++k) {
-        const PetscInt c = cols_[k];
-        if (c < begin) {
-          off_cols_.push_back(c);
-          lo = hi = k + 1;
-        } else if (c < end) {
-          diag_cols_.push_back(c - begin);
-          hi = k + 1;
-        } else {
-          off_cols_.push_back(c);
-        }
-      }
-      diag_begin_[r] = lo;
-      diag_end_[r] = hi;
-      diag_ptr_[r + 1] = static_cast<PetscInt>(diag_cols_.size());
-      off_ptr_[r + 1] = static_cast<PetscInt>(off_cols_.size());
-    }
-    diag_values_.assign(diag_cols_.size(), 0.0);
-    off_values_.assign(off_cols_.size(), 0.0);
-    WARPFEM_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(
-        comm_, owned, owned, dist_.num_global(), dist_.num_global(), diag_ptr_.data(), diag_cols_.data(),
-        diag_values_.data(), off_ptr_.data(), off_cols_.data(), off_values_.data(), A_.out()));
+    rows.row_ptr = row_ptr_;
+    rows.cols = cols_;
   }
+  rows.vals.assign(rows.cols.size(), 0.0);
+  A_ = petsc::adopt_owned_rows(comm_, std::move(rows), dist_.num_owned(), dist_.owned_begin(),
+                               dist_.num_global(), dist_.num_global());
   WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   b_ = dist_.create_vector();
   u_ = dist_.create_vector();
@@ -229,23 +204,19 @@ void PoissonProblem::assemble() {
     PetscBool done = PETSC_FALSE;
     WARPFEM_PETSC_CHECK(MatRestoreRowIJ(A_.get(), 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
   } else {
-    // Copy the owned rows into the diagonal and off-diagonal blocks (same order).
+    // Copy the owned rows into the diagonal and off-diagonal blocks: both hold the
+    // rows' entries in the same order (adopt_owned_rows), columns [begin, end) in
+    // the diagonal block.
     Mat Ad = nullptr, Ao = nullptr;
     const PetscInt* garray = nullptr;
     WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A_.get(), &Ad, &Ao, &garray));
     PetscScalar *ad = nullptr, *ao = nullptr;
     WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ad, &ad));
     WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ao, &ao));
-    for (PetscInt r = 0; r < owned; ++r) {
-      PetscScalar* d = ad + diag_ptr_[r];
-      PetscScalar* o = ao + off_ptr_[r];
-      for (PetscInt k = row_ptr_[r]; k < row_ptr_[r + 1]; ++k) {
-        if (k >= diag_begin_[r] && k < diag_end_[r])
-          *d++ = mpi_values[k];
-        else
-          *o++ = mpi_values[k];
-      }
-    }
+    const PetscInt end = begin + owned;
+    PetscScalar *d = ad, *o = ao;
+    for (std::size_t k = 0; k < cols_.size(); ++k)
+      (cols_[k] >= begin && cols_[k] < end ? *d++ : *o++) = mpi_values[k];
     WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(Ao, &ao));
     WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(Ad, &ad));
   }

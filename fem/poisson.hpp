@@ -104,17 +104,11 @@ class PoissonProblem {
   // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
   std::array<MatrixX, 3> gradient_products_;
   bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
-  // Owned rows' pattern (global columns). In serial the matrix is created on these
-  // arrays and seq_values_ without copying them: they are declared before A_ so
-  // that they outlive it.
+  // Under MPI: the owned rows' pattern (global columns), the layout assembly fills
+  // before moving the values into the matrix's two blocks. Empty in serial, where
+  // assembly writes into the matrix's own arrays.
   bool serial_ = true;
   std::vector<PetscInt> row_ptr_, cols_;
-  std::vector<PetscScalar> seq_values_;
-  // Under MPI the matrix is created on split arrays (diagonal block with local
-  // columns, off-diagonal block), also without a copy; row r's diagonal entries
-  // are cols_[diag_begin_[r] .. diag_end_[r]).
-  std::vector<PetscInt> diag_ptr_, diag_cols_, off_ptr_, off_cols_, diag_begin_, diag_end_;
-  std::vector<PetscScalar> diag_values_, off_values_;
   // Owned Dirichlet DOFs: global rows, which condition applies, f at their nodes.
   std::vector<PetscInt> dirichlet_rows_;
   std::vector<int> dirichlet_condition_;
