@@ -4,6 +4,8 @@
 #include <memory>
 #include <numeric>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
@@ -52,10 +54,17 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
   global_.resize(static_cast<std::size_t>(nd));
   std::vector<PetscInt> next(count.begin(), count.end() - 1);
   for (Index d = 0; d < nd; ++d) global_[d] = next[owner_[d]]++;
+}
 
+void DofDistribution::build_relevant() const {
+  const IndexTable& cd = dofs_->cell_dofs();
+  const Index nd = dofs_->num_dofs();
   relevant_index_.assign(static_cast<std::size_t>(nd), -1);
+  Index count = 0;
   for (Index c : local_cells_)
-    for (Index k = 0; k < cd.cols(); ++k) relevant_index_[cd(c, k)] = 0;
+    for (Index k = 0; k < cd.cols(); ++k)
+      if (Index& r = relevant_index_[cd(c, k)]; r < 0) r = 0, ++count;
+  relevant_.reserve(static_cast<std::size_t>(count));
   for (Index d = 0; d < nd; ++d)
     if (relevant_index_[d] == 0) {
       relevant_index_[d] = static_cast<Index>(relevant_.size());
@@ -70,10 +79,11 @@ petsc::Vector DofDistribution::create_vector() const {
 }
 
 VectorX DofDistribution::gather_relevant(Vec v) const {
-  const PetscInt n = static_cast<PetscInt>(relevant_.size());
+  const std::vector<Index>& relevant = relevant_dofs();
+  const PetscInt n = static_cast<PetscInt>(relevant.size());
   if (!scatter_) {
-    std::vector<PetscInt> from(relevant_.size());
-    for (std::size_t i = 0; i < relevant_.size(); ++i) from[i] = global_[relevant_[i]];
+    std::vector<PetscInt> from(relevant.size());
+    for (std::size_t i = 0; i < relevant.size(); ++i) from[i] = global_[relevant[i]];
     petsc::IndexSet is;
     WARPFEM_PETSC_CHECK(ISCreateGeneral(PETSC_COMM_SELF, n, from.data(), PETSC_COPY_VALUES, is.out()));
     WARPFEM_PETSC_CHECK(VecCreateSeq(PETSC_COMM_SELF, n, relevant_values_.out()));
@@ -110,23 +120,60 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   };
   // 1. Every cell offers its nloc global DOFs as candidate columns to each of its
   // owned rows: count the candidates per row.
+  // The cells with an owned row are remembered (all of them on one rank): step 2
+  // then visits only those.
   std::vector<PetscInt> slot(static_cast<std::size_t>(rows) + 1, 0);
-  for (Index c = 0; c < nc; ++c)
+  std::vector<Index> touching;
+  const bool all_cells = size_ == 1;
+  for (Index c = 0; c < nc; ++c) {
+    bool touches = false;
     for (Index k = 0; k < nloc; ++k)
-      if (const PetscInt r = owned_row(cd(c, k)); r >= 0) slot[r + 1] += static_cast<PetscInt>(nloc);
+      if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
+        slot[r + 1] += static_cast<PetscInt>(nloc);
+        touches = true;
+      }
+    if (touches && !all_cells) touching.push_back(c);
+  }
+  const Index ncells = all_cells ? nc : static_cast<Index>(touching.size());
+  const auto cell = [&](Index i) { return all_cells ? i : touching[static_cast<std::size_t>(i)]; };
   for (PetscInt r = 0; r < rows; ++r) slot[r + 1] += slot[r];
   // 2. One pass over the cells in order: the cell table is read sequentially and
   // the rows of a cell lie close together (DOFs are numbered by first use), so
   // the candidates are written to nearby buckets.
   const auto candidates = std::make_unique_for_overwrite<PetscInt[]>(static_cast<std::size_t>(slot[rows]));
-  std::vector<PetscInt> fill(slot.begin(), slot.end() - 1), global_cell(static_cast<std::size_t>(nloc));
-  for (Index c = 0; c < nc; ++c) {
-    for (Index k = 0; k < nloc; ++k) global_cell[k] = global_[cd(c, k)];
-    for (Index k = 0; k < nloc; ++k)
-      if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
-        std::copy(global_cell.begin(), global_cell.end(), candidates.get() + fill[r]);
-        fill[r] += static_cast<PetscInt>(nloc);
+  std::vector<PetscInt> fill(slot.begin(), slot.end() - 1);
+  // The DOFs per cell as a compile-time constant where it is a common one: the
+  // copies of a few indices then inline instead of calling memcpy per row.
+  const auto offer = [&]<int NLOC>(std::integral_constant<int, NLOC>) {
+    PetscInt global_cell[NLOC];
+    for (Index i = 0; i < ncells; ++i) {
+      const Index* d = &cd(cell(i), 0);
+      for (int k = 0; k < NLOC; ++k) global_cell[k] = global_[d[k]];
+      for (int k = 0; k < NLOC; ++k)
+        if (const PetscInt r = owned_row(d[k]); r >= 0) {
+          PetscInt* out = candidates.get() + fill[r];
+          for (int j = 0; j < NLOC; ++j) out[j] = global_cell[j];
+          fill[r] += NLOC;
+        }
+    }
+  };
+  switch (nloc) {
+    case 3: offer(std::integral_constant<int, 3>{}); break;
+    case 4: offer(std::integral_constant<int, 4>{}); break;
+    case 6: offer(std::integral_constant<int, 6>{}); break;
+    case 9: offer(std::integral_constant<int, 9>{}); break;
+    default: {
+      std::vector<PetscInt> global_cell(static_cast<std::size_t>(nloc));
+      for (Index i = 0; i < ncells; ++i) {
+        const Index c = cell(i);
+        for (Index k = 0; k < nloc; ++k) global_cell[k] = global_[cd(c, k)];
+        for (Index k = 0; k < nloc; ++k)
+          if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
+            std::copy(global_cell.begin(), global_cell.end(), candidates.get() + fill[r]);
+            fill[r] += static_cast<PetscInt>(nloc);
+          }
       }
+    }
   }
   // 3. Sort and deduplicate every row's candidates in place (blocks of rows on
   // the threads), then pack the rows.
@@ -145,8 +192,9 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
           PetscInt* j = kept;
           while (j > begin && j[-1] > g) --j;
           if (j > begin && j[-1] == g) continue;
-          std::copy_backward(j, kept, kept + 1);
-          *j = g;
+          // Shift [j, kept) up by one, g into the gap: a few entries, in registers
+          // (a plain copy loop would become a memmove call per insertion).
+          for (PetscInt carry = g; j <= kept; ++j) std::swap(carry, *j);
           ++kept;
         }
         row_ptr[r + 1] = static_cast<PetscInt>(kept - begin);  // a length for now

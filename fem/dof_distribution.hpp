@@ -9,6 +9,8 @@
 #include <mpi.h>
 #include <petscvec.h>
 
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "core/petsc/handles.hpp"
@@ -36,10 +38,17 @@ class DofDistribution {
   PetscInt global(Index dof) const { return global_[static_cast<std::size_t>(dof)]; }
   bool owns(Index dof) const { return owner_[static_cast<std::size_t>(dof)] == rank_; }
   int owner(Index dof) const { return owner_[static_cast<std::size_t>(dof)]; }
-  /// Mesh DOFs touched by the local cells (owned and ghost), sorted.
-  const std::vector<Index>& relevant_dofs() const { return relevant_; }
+  /// Mesh DOFs touched by the local cells (owned and ghost), sorted. Built on
+  /// first use (thread-safe): multigrid levels never ask for it.
+  const std::vector<Index>& relevant_dofs() const {
+    std::call_once(*relevant_once_, [this] { build_relevant(); });
+    return relevant_;
+  }
   /// Position of a mesh DOF in relevant_dofs(), or -1.
-  Index relevant_index(Index dof) const { return relevant_index_[static_cast<std::size_t>(dof)]; }
+  Index relevant_index(Index dof) const {
+    std::call_once(*relevant_once_, [this] { build_relevant(); });
+    return relevant_index_[static_cast<std::size_t>(dof)];
+  }
 
   /// A new parallel vector with this layout.
   petsc::Vector create_vector() const;
@@ -63,8 +72,12 @@ class DofDistribution {
   std::vector<int> owner_;
   std::vector<PetscInt> global_;
   PetscInt owned_begin_ = 0, owned_end_ = 0, num_global_ = 0;
-  std::vector<Index> relevant_;
-  std::vector<Index> relevant_index_;
+  void build_relevant() const;
+  // relevant_dofs() and its inverse, built once on demand (the flag on the heap
+  // keeps the class movable).
+  mutable std::unique_ptr<std::once_flag> relevant_once_ = std::make_unique<std::once_flag>();
+  mutable std::vector<Index> relevant_;
+  mutable std::vector<Index> relevant_index_;
   mutable petsc::Scatter scatter_;
   mutable petsc::Vector relevant_values_;
   const DofMap* dofs_;

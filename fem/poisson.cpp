@@ -161,19 +161,28 @@ void PoissonProblem::assemble() {
 
   std::vector<PetscInt> ghost_rows, ghost_cols, ghost_b_rows;
   std::vector<PetscScalar> ghost_vals, ghost_b_vals;
-  std::vector<double> ke(static_cast<std::size_t>(n * n)), fe(static_cast<std::size_t>(n));
+  std::vector<double> ke(static_cast<std::size_t>(n * n)), fe(static_cast<std::size_t>(n)), source;
   std::vector<PetscInt> idx(static_cast<std::size_t>(n));
+  const IndexTable& cell_dofs = dofs_.cell_dofs();
+  const double* N = shape_values_.data();  // column-major: (q, k) at k nq + q
   geometry_.for_each_chunk([&](const GeometryChunk& g) {
+    // w det J f(x) at every point of the chunk first: the cell loop below then
+    // makes no calls through std::function.
+    const Index m = g.num_cells() * nq;
+    source.resize(static_cast<std::size_t>(m));
+    for (Index p = 0; p < m; ++p)
+      source[static_cast<std::size_t>(p)] = g.JxW(p) * data_.source(g.point(p), 0.0);
     for (Index i = 0; i < g.num_cells(); ++i) {
       const Index c = geometry_.cells()[static_cast<std::size_t>(g.first_cell() + i)];
       element_stiffness(g, i, ke.data());
-      std::fill(fe.begin(), fe.end(), 0.0);
-      for (Index q = 0; q < nq; ++q) {
-        const Index p = g.at(i, q);
-        const double wg = g.JxW(p) * data_.source(g.point(p), 0.0);
-        for (int k = 0; k < n; ++k) fe[k] += wg * shape_values_(q, k);
+      const double* wf = source.data() + g.at(i, 0);
+      for (int k = 0; k < n; ++k) {
+        double sum = 0;
+        for (Index q = 0; q < nq; ++q) sum += wf[q] * N[k * nq + q];
+        fe[k] = sum;
       }
-      for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs_.cell_dofs()(c, k));
+      const Index* dofs = &cell_dofs(c, 0);
+      for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs[k]);
       for (int r = 0; r < n; ++r) {
         const PetscInt row = idx[r] - begin;
         if (row < 0 || row >= owned) {

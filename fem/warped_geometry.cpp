@@ -1,6 +1,8 @@
 #include "fem/warped_geometry.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -46,32 +48,53 @@ void WarpedGeometry::compute(Index first, Index last, Scratch& s, double* x, dou
     simple_cell_geometry(*mesh_, cells_[static_cast<std::size_t>(i)], rule_.points, geo_values_,
                          geo_gradients_, s.x0, s.JG, (i - first) * nq_);
   map_->eval_with_jacobian(s.x0, s.x, s.Jf);  // one batched evaluation per chunk
-  const auto& Jf = s.Jf;
-  const auto& JG = s.JG;
-  for (Index k = 0; k < m; ++k) {
-    const double a = Jf(k, 0), b = Jf(k, 1), c = Jf(k, 2), d = Jf(k, 3);
-    const double e = JG(k, 0), f = JG(k, 1), g = JG(k, 2), h = JG(k, 3);
-    const double j00 = a * e + b * g, j01 = a * f + b * h, j10 = c * e + d * g, j11 = c * f + d * h;
-    const double det = j00 * j11 - j01 * j10;
-    if (!(det > 0)) {
-      std::ostringstream os;
-      os << "the warped cell " << cells_[static_cast<std::size_t>(first + k / nq_)]
-         << " is inverted or degenerate: det J = " << det << " (det J_f = " << a * d - b * c << ") at x0 = ("
-         << s.x0(k, 0) << ", " << s.x0(k, 1) << ")";
-      throw Error(os.str(), {.file = "",
-                             .key_path = "",
-                             .hint = "the map is not bijective there; refine the map's partition (smaller "
-                                     "min_interval, higher sample_resolution) or check the polygons"});
+  const double *Jf = s.Jf.data(), *JG = s.JG.data(), *w = rule_.weights.data();
+  const double* xs = s.x.data();
+  const Index ldf = s.Jf.rows(), ldg = s.JG.rows(), lds = s.x.rows();
+  // J = J_f J_G, its inverse transpose and w det J; determinants are checked after
+  // the loop so that it stays branch-free.
+  bool inverted = false;
+  for (Index k0 = 0; k0 < m; k0 += nq_)
+    for (Index q = 0; q < nq_; ++q) {
+      const Index k = k0 + q;
+      const double a = Jf[k], b = Jf[ldf + k], c = Jf[2 * ldf + k], d = Jf[3 * ldf + k];
+      const double e = JG[k], f = JG[ldg + k], g = JG[2 * ldg + k], h = JG[3 * ldg + k];
+      const double j00 = a * e + b * g, j01 = a * f + b * h, j10 = c * e + d * g, j11 = c * f + d * h;
+      const double det = j00 * j11 - j01 * j10;
+      inverted |= !(det > 0);  // also NaN
+      const double inv = 1.0 / det;
+      x[k] = xs[k];
+      x[ld + k] = xs[lds + k];
+      JinvT[k] = j11 * inv;
+      JinvT[ld + k] = -j10 * inv;
+      JinvT[2 * ld + k] = -j01 * inv;
+      JinvT[3 * ld + k] = j00 * inv;
+      JxW[k] = w[q] * det;
     }
-    const double inv = 1.0 / det;
-    x[k] = s.x(k, 0);
-    x[ld + k] = s.x(k, 1);
-    JinvT[k] = j11 * inv;
-    JinvT[ld + k] = -j10 * inv;
-    JinvT[2 * ld + k] = -j01 * inv;
-    JinvT[3 * ld + k] = j00 * inv;
-    JxW[k] = rule_.weights(k % nq_) * det;
+  if (inverted) report_inverted(first, m, s);
+}
+
+void WarpedGeometry::report_inverted(Index first, Index m, const Scratch& s) const {
+  // The point with the smallest det J (a NaN first), so the message always names one.
+  Index worst = 0;
+  double worst_det = std::numeric_limits<double>::infinity(), worst_det_f = 0;
+  for (Index k = 0; k < m; ++k) {
+    const double a = s.Jf(k, 0), b = s.Jf(k, 1), c = s.Jf(k, 2), d = s.Jf(k, 3);
+    const double e = s.JG(k, 0), f = s.JG(k, 1), g = s.JG(k, 2), h = s.JG(k, 3);
+    const double det = (a * e + b * g) * (c * f + d * h) - (a * f + b * h) * (c * e + d * g);
+    if (std::isnan(det) || det < worst_det) {
+      worst = k, worst_det = det, worst_det_f = a * d - b * c;
+      if (std::isnan(det)) break;
+    }
   }
+  std::ostringstream os;
+  os << "the warped cell " << cells_[static_cast<std::size_t>(first + worst / nq_)]
+     << " is inverted or degenerate: det J = " << worst_det << " (det J_f = " << worst_det_f << ") at x0 = ("
+     << s.x0(worst, 0) << ", " << s.x0(worst, 1) << ")";
+  throw Error(os.str(), {.file = "",
+                         .key_path = "",
+                         .hint = "the map is not bijective there; refine the map's partition (smaller "
+                                 "min_interval, higher sample_resolution) or check the polygons"});
 }
 
 void WarpedGeometry::for_each_chunk(const std::function<void(const GeometryChunk&)>& body) const {

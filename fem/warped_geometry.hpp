@@ -109,6 +109,8 @@ class WarpedGeometry {
   /// Cells [first, last): x, J^{-T}, JxW written with leading dimension ld at
   /// offset 0 of the given arrays.
   void compute(Index first, Index last, Scratch& s, double* x, double* JinvT, double* JxW, Index ld) const;
+  /// Throws naming the chunk's point with the smallest det J (or a NaN).
+  [[noreturn]] void report_inverted(Index first, Index m, const Scratch& s) const;
   [[noreturn]] static void throw_not_cached(const char* what);
 
   const Mesh<2>* mesh_;
