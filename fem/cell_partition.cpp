@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "fem/uniform_refinement.hpp"
 
 namespace warpfem::fem {
 namespace {
@@ -58,17 +59,10 @@ std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts) {
   return owner;
 }
 
-std::vector<int> inherit_partition(const std::vector<Index>& cell_parent,
-                                   const std::vector<int>& coarse_owner) {
-  std::vector<int> owner(cell_parent.size());
-  for (std::size_t c = 0; c < cell_parent.size(); ++c) {
-    const Index p = cell_parent[c];
-    if (p < 0 || p >= static_cast<Index>(coarse_owner.size()))
-      throw Error("inherit_partition: fine cell " + std::to_string(c) + " lies in coarse cell " +
-                  std::to_string(p) + ", not one of the " + std::to_string(coarse_owner.size()) +
-                  " coarse cells");
-    owner[c] = coarse_owner[static_cast<std::size_t>(p)];
-  }
+std::vector<int> inherit_partition(const std::vector<int>& coarse_owner) {
+  std::vector<int> owner(coarse_owner.size() * RefinedMesh::children_per_cell);
+  for (std::size_t c = 0; c < owner.size(); ++c)
+    owner[c] = coarse_owner[static_cast<std::size_t>(RefinedMesh::parent_of(static_cast<Index>(c)))];
   return owner;
 }
 

@@ -13,12 +13,11 @@ namespace warpfem::fem {
 /// Owner rank of every cell.
 std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts);
 
-/// Owner rank of every fine cell of a uniform refinement: the owner of the
-/// coarse cell it lies in (`cell_parent[c]`, see RefinedMesh). A partition
-/// inherited this way is nested: a rank's fine cells cover exactly its coarse
-/// cells, so transfers between the two levels stay on the rank except along
-/// the interface.
-std::vector<int> inherit_partition(const std::vector<Index>& cell_parent,
-                                   const std::vector<int>& coarse_owner);
+/// Owner rank of every fine cell of a uniform refinement (refine_uniformly: the
+/// children of coarse cell c are fine cells 4c … 4c+3): the owner of the coarse
+/// cell it lies in. A partition inherited this way is nested: a rank's fine
+/// cells cover exactly its coarse cells, so transfers between the two levels
+/// stay on the rank except along the interface.
+std::vector<int> inherit_partition(const std::vector<int>& coarse_owner);
 
 }  // namespace warpfem::fem

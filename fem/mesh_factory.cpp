@@ -70,8 +70,7 @@ std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_
       owner = partition_cells(mesh, num_parts);
       base_found = mesh.num_cells() >= min_cells_per_part * num_parts;
     } else {
-      owner = inherit_partition(h.transfers[static_cast<std::size_t>(l - 1)].cell_parent,
-                                owners[static_cast<std::size_t>(l - 1)]);
+      owner = inherit_partition(owners[static_cast<std::size_t>(l - 1)]);
     }
   }
   return owners;

@@ -37,8 +37,8 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const map
 /// Nested meshes: level 0 is the coarse mesh, level k + 1 the uniform refinement of level k.
 struct MeshHierarchy {
   std::vector<Mesh<2>> levels;
-  /// transfers[k] describes how level k + 1 refines level k (parents of vertices and cells);
-  /// its `mesh` member is moved into `levels` and left empty.
+  /// transfers[k] describes how level k + 1 refines level k (where the coarse nodes went; parents of cells by
+  /// RefinedMesh::parent_of); its `mesh` member is moved into `levels` and left empty.
   std::vector<RefinedMesh> transfers;
 
   MeshHierarchy(Mesh<2> coarse, int refinements);

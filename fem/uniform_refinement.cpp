@@ -23,10 +23,8 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   // 1. Fine cells over the fine *nodes*: coarse vertex v, midpoint of coarse
   // edge e at nv + e, centre of quadrilateral c at nv + ne + c.
   fine.cells.resize(4 * nc, quads ? 4 : 3);
-  out.cell_parent.resize(static_cast<std::size_t>(4 * nc));
   for (Index c = 0; c < nc; ++c) {
     const Index* v = &coarse.cells(c, 0);
-    for (int k = 0; k < 4; ++k) out.cell_parent[4 * c + k] = c;
     if (!quads) {  // layouts: child_reference_vertices()
       const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1),
                   m20 = nv + edges.cell_edge(c, 2);

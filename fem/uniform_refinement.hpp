@@ -11,9 +11,11 @@ namespace warpfem::fem {
 
 struct RefinedMesh {
   Mesh<2> mesh;
-  /// For every fine cell, the coarse cell it lies in: fine cells 4c … 4c+3 are
-  /// the children of coarse cell c, child k laid out as child_reference_vertices(k).
-  std::vector<Index> cell_parent;
+  /// Fine cells 4c … 4c+3 are the children of coarse cell c, child k laid out as
+  /// child_reference_vertices(k): the parent of fine cell f is f / 4, its place
+  /// among the children f % 4 (a rule of the layout, not a stored table).
+  static constexpr Index children_per_cell = 4;
+  static constexpr Index parent_of(Index fine_cell) { return fine_cell / children_per_cell; }
   /// The fine vertex at each coarse node, in DofMap's node order: coarse
   /// vertex v, then the midpoint of coarse edge e (EdgeNumbering of the coarse
   /// mesh) at nv + e, then, for quadrilaterals, the centre of cell c at

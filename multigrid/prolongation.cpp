@@ -44,6 +44,11 @@ void check_spaces(const fem::MeshHierarchy& h, int fine_level, const LevelSpace&
   require(coarse.dofs->cell_dofs().rows() == h.levels[static_cast<std::size_t>(fine_level - 1)].num_cells() &&
               fine.dofs->cell_dofs().rows() == h.levels[static_cast<std::size_t>(fine_level)].num_cells(),
           "assemble_prolongation: the DOF maps do not belong to the hierarchy's levels");
+  require(h.levels[static_cast<std::size_t>(fine_level)].num_cells() ==
+              fem::RefinedMesh::children_per_cell *
+                  h.levels[static_cast<std::size_t>(fine_level - 1)].num_cells(),
+          "assemble_prolongation: level " + std::to_string(fine_level) +
+              " is not a uniform refinement of the level below (levels must come from refine_uniformly)");
   require(coarse.dirichlet.empty() ||
               coarse.dirichlet.size() == static_cast<std::size_t>(coarse.dofs->num_dofs()),
           "assemble_prolongation: coarse Dirichlet mask has the wrong size");
@@ -56,8 +61,6 @@ void check_spaces(const fem::MeshHierarchy& h, int fine_level, const LevelSpace&
 petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fine_level,
                                     const LevelSpace& coarse, const LevelSpace& fine) {
   check_spaces(hierarchy, fine_level, coarse, fine);
-  const std::size_t fl = static_cast<std::size_t>(fine_level);
-  const auto& parent = hierarchy.transfers[fl - 1].cell_parent;
   const fem::DofDistribution& fdist = *fine.distribution;
   const fem::DofDistribution& cdist = *coarse.distribution;
   const fem::IndexTable& fdofs = fine.dofs->cell_dofs();
@@ -76,11 +79,7 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
   // always in the same layout, so a child's table depends only on f − 4c.
   const std::array<MatrixX, 4> tables = child_tables(fine.dofs->element());
   for (Index f : fdist.local_cells()) {
-    const Index c = parent[static_cast<std::size_t>(f)];
-    if (c != f / 4)
-      throw Error("assemble_prolongation: fine cell " + std::to_string(f) + " is not child " +
-                  std::to_string(f % 4) + " of coarse cell " + std::to_string(f / 4) +
-                  " (levels must come from refine_uniformly)");
+    const Index c = fem::RefinedMesh::parent_of(f);
     bool todo = false;
     for (int k = 0; k < n && !todo; ++k) {
       const Index d = fdofs(f, k);

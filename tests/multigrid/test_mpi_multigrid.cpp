@@ -71,11 +71,10 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
     ++nested_levels;
     const auto& coarse_cells = mg->level(l - 1).distribution().local_cells();
     const std::set<Index> coarse(coarse_cells.begin(), coarse_cells.end());
-    const auto& parent = h.transfers[static_cast<std::size_t>(l - 1)].cell_parent;
     const auto& fine_cells = mg->level(l).distribution().local_cells();
     EXPECT_EQ(fine_cells.size(), 4 * coarse_cells.size()) << "level " << l;
     for (const Index c : fine_cells)
-      ASSERT_TRUE(coarse.count(parent[static_cast<std::size_t>(c)])) << "level " << l << ", cell " << c;
+      ASSERT_TRUE(coarse.count(fem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
   }
   EXPECT_GE(nested_levels, 2);
   // The Chebyshev bound is global: the same on two ranks as on one.
