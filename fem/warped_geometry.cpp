@@ -97,12 +97,16 @@ void WarpedGeometry::report_inverted(Index first, Index m, const Scratch& s) con
                                  "min_interval, higher sample_resolution) or check the polygons"});
 }
 
+Index WarpedGeometry::chunk_points() {
+  return thread_count() == 1 ? Index{1} << 12 : Index{1} << 16;
+}
+
 void WarpedGeometry::for_each_chunk(const std::function<void(const GeometryChunk&)>& body) const {
   if (storage_ == GeometryStorage::cached) {
     body(GeometryChunk(0, num_cells(), nq_, x_.data(), JinvT_.data(), JxW_.data(), num_cells() * nq_));
     return;
   }
-  const Index cells_per_chunk = std::max<Index>(1, chunk_points / std::max<Index>(1, nq_));
+  const Index cells_per_chunk = std::max<Index>(1, chunk_points() / std::max<Index>(1, nq_));
   Scratch s;
   std::vector<double> x, JinvT, JxW;
   for (Index first = 0; first < num_cells(); first += cells_per_chunk) {

@@ -48,7 +48,7 @@ TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
   const auto rule = fem::cell_quadrature(mesh.cell_type, 4);
   const fem::WarpedGeometry cached(mesh, all_cells(mesh), rule, *map);
   const fem::WarpedGeometry streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
-  ASSERT_GT(cached.num_cells() * cached.points_per_cell(), fem::WarpedGeometry::chunk_points);
+  ASSERT_GT(cached.num_cells() * cached.points_per_cell(), fem::WarpedGeometry::chunk_points());
   int chunks = 0;
   Index next_cell = 0;
   double max_diff = 0;
