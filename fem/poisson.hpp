@@ -20,7 +20,7 @@
 namespace warpfem::fem {
 
 struct PoissonData {
-  ScalarFunction source = [](const Point<2>&, double) { return 0.0; };
+  ScalarFunction source = ConstantFunction{0.0};
   std::vector<BoundaryCondition> dirichlet;
   std::vector<BoundaryCondition> neumann;
   /// The source polygon: boundary conditions then select polygon edges per

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "fem/functions.hpp"
 
 namespace warpfem::io {
 
@@ -57,6 +58,7 @@ double Expression::operator()(double x, double y, double z, double t) const {
 }
 
 std::function<double(const Point<2>&, double)> Expression::as_function_2d() const {
+  if (constant_) return fem::ConstantFunction{(*this)(0.0, 0.0)};  // recognisable, no parser per point
   auto copy = std::make_shared<Expression>(*this);
   return [copy](const Point<2>& p, double t) { return (*copy)(p(0), p(1), 0.0, t); };
 }

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
                 static_cast<long long>(mesh.num_cells()), static_cast<long long>(mesh.num_vertices()), size,
                 warped->describe().c_str(), map_build);
   fem::PoissonData data;
-  data.source = [](const Point<2>&, double) { return 1.0; };
+  data.source = fem::ConstantFunction{1.0};
   data.dirichlet.push_back({{}, [](const Point<2>&, double) { return 0.0; }});
   // Both problems are built first; their assemblies then alternate (5 rounds,
   // fastest of each reported), so a disturbance of the shared machine hits

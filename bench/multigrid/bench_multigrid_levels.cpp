@@ -149,7 +149,7 @@ int main(int argc, char** argv) {
 
   // 2. Problem: −Δu = 1 on f(Ω0), u = 0 on the whole boundary.
   fem::PoissonData data;
-  data.source = [](const Point<2>&, double) { return 1.0; };
+  data.source = fem::ConstantFunction{1.0};
   data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>&, double) { return 0.0; }});
 
   if (Environment::rank() == 0) {

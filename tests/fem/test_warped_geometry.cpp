@@ -144,3 +144,30 @@ TEST(WarpedGeometryStorage, PoissonDoesNotDependOnTheStorage) {
     EXPECT_NEAR(streamed.area(), cached.area(), 1e-14);
   }
 }
+
+// A ConstantFunction source skips the per-point calls; the load vector must be
+// the one a plain lambda with the same value gives.
+TEST(WarpedGeometryStorage, ConstantSourceAssemblesLikeAPointwiseOne) {
+  const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 10, 10, fem::CellType::triangle);
+  const auto map = concave_composite();
+  for (int order : {1, 2}) {
+    fem::PoissonData pointwise, constant;
+    pointwise.source = [](const Point<2>&, double) { return 2.5; };
+    constant.source = fem::ConstantFunction{2.5};
+    ASSERT_NE(constant.source.target<fem::ConstantFunction>(), nullptr);
+    for (auto* d : {&pointwise, &constant})
+      d->dirichlet.push_back({.edges = {0}, .value = [](const Point<2>& x, double) { return x.y(); }});
+    fem::PoissonProblem a(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, pointwise,
+                          fem::GeometryStorage::streamed);
+    fem::PoissonProblem b(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, constant,
+                          fem::GeometryStorage::streamed);
+    a.assemble();
+    b.assemble();
+    PetscReal norm = 0, diff = 0;
+    WARPFEM_PETSC_CHECK(VecNorm(a.rhs(), NORM_2, &norm));
+    WARPFEM_PETSC_CHECK(VecAXPY(b.rhs(), -1.0, a.rhs()));
+    WARPFEM_PETSC_CHECK(VecNorm(b.rhs(), NORM_2, &diff));
+    EXPECT_GT(norm, 0.1);
+    EXPECT_LE(diff, 1e-14 * norm) << "P" << order;
+  }
+}

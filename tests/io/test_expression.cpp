@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "fem/functions.hpp"
 #include "io/expression.hpp"
 
 using warpfem::Error;
@@ -16,6 +17,19 @@ TEST(Expression, EvaluatesVariablesAndConstants) {
   const Expression c("2*pi");
   EXPECT_TRUE(c.is_constant());
   EXPECT_NEAR(c(9, 9), 2 * std::numbers::pi, 1e-15);
+}
+
+// A constant expression becomes a recognisable fem::ConstantFunction (assembly
+// then skips the per-point calls); any other one stays a pointwise function.
+TEST(Expression, ConstantExpressionsBecomeConstantFunctions) {
+  const auto c = Expression("3*pi/2").as_function_2d();
+  const auto* constant = c.target<warpfem::fem::ConstantFunction>();
+  ASSERT_NE(constant, nullptr);
+  EXPECT_NEAR(constant->value, 1.5 * std::numbers::pi, 1e-15);
+  EXPECT_NEAR(c(warpfem::Point<2>(7, -3), 2.0), 1.5 * std::numbers::pi, 1e-15);
+  const auto f = Expression("x + 2*y - t").as_function_2d();
+  EXPECT_EQ(f.target<warpfem::fem::ConstantFunction>(), nullptr);
+  EXPECT_DOUBLE_EQ(f(warpfem::Point<2>(1, 2), 3.0), 2.0);
 }
 
 TEST(Expression, CopiesAreIndependent) {
