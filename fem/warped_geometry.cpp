@@ -41,12 +41,32 @@ WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& ce
 
 void WarpedGeometry::compute(Index first, Index last, Scratch& s, double* x, double* JinvT, double* JxW,
                              Index ld) const {
-  const Index m = (last - first) * nq_;
+  const Index nc = last - first, m = nc * nq_;
+  // A straight triangle is affine: J_G is one matrix per cell, so it is kept
+  // per cell (rows of s.JG) and x0 = v0 + J_G ξ; other cells keep J_G per point.
+  const bool affine = mesh_->cell_type == CellType::triangle;
   s.x0.resize(m, 2);
-  s.JG.resize(m, 4);
-  for (Index i = first; i < last; ++i)
-    simple_cell_geometry(*mesh_, cells_[static_cast<std::size_t>(i)], rule_.points, geo_values_,
-                         geo_gradients_, s.x0, s.JG, (i - first) * nq_);
+  if (affine) {
+    s.JG.resize(nc, 4);
+    const Points<2>& V = mesh_->vertices;
+    const double *xi = rule_.points.data(), *eta = xi + nq_;
+    double *X = s.x0.data(), *Y = X + m, *G = s.JG.data();
+    for (Index i = 0; i < nc; ++i) {
+      const Index* c = &mesh_->cells(cells_[static_cast<std::size_t>(first + i)], 0);
+      const double x0 = V(c[0], 0), y0 = V(c[0], 1);
+      const double e = V(c[1], 0) - x0, f = V(c[2], 0) - x0, g = V(c[1], 1) - y0, h = V(c[2], 1) - y0;
+      G[i] = e, G[nc + i] = f, G[2 * nc + i] = g, G[3 * nc + i] = h;
+      for (Index q = 0; q < nq_; ++q) {
+        X[i * nq_ + q] = x0 + e * xi[q] + f * eta[q];
+        Y[i * nq_ + q] = y0 + g * xi[q] + h * eta[q];
+      }
+    }
+  } else {
+    s.JG.resize(m, 4);
+    for (Index i = first; i < last; ++i)
+      simple_cell_geometry(*mesh_, cells_[static_cast<std::size_t>(i)], rule_.points, geo_values_,
+                           geo_gradients_, s.x0, s.JG, (i - first) * nq_);
+  }
   map_->eval_with_jacobian(s.x0, s.x, s.Jf);  // one batched evaluation per chunk
   const double *Jf = s.Jf.data(), *JG = s.JG.data(), *w = rule_.weights.data();
   const double* xs = s.x.data();
@@ -54,11 +74,11 @@ void WarpedGeometry::compute(Index first, Index last, Scratch& s, double* x, dou
   // J = J_f J_G, its inverse transpose and w det J; determinants are checked after
   // the loop so that it stays branch-free.
   bool inverted = false;
-  for (Index k0 = 0; k0 < m; k0 += nq_)
+  for (Index i = 0; i < nc; ++i)
     for (Index q = 0; q < nq_; ++q) {
-      const Index k = k0 + q;
+      const Index k = i * nq_ + q, kg = affine ? i : k;
       const double a = Jf[k], b = Jf[ldf + k], c = Jf[2 * ldf + k], d = Jf[3 * ldf + k];
-      const double e = JG[k], f = JG[ldg + k], g = JG[2 * ldg + k], h = JG[3 * ldg + k];
+      const double e = JG[kg], f = JG[ldg + kg], g = JG[2 * ldg + kg], h = JG[3 * ldg + kg];
       const double j00 = a * e + b * g, j01 = a * f + b * h, j10 = c * e + d * g, j11 = c * f + d * h;
       const double det = j00 * j11 - j01 * j10;
       inverted |= !(det > 0);  // also NaN
@@ -80,7 +100,8 @@ void WarpedGeometry::report_inverted(Index first, Index m, const Scratch& s) con
   double worst_det = std::numeric_limits<double>::infinity(), worst_det_f = 0;
   for (Index k = 0; k < m; ++k) {
     const double a = s.Jf(k, 0), b = s.Jf(k, 1), c = s.Jf(k, 2), d = s.Jf(k, 3);
-    const double e = s.JG(k, 0), f = s.JG(k, 1), g = s.JG(k, 2), h = s.JG(k, 3);
+    const Index kg = s.JG.rows() == m ? k : k / nq_;  // J_G per point or per (affine) cell
+    const double e = s.JG(kg, 0), f = s.JG(kg, 1), g = s.JG(kg, 2), h = s.JG(kg, 3);
     const double det = (a * e + b * g) * (c * f + d * h) - (a * f + b * h) * (c * e + d * g);
     if (std::isnan(det) || det < worst_det) {
       worst = k, worst_det = det, worst_det_f = a * d - b * c;

@@ -108,7 +108,7 @@ class WarpedGeometry {
   /// Scratch of one chunk computation.
   struct Scratch {
     Points<2> x0, x;
-    Jacobians<2> JG, Jf;
+    Jacobians<2> JG, Jf;  ///< J_G one row per point, or per cell for (affine) triangles
   };
   /// Cells [first, last): x, J^{-T}, JxW written with leading dimension ld at
   /// offset 0 of the given arrays.
