@@ -41,6 +41,7 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
   const IndexTable& cd = dofs.cell_dofs();
   const Index nd = dofs.num_dofs();
   owner_.assign(static_cast<std::size_t>(nd), size_);
+  local_cells_.reserve(static_cast<std::size_t>(std::count(cell_owner.begin(), cell_owner.end(), rank_)));
   for (Index c = 0; c < mesh.num_cells(); ++c) {
     if (cell_owner[c] == rank_) local_cells_.push_back(c);
     for (Index k = 0; k < cd.cols(); ++k) owner_[cd(c, k)] = std::min(owner_[cd(c, k)], cell_owner[c]);
@@ -118,18 +119,19 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   const auto owned_row = [&](Index d) {
     return owner_[d] == rank_ ? global_[d] - owned_begin_ : PetscInt{-1};
   };
-  // 1. Every cell offers its nloc global DOFs as candidate columns to each of its
-  // owned rows: count the candidates per row.
-  // The cells with an owned row are remembered (all of them on one rank): step 2
-  // then visits only those.
-  std::vector<PetscInt> slot(static_cast<std::size_t>(rows) + 1, 0);
+  // 1. Every row holds its diagonal, and every cell offers its other nloc - 1
+  // global DOFs as candidate columns to each of its owned rows: count the
+  // candidates per row. The cells with an owned row are remembered (all of them
+  // on one rank): step 2 then visits only those.
+  std::vector<PetscInt> slot(static_cast<std::size_t>(rows) + 1, 1);
+  slot[0] = 0;
   std::vector<Index> touching;
   const bool all_cells = size_ == 1;
   for (Index c = 0; c < nc; ++c) {
     bool touches = false;
     for (Index k = 0; k < nloc; ++k)
       if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
-        slot[r + 1] += static_cast<PetscInt>(nloc);
+        slot[r + 1] += static_cast<PetscInt>(nloc - 1);
         touches = true;
       }
     if (touches && !all_cells) touching.push_back(c);
@@ -141,7 +143,11 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   // the rows of a cell lie close together (DOFs are numbered by first use), so
   // the candidates are written to nearby buckets.
   const auto candidates = std::make_unique_for_overwrite<PetscInt[]>(static_cast<std::size_t>(slot[rows]));
-  std::vector<PetscInt> fill(slot.begin(), slot.end() - 1);
+  std::vector<PetscInt> fill(static_cast<std::size_t>(rows));
+  for (PetscInt r = 0; r < rows; ++r) {
+    candidates[static_cast<std::size_t>(slot[r])] = owned_begin_ + r;
+    fill[r] = slot[r] + 1;
+  }
   // The DOFs per cell as a compile-time constant where it is a common one: the
   // copies of a few indices then inline instead of calling memcpy per row.
   const auto offer = [&]<int NLOC>(std::integral_constant<int, NLOC>) {
@@ -152,8 +158,9 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
       for (int k = 0; k < NLOC; ++k)
         if (const PetscInt r = owned_row(d[k]); r >= 0) {
           PetscInt* out = candidates.get() + fill[r];
-          for (int j = 0; j < NLOC; ++j) out[j] = global_cell[j];
-          fill[r] += NLOC;
+          for (int j = 0; j < NLOC; ++j)
+            if (j != k) *out++ = global_cell[j];
+          fill[r] += NLOC - 1;
         }
     }
   };
@@ -169,8 +176,10 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
         for (Index k = 0; k < nloc; ++k) global_cell[k] = global_[cd(c, k)];
         for (Index k = 0; k < nloc; ++k)
           if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
-            std::copy(global_cell.begin(), global_cell.end(), candidates.get() + fill[r]);
-            fill[r] += static_cast<PetscInt>(nloc);
+            PetscInt* out = candidates.get() + fill[r];
+            for (Index j = 0; j < nloc; ++j)
+              if (j != k) *out++ = global_cell[j];
+            fill[r] += static_cast<PetscInt>(nloc - 1);
           }
       }
     }
@@ -184,10 +193,11 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
       for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r) {
         PetscInt* begin = candidates.get() + slot[r];
         PetscInt* end = candidates.get() + slot[r + 1];
-        // Insertion into the sorted, duplicate-free prefix: a row has few distinct
-        // columns (7 for P1) among its candidates (18), so this beats sort + unique.
-        PetscInt* kept = begin;
-        for (PetscInt* it = begin; it != end; ++it) {
+        // Insertion into the sorted, duplicate-free prefix (the diagonal first): a
+        // row has few distinct columns (7 for P1) among its candidates (13), so
+        // this beats sort + unique.
+        PetscInt* kept = begin + 1;
+        for (PetscInt* it = begin + 1; it != end; ++it) {
           const PetscInt g = *it;
           PetscInt* j = kept;
           while (j > begin && j[-1] > g) --j;
