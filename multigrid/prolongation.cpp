@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
 #include <string>
 #include <utility>
 
@@ -107,22 +106,27 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
       count[row] = m;
     }
   }
-  // Compressed rows with sorted columns, adopted by PETSc without a copy.
+  // Compressed rows with sorted columns, adopted by PETSc without a copy. A row
+  // has at most n entries: each is sorted in place by insertion.
   petsc::OwnedRows csr;
-  csr.row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
-  csr.cols.reserve(static_cast<std::size_t>(rows) * 4);
-  csr.vals.reserve(static_cast<std::size_t>(rows) * 4);
-  std::vector<int> order(static_cast<std::size_t>(n));
+  csr.row_ptr.resize(static_cast<std::size_t>(rows) + 1);
+  csr.row_ptr[0] = 0;
   for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
     if (count[r] < 0) throw Error("assemble_prolongation: an owned fine DOF lies in no local cell");
-    const PetscInt* cr = &cols[r * n];
-    std::iota(order.begin(), order.begin() + count[r], 0);
-    std::sort(order.begin(), order.begin() + count[r], [cr](int a, int b) { return cr[a] < cr[b]; });
+    csr.row_ptr[r + 1] = csr.row_ptr[r] + count[r];
+  }
+  csr.cols.resize(static_cast<std::size_t>(csr.row_ptr[static_cast<std::size_t>(rows)]));
+  csr.vals.resize(csr.cols.size());
+  for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
+    PetscInt* oc = csr.cols.data() + csr.row_ptr[r];
+    PetscScalar* ov = csr.vals.data() + csr.row_ptr[r];
     for (PetscInt k = 0; k < count[r]; ++k) {
-      csr.cols.push_back(cr[order[k]]);
-      csr.vals.push_back(vals[r * n + order[k]]);
+      const PetscInt col = cols[r * n + k];
+      const PetscScalar val = vals[r * n + k];
+      PetscInt j = k;
+      for (; j > 0 && oc[j - 1] > col; --j) oc[j] = oc[j - 1], ov[j] = ov[j - 1];
+      oc[j] = col, ov[j] = val;
     }
-    csr.row_ptr[r + 1] = static_cast<PetscInt>(csr.cols.size());
   }
   return petsc::adopt_owned_rows(fdist.comm(), std::move(csr), cdist.num_owned(), cdist.owned_begin(),
                                  fdist.num_global(), cdist.num_global());
