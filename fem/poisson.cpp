@@ -39,8 +39,8 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
                                               : DofDistribution(comm, mesh, dofs_, cell_owner);
                   })),
       geometry_(timed(setup_timings_.geometry, [&] {
-        return WarpedGeometry(mesh, dist_.local_cells(), cell_quadrature(mesh.cell_type, quadrature_degree),
-                              *map_, storage);
+        return WarpedGeometry(mesh, dist_.local_cells(), WarpedGeometry::BorrowCells{},
+                              cell_quadrature(mesh.cell_type, quadrature_degree), *map_, storage);
       })) {
   Stopwatch watch;
   if (data_.boundary_polygon) locator_.emplace(*data_.boundary_polygon);

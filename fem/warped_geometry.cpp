@@ -15,7 +15,23 @@ namespace warpfem::fem {
 WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& cells,
                                const QuadratureRule<2>& rule, const mapping::Map<2>& map,
                                GeometryStorage storage)
-    : mesh_(&mesh), map_(&map), cells_(cells), rule_(rule), nq_(rule.size()), storage_(storage) {
+    : WarpedGeometry(mesh, std::span<const Index>(), BorrowCells{}, rule, map, storage, cells) {}
+
+WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, std::span<const Index> cells, BorrowCells,
+                               const QuadratureRule<2>& rule, const mapping::Map<2>& map,
+                               GeometryStorage storage)
+    : WarpedGeometry(mesh, cells, BorrowCells{}, rule, map, storage, {}) {}
+
+WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, std::span<const Index> borrowed, BorrowCells,
+                               const QuadratureRule<2>& rule, const mapping::Map<2>& map,
+                               GeometryStorage storage, std::vector<Index> own)
+    : mesh_(&mesh),
+      map_(&map),
+      own_cells_(std::move(own)),
+      cells_(own_cells_.empty() ? borrowed : std::span<const Index>(own_cells_)),
+      rule_(rule),
+      nq_(rule.size()),
+      storage_(storage) {
   const LagrangeElement geo(mesh.cell_type, 1);
   geo_values_ = geo.values(rule.points);
   geo_gradients_ = geo.gradients(rule.points);

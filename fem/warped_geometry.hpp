@@ -19,6 +19,7 @@
 
 #include <array>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "fem/mesh.hpp"
@@ -60,12 +61,23 @@ class WarpedGeometry {
   /// (streamed: when a pass reaches that cell).
   WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& cells, const QuadratureRule<2>& rule,
                  const mapping::Map<2>& map, GeometryStorage storage = GeometryStorage::cached);
+  /// The same over cells the caller keeps (no copy; `cells`' storage must stay
+  /// where it is while the geometry lives, e.g. DofDistribution::local_cells()
+  /// of the same problem).
+  struct BorrowCells {};
+  WarpedGeometry(const Mesh<2>& mesh, std::span<const Index> cells, BorrowCells,
+                 const QuadratureRule<2>& rule, const mapping::Map<2>& map,
+                 GeometryStorage storage = GeometryStorage::cached);
+  WarpedGeometry(WarpedGeometry&&) = default;
+  WarpedGeometry& operator=(WarpedGeometry&&) = default;
+  WarpedGeometry(const WarpedGeometry&) = delete;  // cells_ may view own_cells_
+  WarpedGeometry& operator=(const WarpedGeometry&) = delete;
 
   Index num_cells() const { return static_cast<Index>(cells_.size()); }
   Index points_per_cell() const { return nq_; }
   /// Flat index of quadrature point q of the i-th cell of cells().
   Index at(Index i, Index q) const { return i * nq_ + q; }
-  const std::vector<Index>& cells() const { return cells_; }
+  std::span<const Index> cells() const { return cells_; }
   const QuadratureRule<2>& rule() const { return rule_; }
   GeometryStorage storage() const { return storage_; }
 
@@ -113,13 +125,18 @@ class WarpedGeometry {
   /// Cells [first, last): x, J^{-T}, JxW written with leading dimension ld at
   /// offset 0 of the given arrays.
   void compute(Index first, Index last, Scratch& s, double* x, double* JinvT, double* JxW, Index ld) const;
+  /// The constructors' common part: the cells are `own` if given, else `borrowed`.
+  WarpedGeometry(const Mesh<2>& mesh, std::span<const Index> borrowed, BorrowCells,
+                 const QuadratureRule<2>& rule, const mapping::Map<2>& map, GeometryStorage storage,
+                 std::vector<Index> own);
   /// Throws naming the chunk's point with the smallest det J (or a NaN).
   [[noreturn]] void report_inverted(Index first, Index m, const Scratch& s) const;
   [[noreturn]] static void throw_not_cached(const char* what);
 
   const Mesh<2>* mesh_;
   const mapping::Map<2>* map_;
-  std::vector<Index> cells_;
+  std::vector<Index> own_cells_;  // empty when the cells are borrowed
+  std::span<const Index> cells_;  // own_cells_, or the caller's (a vector's buffer survives moves)
   QuadratureRule<2> rule_;
   Index nq_ = 0;
   GeometryStorage storage_;

@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
   // WarpedGeometry alone (the one-time cost of issue 5's target), rebuilt on each
   // rank's own cells: best of 3.
   {
-    const std::vector<Index> cells = problems[0]->geometry().cells();
+    const std::vector<Index> cells(problems[0]->geometry().cells().begin(),
+                                   problems[0]->geometry().cells().end());
     const fem::QuadratureRule<2> rule = problems[0]->geometry().rule();
     problems.clear();
     double best_geometry = 1e300;
