@@ -1,8 +1,12 @@
 #include "fem/edge_numbering.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <utility>
+
+#include "core/error.hpp"
 
 namespace warpfem::fem {
 
@@ -21,8 +25,12 @@ EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
   // 2. One pass over the cells in order: an edge is numbered when a cell first
   // uses it, so edge ids (and the P2 DOFs nv + e) follow the cells' order.
   const std::size_t slots = static_cast<std::size_t>(slot_start[nv]);
-  const auto slot_other = std::make_unique_for_overwrite<Index[]>(slots);
-  const auto slot_id = std::make_unique_for_overwrite<Index[]>(slots);
+  // 32-bit slots (half the temporary memory, which is mostly first-touch cost):
+  // vertex and edge numbers of a mesh PETSc can number fit (PetscInt is 32-bit).
+  require(nv <= std::numeric_limits<std::int32_t>::max() && slots <= std::numeric_limits<std::int32_t>::max(),
+          "EdgeNumbering: more than 2^31 vertices or edges");
+  const auto slot_other = std::make_unique_for_overwrite<std::int32_t[]>(slots);
+  const auto slot_id = std::make_unique_for_overwrite<std::int32_t[]>(slots);
   std::vector<Index> slot_end(slot_start.begin(), slot_start.end() - 1);
   edge_vertices_.reserve(slots);  // untouched capacity costs no memory traffic
   for (Index c = 0; c < nc; ++c)
@@ -38,8 +46,8 @@ EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
       if (id < 0) {
         id = static_cast<Index>(edge_vertices_.size());
         edge_vertices_.push_back({a, b});
-        slot_other[slot_end[a]] = b;
-        slot_id[slot_end[a]++] = id;
+        slot_other[slot_end[a]] = static_cast<std::int32_t>(b);
+        slot_id[slot_end[a]++] = static_cast<std::int32_t>(id);
       }
       cell_edge_(c, e) = id;
     }
