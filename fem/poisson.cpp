@@ -87,7 +87,7 @@ void PoissonProblem::create_matrix() {
     rows.row_ptr = row_ptr_;
     rows.cols = cols_;
   }
-  rows.vals.assign(rows.cols.size(), 0.0);
+  // rows.vals stays empty: the values start as zeros.
   A_ = petsc::adopt_owned_rows(comm_, std::move(rows), dist_.num_owned(), dist_.owned_begin(),
                                dist_.num_global(), dist_.num_global());
   WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));

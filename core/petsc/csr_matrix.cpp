@@ -1,8 +1,10 @@
 #include "core/petsc/csr_matrix.hpp"
 
 #include <memory>
+#include <string>
 #include <utility>
 
+#include "core/error.hpp"
 #include "core/petsc/check.hpp"
 
 namespace warpfem::petsc {
@@ -39,6 +41,10 @@ Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, Pets
   const PetscInt local_rows = static_cast<PetscInt>(rows.row_ptr.size()) - 1;
   auto storage = std::make_unique<Storage>();
   Matrix A;
+  if (rows.vals.empty()) rows.vals.assign(size == 1 ? rows.cols.size() : 0, 0.0);
+  require(rows.vals.empty() || rows.vals.size() == rows.cols.size(),
+          "adopt_owned_rows: " + std::to_string(rows.vals.size()) + " values for " +
+              std::to_string(rows.cols.size()) + " columns");
   if (size == 1) {
     storage->diagonal = std::move(rows);
     OwnedRows& d = storage->diagonal;
@@ -47,21 +53,44 @@ Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, Pets
   } else {
     // Columns in [first_col, first_col + local_cols) go to the diagonal block (as
     // local indices), the others to the off-diagonal block (global indices).
+    // A row's columns are sorted, so its diagonal-block columns are one run
+    // [lo, hi): the blocks are sized first, then filled run by run.
     OwnedRows& d = storage->diagonal;
     OwnedRows& o = storage->off_diagonal;
-    d.row_ptr.assign(static_cast<std::size_t>(local_rows) + 1, 0);
-    o.row_ptr.assign(static_cast<std::size_t>(local_rows) + 1, 0);
-    d.cols.reserve(rows.cols.size());  // most columns are local
-    d.vals.reserve(rows.vals.size());
+    const PetscInt last_col = first_col + local_cols;
+    d.row_ptr.resize(static_cast<std::size_t>(local_rows) + 1);
+    o.row_ptr.resize(static_cast<std::size_t>(local_rows) + 1);
+    d.row_ptr[0] = o.row_ptr[0] = 0;
+    std::vector<PetscInt> run(2 * static_cast<std::size_t>(local_rows));
     for (PetscInt r = 0; r < local_rows; ++r) {
-      for (PetscInt k = rows.row_ptr[r]; k < rows.row_ptr[r + 1]; ++k) {
-        const PetscInt c = rows.cols[k] - first_col;
-        OwnedRows& block = c >= 0 && c < local_cols ? d : o;
-        block.cols.push_back(&block == &d ? c : rows.cols[k]);
-        block.vals.push_back(rows.vals[k]);
+      PetscInt lo = rows.row_ptr[r], hi;
+      while (lo < rows.row_ptr[r + 1] && rows.cols[lo] < first_col) ++lo;
+      hi = lo;
+      while (hi < rows.row_ptr[r + 1] && rows.cols[hi] < last_col) ++hi;
+      run[2 * r] = lo, run[2 * r + 1] = hi;
+      d.row_ptr[r + 1] = d.row_ptr[r] + (hi - lo);
+      o.row_ptr[r + 1] = o.row_ptr[r] + (rows.row_ptr[r + 1] - rows.row_ptr[r]) - (hi - lo);
+    }
+    d.cols.resize(static_cast<std::size_t>(d.row_ptr[local_rows]));
+    o.cols.resize(static_cast<std::size_t>(o.row_ptr[local_rows]));
+    const bool zeros = rows.vals.empty();
+    d.vals.resize(d.cols.size(), 0.0);
+    o.vals.resize(o.cols.size(), 0.0);
+    for (PetscInt r = 0; r < local_rows; ++r) {
+      const PetscInt lo = run[2 * r], hi = run[2 * r + 1];
+      PetscInt od = o.row_ptr[r], dd = d.row_ptr[r];
+      for (PetscInt k = rows.row_ptr[r]; k < lo; ++k, ++od) {
+        o.cols[od] = rows.cols[k];
+        if (!zeros) o.vals[od] = rows.vals[k];
       }
-      d.row_ptr[r + 1] = static_cast<PetscInt>(d.cols.size());
-      o.row_ptr[r + 1] = static_cast<PetscInt>(o.cols.size());
+      for (PetscInt k = lo; k < hi; ++k, ++dd) {
+        d.cols[dd] = rows.cols[k] - first_col;
+        if (!zeros) d.vals[dd] = rows.vals[k];
+      }
+      for (PetscInt k = hi; k < rows.row_ptr[r + 1]; ++k, ++od) {
+        o.cols[od] = rows.cols[k];
+        if (!zeros) o.vals[od] = rows.vals[k];
+      }
     }
     WARPFEM_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(
         comm, local_rows, local_cols, global_rows, global_cols, d.row_ptr.data(), d.cols.data(),

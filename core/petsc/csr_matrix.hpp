@@ -14,7 +14,8 @@ namespace warpfem::petsc {
 
 /// The rows this rank owns of a matrix in compressed form: row r (global row
 /// first_row + r) has the columns cols[row_ptr[r] .. row_ptr[r + 1]), global
-/// and sorted, with values vals[...].
+/// and sorted, with values vals[...]; empty vals stand for zeros (a pattern to
+/// be filled later).
 struct OwnedRows {
   std::vector<PetscInt> row_ptr, cols;
   std::vector<PetscScalar> vals;

@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <utility>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/csr_matrix.hpp"
 
@@ -73,4 +75,44 @@ TEST(CsrMatrix, AdoptedRowsMultiplyAsTheyRead) {
     EXPECT_NEAR(xa[j - c0], expected, 1e-14) << "column " << j;
   }
   WARPFEM_PETSC_CHECK(VecRestoreArrayRead(x.get(), &xa));
+}
+
+// A pattern without values (empty vals) becomes a matrix of zeros with exactly
+// these columns, also when a row has columns of other ranks on both sides of
+// its own (the diagonal block is a run in the middle of the sorted row).
+TEST(CsrMatrix, PatternWithoutValuesKeepsEveryColumn) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const PetscInt r0 = kRows * rank / size, r1 = kRows * (rank + 1) / size;
+  const PetscInt c0 = kRows * rank / size, c1 = kRows * (rank + 1) / size;  // square
+  const auto columns = [](PetscInt i) {
+    std::vector<PetscInt> c{0, i, kRows - 1};
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+    return c;
+  };
+  petsc::OwnedRows rows;
+  rows.row_ptr.push_back(0);
+  for (PetscInt i = r0; i < r1; ++i) {
+    for (const PetscInt j : columns(i)) rows.cols.push_back(j);
+    rows.row_ptr.push_back(static_cast<PetscInt>(rows.cols.size()));
+  }
+  petsc::Matrix A = petsc::adopt_owned_rows(PETSC_COMM_WORLD, std::move(rows), c1 - c0, c0, kRows, kRows);
+  for (PetscInt i = r0; i < r1; ++i) {
+    PetscInt n = 0;
+    const PetscInt* cols = nullptr;
+    const PetscScalar* vals = nullptr;
+    WARPFEM_PETSC_CHECK(MatGetRow(A.get(), i, &n, &cols, &vals));
+    const std::vector<PetscInt> got(cols, cols + n);
+    for (PetscInt k = 0; k < n; ++k) EXPECT_EQ(vals[k], 0.0) << "row " << i;
+    WARPFEM_PETSC_CHECK(MatRestoreRow(A.get(), i, &n, &cols, &vals));
+    EXPECT_EQ(got, columns(i)) << "row " << i;
+  }
+  // Mismatched values are refused (before anything collective, so on every rank).
+  petsc::OwnedRows bad;
+  bad.row_ptr = {0, 1};
+  bad.cols = {0};
+  bad.vals = {1.0, 2.0};
+  EXPECT_THROW(petsc::adopt_owned_rows(PETSC_COMM_WORLD, std::move(bad), kRows, 0, 1, kRows), Error);
 }
