@@ -77,8 +77,10 @@ void PoissonProblem::create_matrix() {
   serial_ = size == 1;
   // PETSc adopts the pattern without copying it (split into diagonal and
   // off-diagonal blocks under MPI). Serial assembly writes into the matrix's own
-  // arrays; under MPI it fills a copy laid out like row_ptr_/cols_ and moves it
-  // into the blocks, so only then do those stay here.
+  // arrays. Under MPI it searches the global pattern kept here and writes into
+  // the block that holds the entry: a row's columns in [begin, end) are one run
+  // (the row is sorted), so the blocks' positions follow from the run's start
+  // in the row and the diagonal block's row pointers.
   petsc::OwnedRows rows;
   if (serial_) {
     rows.row_ptr = std::move(row_ptr_);
@@ -86,6 +88,17 @@ void PoissonProblem::create_matrix() {
   } else {
     rows.row_ptr = row_ptr_;
     rows.cols = cols_;
+    const PetscInt begin = dist_.owned_begin(), end = begin + dist_.num_owned();
+    diag_ptr_.assign(row_ptr_.size(), 0);
+    diag_start_.resize(row_ptr_.size() - 1);
+    for (std::size_t r = 0; r + 1 < row_ptr_.size(); ++r) {
+      PetscInt lo = row_ptr_[r];
+      while (lo < row_ptr_[r + 1] && cols_[lo] < begin) ++lo;
+      PetscInt hi = lo;
+      while (hi < row_ptr_[r + 1] && cols_[hi] < end) ++hi;
+      diag_start_[r] = lo - row_ptr_[r];
+      diag_ptr_[r + 1] = diag_ptr_[r] + (hi - lo);
+    }
   }
   // rows.vals stays empty: the values start as zeros.
   A_ = petsc::adopt_owned_rows(comm_, std::move(rows), dist_.num_owned(), dist_.owned_begin(),
@@ -135,12 +148,13 @@ void PoissonProblem::assemble() {
   const PetscInt begin = dist_.owned_begin(), owned = dist_.num_owned();
 
   // Element matrices are added straight into the owned rows' compressed arrays
-  // (the matrix's own in serial, a copy under MPI); entries of rows owned by other
-  // ranks go through MatSetValues afterwards.
+  // (the matrix's own; under MPI its diagonal and off-diagonal blocks, see
+  // create_matrix); entries of rows owned by other ranks go through MatSetValues
+  // afterwards.
   WARPFEM_PETSC_CHECK(MatZeroEntries(A_.get()));
   const PetscInt *ia = nullptr, *ja = nullptr;
-  PetscScalar* a = nullptr;
-  std::vector<PetscScalar> mpi_values;
+  PetscScalar *a = nullptr, *ad = nullptr, *ao = nullptr;
+  Mat Ad = nullptr, Ao = nullptr;
   const bool serial = serial_;
   if (serial) {
     PetscInt rows = 0;
@@ -149,10 +163,12 @@ void PoissonProblem::assemble() {
     require(done == PETSC_TRUE && rows == owned, "Poisson assembly: cannot access the matrix rows");
     WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(A_.get(), &a));
   } else {
-    mpi_values.assign(cols_.size(), 0.0);
     ia = row_ptr_.data();
     ja = cols_.data();
-    a = mpi_values.data();
+    const PetscInt* garray = nullptr;
+    WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A_.get(), &Ad, &Ao, &garray));
+    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ad, &ad));
+    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ao, &ao));
   }
   WARPFEM_PETSC_CHECK(VecSet(b_.get(), 0.0));
   WARPFEM_PETSC_CHECK(VecSet(u_.get(), 0.0));
@@ -201,11 +217,23 @@ void PoissonProblem::assemble() {
         }
         b[row] += fe[r];
         const PetscInt* cols = ja + ia[row];
-        PetscScalar* vals = a + ia[row];
-        for (int k = 0; k < n; ++k) {
-          PetscInt j = 0;
-          while (cols[j] != idx[k]) ++j;  // rows hold ~7-20 entries: a linear scan beats bisection
-          vals[j] += ke[r * n + k];
+        if (serial) {
+          PetscScalar* vals = a + ia[row];
+          for (int k = 0; k < n; ++k) {
+            PetscInt j = 0;
+            while (cols[j] != idx[k]) ++j;  // rows hold ~7-20 entries: a linear scan beats bisection
+            vals[j] += ke[r * n + k];
+          }
+        } else {
+          // Entry j of the row: off-diagonal block before and after the diagonal run.
+          const PetscInt lo = diag_start_[row], nd = diag_ptr_[row + 1] - diag_ptr_[row];
+          PetscScalar* d = ad + diag_ptr_[row] - lo;
+          PetscScalar* o = ao + (ia[row] - diag_ptr_[row]);
+          for (int k = 0; k < n; ++k) {
+            PetscInt j = 0;
+            while (cols[j] != idx[k]) ++j;
+            (j < lo ? o[j] : j < lo + nd ? d[j] : o[j - nd]) += ke[r * n + k];
+          }
         }
       }
     }
@@ -217,19 +245,6 @@ void PoissonProblem::assemble() {
     PetscBool done = PETSC_FALSE;
     WARPFEM_PETSC_CHECK(MatRestoreRowIJ(A_.get(), 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
   } else {
-    // Copy the owned rows into the diagonal and off-diagonal blocks: both hold the
-    // rows' entries in the same order (adopt_owned_rows), columns [begin, end) in
-    // the diagonal block.
-    Mat Ad = nullptr, Ao = nullptr;
-    const PetscInt* garray = nullptr;
-    WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A_.get(), &Ad, &Ao, &garray));
-    PetscScalar *ad = nullptr, *ao = nullptr;
-    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ad, &ad));
-    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ao, &ao));
-    const PetscInt end = begin + owned;
-    PetscScalar *d = ad, *o = ao;
-    for (std::size_t k = 0; k < cols_.size(); ++k)
-      (cols_[k] >= begin && cols_[k] < end ? *d++ : *o++) = mpi_values[k];
     WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(Ao, &ao));
     WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(Ad, &ad));
   }
