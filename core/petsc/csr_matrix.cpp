@@ -54,43 +54,47 @@ Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, Pets
     // Columns in [first_col, first_col + local_cols) go to the diagonal block (as
     // local indices), the others to the off-diagonal block (global indices).
     // A row's columns are sorted, so its diagonal-block columns are one run
-    // [lo, hi): the blocks are sized first, then filled run by run.
+    // [lo, hi): the blocks' row pointers are counted first, then the runs are
+    // appended (no zero-filled arrays to overwrite).
     OwnedRows& d = storage->diagonal;
     OwnedRows& o = storage->off_diagonal;
     const PetscInt last_col = first_col + local_cols;
+    const auto diagonal_run = [&](PetscInt r) {
+      PetscInt lo = rows.row_ptr[r];
+      while (lo < rows.row_ptr[r + 1] && rows.cols[lo] < first_col) ++lo;
+      PetscInt hi = lo;
+      while (hi < rows.row_ptr[r + 1] && rows.cols[hi] < last_col) ++hi;
+      return std::pair{lo, hi};
+    };
     d.row_ptr.resize(static_cast<std::size_t>(local_rows) + 1);
     o.row_ptr.resize(static_cast<std::size_t>(local_rows) + 1);
     d.row_ptr[0] = o.row_ptr[0] = 0;
-    std::vector<PetscInt> run(2 * static_cast<std::size_t>(local_rows));
     for (PetscInt r = 0; r < local_rows; ++r) {
-      PetscInt lo = rows.row_ptr[r], hi;
-      while (lo < rows.row_ptr[r + 1] && rows.cols[lo] < first_col) ++lo;
-      hi = lo;
-      while (hi < rows.row_ptr[r + 1] && rows.cols[hi] < last_col) ++hi;
-      run[2 * r] = lo, run[2 * r + 1] = hi;
+      const auto [lo, hi] = diagonal_run(r);
       d.row_ptr[r + 1] = d.row_ptr[r] + (hi - lo);
       o.row_ptr[r + 1] = o.row_ptr[r] + (rows.row_ptr[r + 1] - rows.row_ptr[r]) - (hi - lo);
     }
-    d.cols.resize(static_cast<std::size_t>(d.row_ptr[local_rows]));
-    o.cols.resize(static_cast<std::size_t>(o.row_ptr[local_rows]));
     const bool zeros = rows.vals.empty();
-    d.vals.resize(d.cols.size(), 0.0);
-    o.vals.resize(o.cols.size(), 0.0);
+    d.cols.reserve(static_cast<std::size_t>(d.row_ptr[local_rows]));
+    o.cols.reserve(static_cast<std::size_t>(o.row_ptr[local_rows]));
+    if (zeros) {
+      d.vals.assign(static_cast<std::size_t>(d.row_ptr[local_rows]), 0.0);
+      o.vals.assign(static_cast<std::size_t>(o.row_ptr[local_rows]), 0.0);
+    } else {
+      d.vals.reserve(static_cast<std::size_t>(d.row_ptr[local_rows]));
+      o.vals.reserve(static_cast<std::size_t>(o.row_ptr[local_rows]));
+    }
+    const auto append = [&](OwnedRows& block, PetscInt from, PetscInt to, PetscInt shift) {
+      for (PetscInt k = from; k < to; ++k) {
+        block.cols.push_back(rows.cols[k] - shift);
+        if (!zeros) block.vals.push_back(rows.vals[k]);
+      }
+    };
     for (PetscInt r = 0; r < local_rows; ++r) {
-      const PetscInt lo = run[2 * r], hi = run[2 * r + 1];
-      PetscInt od = o.row_ptr[r], dd = d.row_ptr[r];
-      for (PetscInt k = rows.row_ptr[r]; k < lo; ++k, ++od) {
-        o.cols[od] = rows.cols[k];
-        if (!zeros) o.vals[od] = rows.vals[k];
-      }
-      for (PetscInt k = lo; k < hi; ++k, ++dd) {
-        d.cols[dd] = rows.cols[k] - first_col;
-        if (!zeros) d.vals[dd] = rows.vals[k];
-      }
-      for (PetscInt k = hi; k < rows.row_ptr[r + 1]; ++k, ++od) {
-        o.cols[od] = rows.cols[k];
-        if (!zeros) o.vals[od] = rows.vals[k];
-      }
+      const auto [lo, hi] = diagonal_run(r);
+      append(o, rows.row_ptr[r], lo, 0);
+      append(d, lo, hi, first_col);
+      append(o, hi, rows.row_ptr[r + 1], 0);
     }
     WARPFEM_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(
         comm, local_rows, local_cols, global_rows, global_cols, d.row_ptr.data(), d.cols.data(),
