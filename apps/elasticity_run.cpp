@@ -24,12 +24,13 @@ namespace {
 /// Writes numbered VTK files of the displacement, von Mises stress and det F, and the PVD index.
 class ElasticityOutput {
  public:
+  /// `cell_owner`: the partition the operator was built with (empty: the default).
   ElasticityOutput(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator& op,
-                   const fem::Mesh<2>& mesh, MPI_Comm comm)
+                   const fem::Mesh<2>& mesh, MPI_Comm comm, const std::vector<int>& cell_owner)
       : cfg_(cfg),
         op_(op),
         comm_(comm),
-        projection_(comm, mesh, op.geometry()),
+        projection_(comm, mesh, op.geometry(), cell_owner),
         pvd_(comm, cfg.output.directory, cfg.output.name) {
     const int order = cfg.output.vtk_order > 0 ? cfg.output.vtk_order
                                                : std::max(cfg.problem.order, op.map().is_affine() ? 1 : 2);
@@ -166,10 +167,14 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
             " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements, ",
             format_seconds(watch.seconds()), ")");
 
-  // 3. The hyperelastic operator on the warped mesh (f evaluated once here).
+  // 3. The hyperelastic operator on the warped mesh (f evaluated once here); with
+  // multigrid on the hierarchy's nested partition, which the coarse levels share.
   watch.reset();
+  fem::NewtonOptions newton = newton_options(cfg.solver);
+  const std::vector<int> cell_owner =
+      newton.pc_type == "mg" ? fem::nested_partitions(hierarchy, size).back() : std::vector<int>{};
   const fem::HyperelasticOperator op(comm, mesh, map, cfg.problem.order, cfg.problem.quadrature_degree,
-                                     io::make_elasticity_data(cfg));
+                                     io::make_elasticity_data(cfg), cell_owner);
   result.num_dofs = op.space().num_global();
   const std::string element =
       std::string(mesh.cell_type == fem::CellType::triangle ? "P" : "Q") + std::to_string(cfg.problem.order);
@@ -180,9 +185,8 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
 
   std::unique_ptr<ElasticityOutput> output;
   if (options.write_output && cfg.output.vtk)
-    output = std::make_unique<ElasticityOutput>(cfg, op, mesh, comm);
+    output = std::make_unique<ElasticityOutput>(cfg, op, mesh, comm, cell_owner);
   petsc::Vector u = op.space().create_vector();
-  fem::NewtonOptions newton = newton_options(cfg.solver);
   std::unique_ptr<multigrid::ElasticityMultigrid> mg;
   if (newton.pc_type == "mg") {
     // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.

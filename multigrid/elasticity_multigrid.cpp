@@ -12,8 +12,9 @@ namespace warpfem::multigrid {
 struct ElasticityMultigrid::CoarseLevel {
   fem::DofMap dofs;
   fem::DofDistribution distribution;
-  CoarseLevel(MPI_Comm comm, const fem::Mesh<2>& mesh, const fem::LagrangeElement& element)
-      : dofs(mesh, element), distribution(comm, mesh, dofs) {}
+  CoarseLevel(MPI_Comm comm, const fem::Mesh<2>& mesh, const fem::LagrangeElement& element,
+              const std::vector<int>& cell_owner)
+      : dofs(mesh, element), distribution(comm, mesh, dofs, cell_owner) {}
 };
 
 namespace {
@@ -101,9 +102,17 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
   require(finest.components() == 2, "ElasticityMultigrid: needs a 2-component vector space");
   const int levels = hierarchy.num_levels();
   const fem::LagrangeElement& element = finest.dofs().element();
+  // The coarse levels are partitioned like PoissonMultigridSolver's: nested, so
+  // with a finest space built on the same partition (nested_partitions(...).back(),
+  // as the elasticity app does) prolongation rows read other ranks' coarse
+  // nodes only along the interface. Any other finest partition still works.
+  int size = 1;
+  MPI_Comm_size(finest.comm(), &size);
+  const std::vector<std::vector<int>> owners = fem::nested_partitions(hierarchy, size);
   for (int l = 0; l + 1 < levels; ++l)
-    coarse_.push_back(
-        std::make_unique<CoarseLevel>(finest.comm(), hierarchy.levels[static_cast<std::size_t>(l)], element));
+    coarse_.push_back(std::make_unique<CoarseLevel>(finest.comm(),
+                                                    hierarchy.levels[static_cast<std::size_t>(l)], element,
+                                                    owners[static_cast<std::size_t>(l)]));
   const auto dofs_at = [&](int l) -> const fem::DofMap& {
     return l + 1 == levels ? finest.dofs() : coarse_[static_cast<std::size_t>(l)]->dofs;
   };
@@ -132,6 +141,12 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
 }
 
 ElasticityMultigrid::~ElasticityMultigrid() = default;
+
+const fem::DofDistribution& ElasticityMultigrid::coarse_distribution(int level) const {
+  require(level >= 0 && level + 1 < num_levels(), "ElasticityMultigrid::coarse_distribution: level " +
+                                                      std::to_string(level) + " is not below the finest");
+  return coarse_[static_cast<std::size_t>(level)]->distribution;
+}
 
 void ElasticityMultigrid::configure(KSP ksp, Mat jacobian) const {
   std::vector<Mat> interpolations;

@@ -44,6 +44,8 @@ class ElasticityMultigrid {
   void configure(KSP ksp, Mat jacobian) const;
 
   int num_levels() const { return static_cast<int>(prolongations_.size()) + 1; }
+  /// Node distribution of a level below the finest (0 = coarsest).
+  const fem::DofDistribution& coarse_distribution(int level) const;
   /// The vector prolongation from level fine_level − 1 to fine_level.
   Mat prolongation(int fine_level) const {
     return prolongations_.at(static_cast<std::size_t>(fine_level - 1)).get();

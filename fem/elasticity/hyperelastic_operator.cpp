@@ -52,11 +52,12 @@ double global_sum(MPI_Comm comm, double local) {
 }  // namespace
 
 HyperelasticOperator::HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map,
-                                           int order, int quadrature_degree, ElasticityData data)
+                                           int order, int quadrature_degree, ElasticityData data,
+                                           const std::vector<int>& cell_owner)
     : comm_(comm),
       map_(std::move(map)),
       data_(std::move(data)),
-      space_(comm, mesh, LagrangeElement(mesh.cell_type, order)),
+      space_(comm, mesh, LagrangeElement(mesh.cell_type, order), 2, cell_owner),
       geometry_(mesh, space_.nodes().local_cells(),
                 cell_quadrature(mesh.cell_type,
                                 quadrature_degree > 0 ? quadrature_degree : default_quadrature_degree(order)),

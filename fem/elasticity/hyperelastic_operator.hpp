@@ -28,8 +28,10 @@ namespace warpfem::fem {
 class HyperelasticOperator {
  public:
   /// `mesh` must outlive the operator. quadrature_degree 0 picks 2·order + 2.
+  /// `cell_owner`: the rank of every cell (empty: partition_cells()); with
+  /// multigrid, the finest entry of fem::nested_partitions() of the hierarchy.
   HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
-                       int quadrature_degree, ElasticityData data);
+                       int quadrature_degree, ElasticityData data, const std::vector<int>& cell_owner = {});
 
   const VectorSpace& space() const { return space_; }
   const WarpedGeometry& geometry() const { return geometry_; }

@@ -1,11 +1,21 @@
 #include "fem/elasticity/nodal_projection.hpp"
 
+#include <algorithm>
+
+#include "core/error.hpp"
 #include "core/petsc/check.hpp"
 
 namespace warpfem::fem {
 
-NodalProjection::NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry& geometry)
-    : geometry_(geometry), dofs_(mesh, LagrangeElement(mesh.cell_type, 1)), dist_(comm, mesh, dofs_) {
+NodalProjection::NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry& geometry,
+                                 const std::vector<int>& cell_owner)
+    : geometry_(geometry),
+      dofs_(mesh, LagrangeElement(mesh.cell_type, 1)),
+      dist_(cell_owner.empty() ? DofDistribution(comm, mesh, dofs_)
+                               : DofDistribution(comm, mesh, dofs_, cell_owner)) {
+  require(std::equal(dist_.local_cells().begin(), dist_.local_cells().end(), geometry_.cells().begin(),
+                     geometry_.cells().end()),
+          "NodalProjection: the geometry's cells are not this rank's cells of the partition");
   phi_ = dofs_.element().values(geometry_.rule().points);
   weights_ = dist_.create_vector();
   WARPFEM_PETSC_CHECK(VecSet(weights_.get(), 0.0));

@@ -14,8 +14,11 @@ namespace warpfem::fem {
 
 class NodalProjection {
  public:
-  /// `geometry` must cover exactly this rank's cells of the partition of `mesh`.
-  NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry& geometry);
+  /// `geometry` must cover exactly this rank's cells of the partition of `mesh`:
+  /// `cell_owner` (the one the geometry's space was built with), or
+  /// partition_cells() if that is empty.
+  NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry& geometry,
+                  const std::vector<int>& cell_owner = {});
   NodalProjection(const NodalProjection&) = delete;
   NodalProjection& operator=(const NodalProjection&) = delete;
 

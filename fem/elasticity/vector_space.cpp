@@ -7,8 +7,13 @@
 
 namespace warpfem::fem {
 
-VectorSpace::VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement& element, int components)
-    : mesh_(mesh), components_(components), dofs_(mesh, element), dist_(comm, mesh, dofs_) {}
+VectorSpace::VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement& element, int components,
+                         const std::vector<int>& cell_owner)
+    : mesh_(mesh),
+      components_(components),
+      dofs_(mesh, element),
+      dist_(cell_owner.empty() ? DofDistribution(comm, mesh, dofs_)
+                               : DofDistribution(comm, mesh, dofs_, cell_owner)) {}
 
 petsc::Vector VectorSpace::create_vector() const {
   petsc::Vector v;

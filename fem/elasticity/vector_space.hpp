@@ -9,6 +9,8 @@
 
 #include <mpi.h>
 
+#include <vector>
+
 #include "core/petsc/handles.hpp"
 #include "fem/dof_distribution.hpp"
 #include "fem/dof_map.hpp"
@@ -17,7 +19,10 @@ namespace warpfem::fem {
 
 class VectorSpace {
  public:
-  VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement& element, int components = 2);
+  /// `cell_owner`: the rank of every cell (empty: partition_cells()), e.g. the
+  /// finest entry of fem::nested_partitions() for a multigrid hierarchy.
+  VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement& element, int components = 2,
+              const std::vector<int>& cell_owner = {});
   VectorSpace(const VectorSpace&) = delete;
   VectorSpace& operator=(const VectorSpace&) = delete;
 

@@ -20,8 +20,16 @@ io::ElasticityConfig config(const std::string& analysis) {
                 "neumann": [{"edges": [1], "traction": [0, "-1 - y"]}]},
     "output": {"directory": "output/test_mpi_elasticity"}
   })json");
-  json["problem"]["analysis"] = analysis;
+  // "quasi_static_multigrid": one refinement of a coarser mesh and pc_type "mg":
+  // Newton's linear solves use the two-level hierarchy, partitioned as nested
+  // levels (and the output's nodal projection on the same partition).
+  const bool multigrid = analysis == "quasi_static_multigrid";
+  json["problem"]["analysis"] = multigrid ? "quasi_static" : analysis;
   json["output"]["name"] = analysis;
+  if (multigrid) {
+    json["mesh"] = {{"type", "delaunay"}, {"max_edge_length", 0.3}, {"refinements", 1}};
+    json["solver"] = {{"pc_type", "mg"}};
+  }
   if (analysis == "transient")
     json["time"] = {{"step", 0.02}, {"end", 0.1}};
   else
@@ -51,4 +59,5 @@ TEST_P(MpiElasticity, TwoRanksEqualSerial) {
   EXPECT_NE(parallel.vtk_files.back().find(".pvtu"), std::string::npos);
 }
 
-INSTANTIATE_TEST_SUITE_P(Analyses, MpiElasticity, ::testing::Values("quasi_static", "transient"));
+INSTANTIATE_TEST_SUITE_P(Analyses, MpiElasticity,
+                         ::testing::Values("quasi_static", "transient", "quasi_static_multigrid"));

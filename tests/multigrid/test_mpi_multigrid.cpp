@@ -99,3 +99,36 @@ TEST(MpiElasticityMultigrid, TwoRankSolveMatchesTheDirectSolver) {
     EXPECT_LE(r.iterations, 30) << "P" << order;
   }
 }
+
+TEST(MpiElasticityMultigrid, CoarseLevelsAreNestedUnderAFinestSpaceOnTheNestedPartition) {
+  // An operator built on nested_partitions(...).back() (as the elasticity app does
+  // with pc_type "mg"): every inherited level's local cells lie in the local cells
+  // of the level below, up to the finest space.
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
+  // An unstructured coarse mesh: per-level Morton cuts of its refinements are not
+  // nested (those of a structured square would be).
+  const fem::MeshHierarchy hierarchy(multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 5);
+  const std::vector<std::vector<int>> owners = fem::nested_partitions(hierarchy, size);
+  const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(),
+                                     std::make_shared<mapping::IdentityMap<2>>(), 1, 0,
+                                     multigrid::test::clamped_block(), owners.back());
+  const multigrid::ElasticityMultigrid mg(hierarchy, op.space(), op.data());
+  const auto local_cells = [&](int l) -> const std::vector<Index>& {
+    return l + 1 == mg.num_levels() ? op.space().nodes().local_cells()
+                                    : mg.coarse_distribution(l).local_cells();
+  };
+  int nested_levels = 0;
+  for (int l = 1; l < mg.num_levels(); ++l) {
+    if (hierarchy.levels[static_cast<std::size_t>(l - 1)].num_cells() < 256 * size)
+      continue;  // not inherited
+    ++nested_levels;
+    const std::set<Index> coarse(local_cells(l - 1).begin(), local_cells(l - 1).end());
+    EXPECT_EQ(local_cells(l).size(), 4 * coarse.size()) << "level " << l;
+    for (const Index c : local_cells(l))
+      ASSERT_TRUE(coarse.count(fem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
+  }
+  EXPECT_GE(nested_levels, 2);
+  EXPECT_THROW(mg.coarse_distribution(mg.num_levels() - 1), Error);
+}
