@@ -9,7 +9,8 @@
 // coarse mesh of a rectangular source instead of the Delaunay one), -min_refinements/-max_refinements,
 // -map identity|composite (L-shape to an L-shape with a pulled re-entrant corner; -target x0,y0,...,x5,y5
 // gives another target hexagon), -map_config <file.json> (the map of a config file instead, e.g.
-// examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1,
+// examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1, -smoother
+// chebyshev_jacobi|chebyshev_sor|sor and -smoothing_steps k (solver.multigrid of a run config),
 // -quadrature_degree <q> (default fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest
 // level's geometry streamed instead of cached; coarse levels are always streamed), -pullback 1 (coarse
 // mesh: CGAL's mesh of the map's target pulled back through f⁻¹, -coarse_h in target units), -prerefine k
@@ -24,6 +25,7 @@
 #include <string>
 
 #include "core/environment.hpp"
+#include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "core/timer.hpp"
 #include "fem/polygon_mesher.hpp"
@@ -100,6 +102,11 @@ int main(int argc, char** argv) {
   const int rmax = static_cast<int>(int_option("-max_refinements", 5));
   const bool amg = int_option("-amg", 1) != 0;
   const bool galerkin = int_option("-galerkin", 0) != 0;
+  // The config's solver.multigrid.smoother / smoothing_steps (defaults: chebyshev_jacobi, 2).
+  const std::string smoother = string_option("-smoother", "chebyshev_jacobi");
+  const int smoothing_steps = static_cast<int>(int_option("-smoothing_steps", 2));
+  if (smoother != "chebyshev_jacobi" && smoother != "chebyshev_sor" && smoother != "sor")
+    throw Error("-smoother " + smoother + ": expected chebyshev_jacobi, chebyshev_sor or sor");
   const bool stream_finest = int_option("-stream_finest", 0) != 0;
   const std::string map_type = string_option("-map", "identity");
   const bool quads = string_option("-cells", "triangle") == "quad";
@@ -166,6 +173,11 @@ int main(int argc, char** argv) {
     if (stream_finest) options.finest_geometry = fem::GeometryStorage::streamed;
     if (galerkin)
       options.multigrid.coarse_operators = multigrid::MultigridSettings::CoarseOperators::galerkin;
+    using Smoother = multigrid::MultigridSettings::Smoother;
+    options.multigrid.smoother = smoother == "sor"             ? Smoother::sor
+                                 : smoother == "chebyshev_sor" ? Smoother::chebyshev_sor
+                                                               : Smoother::chebyshev_jacobi;
+    options.multigrid.smoothing_steps = smoothing_steps;
     multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, r, map, order, qdeg, data, options);
     fem::PoissonProblem& fine = mg.finest();
     petsc::Vector u0;
