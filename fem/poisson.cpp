@@ -227,12 +227,12 @@ void PoissonProblem::assemble() {
         } else {
           // Entry j of the row: off-diagonal block before and after the diagonal run.
           const PetscInt lo = diag_start_[row], nd = diag_ptr_[row + 1] - diag_ptr_[row];
-          PetscScalar* d = ad + diag_ptr_[row] - lo;
+          PetscScalar* d = ad + diag_ptr_[row];
           PetscScalar* o = ao + (ia[row] - diag_ptr_[row]);
           for (int k = 0; k < n; ++k) {
             PetscInt j = 0;
             while (cols[j] != idx[k]) ++j;
-            (j < lo ? o[j] : j < lo + nd ? d[j] : o[j - nd]) += ke[r * n + k];
+            (j < lo ? o[j] : j < lo + nd ? d[j - lo] : o[j - nd]) += ke[r * n + k];
           }
         }
       }
