@@ -48,17 +48,23 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
   shape_grads_ = dofs_.element().gradients(geometry_.rule().points);
   const Index nq = geometry_.points_per_cell();
   const int n = dofs_.element().num_dofs();
-  for (auto& t : gradient_products_) t.resize(n * n, nq);
+  // The element matrix is symmetric: only the pairs a <= b are computed.
+  require(n * (n + 1) / 2 <= kMaxPairs, "PoissonProblem: too many DOFs per cell for the element kernel");
+  pairs_.clear();
+  for (int a = 0; a < n; ++a)
+    for (int b = a; b < n; ++b) pairs_.push_back({a, b});
+  const Index np = static_cast<Index>(pairs_.size());
+  for (auto& t : gradient_products_) t.resize(np, nq);
   constant_gradients_ = true;
   for (Index q = 0; q < nq; ++q) {
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b) {
-        const double ua = shape_grads_[0](q, a), va = shape_grads_[1](q, a);
-        const double ub = shape_grads_[0](q, b), vb = shape_grads_[1](q, b);
-        gradient_products_[0](a * n + b, q) = ua * ub;
-        gradient_products_[1](a * n + b, q) = ua * vb + va * ub;
-        gradient_products_[2](a * n + b, q) = va * vb;
-      }
+    for (Index p = 0; p < np; ++p) {
+      const auto [a, b] = pairs_[static_cast<std::size_t>(p)];
+      const double ua = shape_grads_[0](q, a), va = shape_grads_[1](q, a);
+      const double ub = shape_grads_[0](q, b), vb = shape_grads_[1](q, b);
+      gradient_products_[0](p, q) = ua * ub;
+      gradient_products_[1](p, q) = ua * vb + va * ub;
+      gradient_products_[2](p, q) = va * vb;
+    }
     for (int d = 0; d < 2; ++d)
       constant_gradients_ = constant_gradients_ &&
                             (shape_grads_[d].row(q) - shape_grads_[d].row(0)).cwiseAbs().maxCoeff() < 1e-13;
@@ -109,8 +115,8 @@ void PoissonProblem::create_matrix() {
 }
 
 void PoissonProblem::element_stiffness(const GeometryChunk& g, Index i, double* ke) const {
-  const int n = dofs_.element().num_dofs(), nn = n * n;
-  const Index nq = geometry_.points_per_cell();
+  const int n = dofs_.element().num_dofs();
+  const Index nq = geometry_.points_per_cell(), np = static_cast<Index>(pairs_.size());
   // grad φ = J^{-T} ĝ, so ∇φa·∇φb = ĝa^T M ĝb with M = (J^{-T})^T J^{-T} (symmetric).
   const auto metric = [&](Index p, double& m0, double& m1, double& m2) {
     const double j00 = g.inverse_transpose(p, 0), j01 = g.inverse_transpose(p, 1),
@@ -119,6 +125,7 @@ void PoissonProblem::element_stiffness(const GeometryChunk& g, Index i, double* 
     m1 = wp * (j00 * j01 + j10 * j11);
     m2 = wp * (j01 * j01 + j11 * j11);
   };
+  double packed[kMaxPairs];  // entries (a, b), a <= b, in pairs_ order
   if (constant_gradients_) {
     double s0 = 0, s1 = 0, s2 = 0;
     for (Index q = 0; q < nq; ++q) {
@@ -128,16 +135,20 @@ void PoissonProblem::element_stiffness(const GeometryChunk& g, Index i, double* 
     }
     const double *t0 = gradient_products_[0].data(), *t1 = gradient_products_[1].data(),
                  *t2 = gradient_products_[2].data();  // column 0 (any point: the gradients are constant)
-    for (int k = 0; k < nn; ++k) ke[k] = s0 * t0[k] + s1 * t1[k] + s2 * t2[k];
-    return;
+    for (Index p = 0; p < np; ++p) packed[p] = s0 * t0[p] + s1 * t1[p] + s2 * t2[p];
+  } else {
+    std::fill(packed, packed + np, 0.0);
+    for (Index q = 0; q < nq; ++q) {
+      double m0, m1, m2;
+      metric(g.at(i, q), m0, m1, m2);
+      const double *t0 = gradient_products_[0].col(q).data(), *t1 = gradient_products_[1].col(q).data(),
+                   *t2 = gradient_products_[2].col(q).data();
+      for (Index p = 0; p < np; ++p) packed[p] += m0 * t0[p] + m1 * t1[p] + m2 * t2[p];
+    }
   }
-  std::fill(ke, ke + nn, 0.0);
-  for (Index q = 0; q < nq; ++q) {
-    double m0, m1, m2;
-    metric(g.at(i, q), m0, m1, m2);
-    const double *t0 = gradient_products_[0].col(q).data(), *t1 = gradient_products_[1].col(q).data(),
-                 *t2 = gradient_products_[2].col(q).data();
-    for (int k = 0; k < nn; ++k) ke[k] += m0 * t0[k] + m1 * t1[k] + m2 * t2[k];
+  for (Index p = 0; p < np; ++p) {
+    const auto [a, b] = pairs_[static_cast<std::size_t>(p)];
+    ke[a * n + b] = ke[b * n + a] = packed[p];
   }
 }
 

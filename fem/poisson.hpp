@@ -102,6 +102,10 @@ class PoissonProblem {
   // Products of reference gradients per quadrature point, (a*n + b, q):
   // ∂u φa ∂u φb, ∂u φa ∂v φb + ∂v φa ∂u φb, ∂v φa ∂v φb. The element stiffness is
   // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
+  // Products of reference gradients per DOF pair (a, b), a <= b (pairs_ order),
+  // and quadrature point: [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb.
+  static constexpr int kMaxPairs = 64;  // Q2: 45
+  std::vector<std::array<int, 2>> pairs_;
   std::array<MatrixX, 3> gradient_products_;
   bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
   // Under MPI: the owned rows' pattern (global columns), where assembly finds an
