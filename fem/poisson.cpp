@@ -51,8 +51,13 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
   // The element matrix is symmetric: only the pairs a <= b are computed.
   require(n * (n + 1) / 2 <= kMaxPairs, "PoissonProblem: too many DOFs per cell for the element kernel");
   pairs_.clear();
+  packed_entry_.assign(static_cast<std::size_t>(n * n), 0);
   for (int a = 0; a < n; ++a)
-    for (int b = a; b < n; ++b) pairs_.push_back({a, b});
+    for (int b = a; b < n; ++b) {
+      packed_entry_[static_cast<std::size_t>(a * n + b)] =
+          packed_entry_[static_cast<std::size_t>(b * n + a)] = static_cast<int>(pairs_.size());
+      pairs_.push_back({a, b});
+    }
   const Index np = static_cast<Index>(pairs_.size());
   for (auto& t : gradient_products_) t.resize(np, nq);
   constant_gradients_ = true;
@@ -69,6 +74,13 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       constant_gradients_ = constant_gradients_ &&
                             (shape_grads_[d].row(q) - shape_grads_[d].row(0)).cwiseAbs().maxCoeff() < 1e-13;
   }
+  if (constant_gradients_)  // the full table at any point, for P1 cells (cheaper than unpacking 6 pairs)
+    for (int t = 0; t < 3; ++t) {
+      constant_products_[static_cast<std::size_t>(t)].resize(static_cast<std::size_t>(n * n));
+      for (int k = 0; k < n * n; ++k)
+        constant_products_[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)] =
+            gradient_products_[static_cast<std::size_t>(t)](packed_entry_[static_cast<std::size_t>(k)], 0);
+    }
   find_dirichlet_dofs();
   setup_timings_.other = watch.seconds();
   watch.reset();
@@ -125,31 +137,30 @@ void PoissonProblem::element_stiffness(const GeometryChunk& g, Index i, double* 
     m1 = wp * (j00 * j01 + j10 * j11);
     m2 = wp * (j01 * j01 + j11 * j11);
   };
-  double packed[kMaxPairs];  // entries (a, b), a <= b, in pairs_ order
   if (constant_gradients_) {
+    // The metric summed over the cell times the full (n x n, few entries) table.
     double s0 = 0, s1 = 0, s2 = 0;
     for (Index q = 0; q < nq; ++q) {
       double m0, m1, m2;
       metric(g.at(i, q), m0, m1, m2);
       s0 += m0, s1 += m1, s2 += m2;
     }
-    const double *t0 = gradient_products_[0].data(), *t1 = gradient_products_[1].data(),
-                 *t2 = gradient_products_[2].data();  // column 0 (any point: the gradients are constant)
-    for (Index p = 0; p < np; ++p) packed[p] = s0 * t0[p] + s1 * t1[p] + s2 * t2[p];
-  } else {
-    std::fill(packed, packed + np, 0.0);
-    for (Index q = 0; q < nq; ++q) {
-      double m0, m1, m2;
-      metric(g.at(i, q), m0, m1, m2);
-      const double *t0 = gradient_products_[0].col(q).data(), *t1 = gradient_products_[1].col(q).data(),
-                   *t2 = gradient_products_[2].col(q).data();
-      for (Index p = 0; p < np; ++p) packed[p] += m0 * t0[p] + m1 * t1[p] + m2 * t2[p];
-    }
+    const double *t0 = constant_products_[0].data(), *t1 = constant_products_[1].data(),
+                 *t2 = constant_products_[2].data();
+    for (int k = 0; k < n * n; ++k) ke[k] = s0 * t0[k] + s1 * t1[k] + s2 * t2[k];
+    return;
   }
-  for (Index p = 0; p < np; ++p) {
-    const auto [a, b] = pairs_[static_cast<std::size_t>(p)];
-    ke[a * n + b] = ke[b * n + a] = packed[p];
+  double packed[kMaxPairs];  // entries (a, b), a <= b, in pairs_ order
+  std::fill(packed, packed + np, 0.0);
+  for (Index q = 0; q < nq; ++q) {
+    double m0, m1, m2;
+    metric(g.at(i, q), m0, m1, m2);
+    const double *t0 = gradient_products_[0].col(q).data(), *t1 = gradient_products_[1].col(q).data(),
+                 *t2 = gradient_products_[2].col(q).data();
+    for (Index p = 0; p < np; ++p) packed[p] += m0 * t0[p] + m1 * t1[p] + m2 * t2[p];
   }
+  const int* entry = packed_entry_.data();
+  for (int k = 0; k < n * n; ++k) ke[k] = packed[entry[k]];
 }
 
 void PoissonProblem::assemble() {

@@ -106,7 +106,9 @@ class PoissonProblem {
   // and quadrature point: [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb.
   static constexpr int kMaxPairs = 64;  // Q2: 45
   std::vector<std::array<int, 2>> pairs_;
+  std::vector<int> packed_entry_;  // entry a n + b of the element matrix -> its pair
   std::array<MatrixX, 3> gradient_products_;
+  std::array<std::vector<double>, 3> constant_products_;  // constant gradients: full n x n, any point
   bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
   // Under MPI: the owned rows' pattern (global columns), where assembly finds an
   // entry, and per row where its diagonal-block run starts (diag_start_, relative
