@@ -171,8 +171,10 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   // multigrid on the hierarchy's nested partition, which the coarse levels share.
   watch.reset();
   fem::NewtonOptions newton = newton_options(cfg.solver);
-  const std::vector<int> cell_owner =
-      newton.pc_type == "mg" ? fem::nested_partitions(hierarchy, size).back() : std::vector<int>{};
+  const std::vector<std::vector<int>> level_owners =
+      newton.pc_type == "mg" ? fem::nested_partitions(hierarchy, size) : std::vector<std::vector<int>>{};
+  const std::vector<int> no_owners;
+  const std::vector<int>& cell_owner = level_owners.empty() ? no_owners : level_owners.back();
   const fem::HyperelasticOperator op(comm, mesh, map, cfg.problem.order, cfg.problem.quadrature_degree,
                                      io::make_elasticity_data(cfg), cell_owner);
   result.num_dofs = op.space().num_global();
@@ -191,7 +193,8 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   if (newton.pc_type == "mg") {
     // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
     watch.reset();
-    mg = std::make_unique<multigrid::ElasticityMultigrid>(hierarchy, op.space(), op.data());
+    mg = std::make_unique<multigrid::ElasticityMultigrid>(
+        hierarchy, op.space(), op.data(), multigrid::ElasticityMultigrid::galerkin_defaults(), level_owners);
     if (newton.ksp_type == "preonly") newton.ksp_type = "gmres";  // one V-cycle is not a solve
     newton.configure_preconditioner = [&mg](KSP ksp, Mat jacobian) {
       WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp, 1e-10, 1e-50, PETSC_DEFAULT, 1000));

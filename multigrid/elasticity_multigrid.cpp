@@ -94,7 +94,8 @@ petsc::Matrix interleave(const std::array<petsc::Matrix, 2>& scalar, const fem::
 }  // namespace
 
 ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, const fem::VectorSpace& finest,
-                                         const fem::ElasticityData& data, MultigridSettings settings)
+                                         const fem::ElasticityData& data, MultigridSettings settings,
+                                         const std::vector<std::vector<int>>& level_owners)
     : settings_(settings) {
   if (&hierarchy.finest() != &finest.mesh())
     throw Error("ElasticityMultigrid: the vector space does not live on the hierarchy's finest mesh",
@@ -106,9 +107,14 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
   // with a finest space built on the same partition (nested_partitions(...).back(),
   // as the elasticity app does) prolongation rows read other ranks' coarse
   // nodes only along the interface. Any other finest partition still works.
+  require(level_owners.empty() || static_cast<int>(level_owners.size()) == levels,
+          "ElasticityMultigrid: cell owners for " + std::to_string(level_owners.size()) +
+              " levels, the hierarchy has " + std::to_string(levels));
   int size = 1;
   MPI_Comm_size(finest.comm(), &size);
-  const std::vector<std::vector<int>> owners = fem::nested_partitions(hierarchy, size);
+  std::vector<std::vector<int>> computed;
+  if (level_owners.empty()) computed = fem::nested_partitions(hierarchy, size);
+  const std::vector<std::vector<int>>& owners = level_owners.empty() ? computed : level_owners;
   for (int l = 0; l + 1 < levels; ++l)
     coarse_.push_back(std::make_unique<CoarseLevel>(finest.comm(),
                                                     hierarchy.levels[static_cast<std::size_t>(l)], element,

@@ -32,9 +32,12 @@ class ElasticityMultigrid {
  public:
   /// `finest` must live on hierarchy.finest(). Builds the DOF maps and
   /// distributions of the coarser levels and the vector prolongations.
-  /// Throws warpfem::Error if the hierarchy does not match the space.
+  /// `level_owners`: cell owners of every level, as fem::nested_partitions()
+  /// gives them (empty: computed here); the finest space should be built on
+  /// the last entry. Throws warpfem::Error if the hierarchy does not match the space.
   ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, const fem::VectorSpace& finest,
-                      const fem::ElasticityData& data, MultigridSettings settings = galerkin_defaults());
+                      const fem::ElasticityData& data, MultigridSettings settings = galerkin_defaults(),
+                      const std::vector<std::vector<int>>& level_owners = {});
   ~ElasticityMultigrid();
   ElasticityMultigrid(const ElasticityMultigrid&) = delete;
   ElasticityMultigrid& operator=(const ElasticityMultigrid&) = delete;

@@ -48,5 +48,19 @@ TEST(ElasticityMultigrid, RefusesASpaceOffTheHierarchy) {
   EXPECT_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data()), Error);
 }
 
+TEST(ElasticityMultigrid, TakesCellOwnersForEveryLevelOrNone) {
+  const fem::MeshHierarchy hierarchy(fem::structured_mesh(test::unit_square(), 2, 2, fem::CellType::triangle),
+                                     2);
+  const auto owners = fem::nested_partitions(hierarchy, 1);
+  const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(), warped_square(), 1, 0,
+                                     clamped_block(), owners.back());
+  EXPECT_NO_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data(),
+                                      ElasticityMultigrid::galerkin_defaults(), owners));
+  const std::vector<std::vector<int>> too_few(owners.begin(), owners.end() - 1);
+  EXPECT_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data(), ElasticityMultigrid::galerkin_defaults(),
+                                   too_few),
+               Error);
+}
+
 }  // namespace
 }  // namespace warpfem::multigrid
