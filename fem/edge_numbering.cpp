@@ -14,64 +14,51 @@ template <int dim>
 EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
   const auto& edges = cell_edges(mesh.cell_type);
   const Index nc = mesh.num_cells(), nv = mesh.num_vertices(), ne = static_cast<Index>(edges.size());
+  // 32-bit slots (half the memory, which is mostly first-touch cost): vertex and
+  // edge numbers of a mesh PETSc can number fit (PetscInt is 32-bit).
+  require(nv < std::numeric_limits<std::int32_t>::max() && nc * ne < std::numeric_limits<std::int32_t>::max(),
+          "EdgeNumbering: more than 2^31 vertices or cell edges");
   cell_edge_.resize(nc, ne);
   // 1. Every cell edge (a, b), a < b, reserves a slot with its smaller vertex a:
   // an upper bound on the number of distinct edges (a, ·).
-  std::vector<Index> slot_start(static_cast<std::size_t>(nv) + 1, 0);
+  slot_start_.assign(static_cast<std::size_t>(nv) + 1, 0);
   for (Index c = 0; c < nc; ++c)
     for (Index e = 0; e < ne; ++e)
-      ++slot_start[std::min(mesh.cells(c, edges[e][0]), mesh.cells(c, edges[e][1])) + 1];
-  for (Index v = 0; v < nv; ++v) slot_start[v + 1] += slot_start[v];
+      ++slot_start_[std::min(mesh.cells(c, edges[e][0]), mesh.cells(c, edges[e][1])) + 1];
+  for (Index v = 0; v < nv; ++v) slot_start_[v + 1] += slot_start_[v];
   // 2. One pass over the cells in order: an edge is numbered when a cell first
-  // uses it, so edge ids (and the P2 DOFs nv + e) follow the cells' order.
-  const std::size_t slots = static_cast<std::size_t>(slot_start[nv]);
-  // 32-bit slots (half the temporary memory, which is mostly first-touch cost):
-  // vertex and edge numbers of a mesh PETSc can number fit (PetscInt is 32-bit).
-  require(nv <= std::numeric_limits<std::int32_t>::max() && slots <= std::numeric_limits<std::int32_t>::max(),
-          "EdgeNumbering: more than 2^31 vertices or edges");
-  const auto slot_other = std::make_unique_for_overwrite<std::int32_t[]>(slots);
-  const auto slot_id = std::make_unique_for_overwrite<std::int32_t[]>(slots);
-  std::vector<Index> slot_end(slot_start.begin(), slot_start.end() - 1);
+  // uses it, so edge ids (and the P2 DOFs nv + e) follow the cells' order. The
+  // used slots stay as find()'s table (unused ones are never touched).
+  const std::size_t slots = static_cast<std::size_t>(slot_start_[nv]);
+  slot_other_ = std::make_unique_for_overwrite<std::int32_t[]>(slots);
+  slot_id_ = std::make_unique_for_overwrite<std::int32_t[]>(slots);
+  slot_end_.assign(slot_start_.begin(), slot_start_.end() - 1);
   edge_vertices_.reserve(slots);  // untouched capacity costs no memory traffic
   for (Index c = 0; c < nc; ++c)
     for (Index e = 0; e < ne; ++e) {
       Index a = mesh.cells(c, edges[e][0]), b = mesh.cells(c, edges[e][1]);
       if (a > b) std::swap(a, b);
       Index id = -1;
-      for (Index m = slot_start[a]; m < slot_end[a]; ++m)
-        if (slot_other[m] == b) {
-          id = slot_id[m];
+      for (Index m = slot_start_[a]; m < slot_end_[a]; ++m)
+        if (slot_other_[m] == b) {
+          id = slot_id_[m];
           break;
         }
       if (id < 0) {
         id = static_cast<Index>(edge_vertices_.size());
         edge_vertices_.push_back({a, b});
-        slot_other[slot_end[a]] = static_cast<std::int32_t>(b);
-        slot_id[slot_end[a]++] = static_cast<std::int32_t>(id);
+        slot_other_[slot_end_[a]] = static_cast<std::int32_t>(b);
+        slot_id_[slot_end_[a]++] = static_cast<std::int32_t>(id);
       }
       cell_edge_(c, e) = id;
     }
-  // 3. Compact the used slots into the lookup table of find().
-  const Index num = static_cast<Index>(edge_vertices_.size());
-  start_.resize(static_cast<std::size_t>(nv) + 1);
-  other_.resize(static_cast<std::size_t>(num));
-  id_.resize(static_cast<std::size_t>(num));
-  Index out = 0;
-  for (Index a = 0; a < nv; ++a) {
-    start_[a] = out;
-    for (Index m = slot_start[a]; m < slot_end[a]; ++m, ++out) {
-      other_[out] = slot_other[m];
-      id_[out] = slot_id[m];
-    }
-  }
-  start_[nv] = out;
 }
 
 Index EdgeNumbering::find(Index a, Index b) const {
   if (a > b) std::swap(a, b);
-  if (a < 0 || a + 1 >= static_cast<Index>(start_.size())) return -1;
-  for (Index m = start_[a]; m < start_[a + 1]; ++m)
-    if (other_[m] == b) return id_[m];
+  if (a < 0 || a >= static_cast<Index>(slot_end_.size())) return -1;
+  for (Index m = slot_start_[a]; m < slot_end_[a]; ++m)
+    if (slot_other_[m] == b) return slot_id_[m];
   return -1;
 }
 

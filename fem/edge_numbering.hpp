@@ -2,6 +2,8 @@
 // Global numbering of the edges of a mesh (each undirected edge once), in the
 // order the cells first use them.
 
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "fem/mesh.hpp"
@@ -23,11 +25,13 @@ class EdgeNumbering {
   }
 
  private:
-  // Edges grouped by their smaller vertex (CSR): for vertex a, the edges (a, b > a)
-  // are other_[start_[a] .. start_[a + 1]) with ids id_[...]. Built by counting
-  // and one pass over the cells, without hashing; ids follow the cells' order
-  // (an edge is numbered when a cell first uses it).
-  std::vector<Index> start_, other_, id_;
+  // Edges grouped by their smaller vertex: for vertex a, the edges (a, b > a) are
+  // slot_other_[slot_start_[a] .. slot_end_[a]) with ids slot_id_[...], in slots
+  // reserved by counting (one per cell edge at a). Built in one pass over the
+  // cells, without hashing; ids follow the cells' order (an edge is numbered
+  // when a cell first uses it).
+  std::vector<std::int32_t> slot_start_, slot_end_;
+  std::unique_ptr<std::int32_t[]> slot_other_, slot_id_;
   std::vector<std::array<Index, 2>> edge_vertices_;
   IndexTable cell_edge_;
 };
