@@ -21,8 +21,10 @@ io::ElasticityConfig config(const std::string& analysis) {
     "output": {"directory": "output/test_mpi_elasticity"}
   })json");
   // "quasi_static_multigrid": one refinement of a coarser mesh and pc_type "mg":
-  // Newton's linear solves use the two-level hierarchy, partitioned as nested
-  // levels (and the output's nodal projection on the same partition).
+  // Newton's linear solves use the two-level hierarchy on the app's
+  // nested_partitions() cells, and so does the output's nodal projection. (With
+  // this few cells each level is still cut on its own Morton curve; inherited
+  // levels are checked in test_mpi_multigrid.)
   const bool multigrid = analysis == "quasi_static_multigrid";
   json["problem"]["analysis"] = multigrid ? "quasi_static" : analysis;
   json["output"]["name"] = analysis;
