@@ -50,20 +50,20 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
   const int n = dofs_.element().num_dofs();
   // The element matrix is symmetric: only the pairs a <= b are computed.
   require(n * (n + 1) / 2 <= kMaxPairs, "PoissonProblem: too many DOFs per cell for the element kernel");
-  pairs_.clear();
+  std::vector<std::array<int, 2>> pairs;  // (a, b), a <= b: the rows of gradient_products_
   packed_entry_.assign(static_cast<std::size_t>(n * n), 0);
   for (int a = 0; a < n; ++a)
     for (int b = a; b < n; ++b) {
       packed_entry_[static_cast<std::size_t>(a * n + b)] =
-          packed_entry_[static_cast<std::size_t>(b * n + a)] = static_cast<int>(pairs_.size());
-      pairs_.push_back({a, b});
+          packed_entry_[static_cast<std::size_t>(b * n + a)] = static_cast<int>(pairs.size());
+      pairs.push_back({a, b});
     }
-  const Index np = static_cast<Index>(pairs_.size());
+  const Index np = static_cast<Index>(pairs.size());
   for (auto& t : gradient_products_) t.resize(np, nq);
   constant_gradients_ = true;
   for (Index q = 0; q < nq; ++q) {
     for (Index p = 0; p < np; ++p) {
-      const auto [a, b] = pairs_[static_cast<std::size_t>(p)];
+      const auto [a, b] = pairs[static_cast<std::size_t>(p)];
       const double ua = shape_grads_[0](q, a), va = shape_grads_[1](q, a);
       const double ub = shape_grads_[0](q, b), vb = shape_grads_[1](q, b);
       gradient_products_[0](p, q) = ua * ub;
@@ -128,7 +128,7 @@ void PoissonProblem::create_matrix() {
 
 void PoissonProblem::element_stiffness(const GeometryChunk& g, Index i, double* ke) const {
   const int n = dofs_.element().num_dofs();
-  const Index nq = geometry_.points_per_cell(), np = static_cast<Index>(pairs_.size());
+  const Index nq = geometry_.points_per_cell(), np = gradient_products_[0].rows();
   // grad φ = J^{-T} ĝ, so ∇φa·∇φb = ĝa^T M ĝb with M = (J^{-T})^T J^{-T} (symmetric).
   const auto metric = [&](Index p, double& m0, double& m1, double& m2) {
     const double j00 = g.inverse_transpose(p, 0), j01 = g.inverse_transpose(p, 1),
@@ -150,7 +150,7 @@ void PoissonProblem::element_stiffness(const GeometryChunk& g, Index i, double* 
     for (int k = 0; k < n * n; ++k) ke[k] = s0 * t0[k] + s1 * t1[k] + s2 * t2[k];
     return;
   }
-  double packed[kMaxPairs];  // entries (a, b), a <= b, in pairs_ order
+  double packed[kMaxPairs];  // entries (a, b), a <= b, in gradient_products_' row order
   std::fill(packed, packed + np, 0.0);
   for (Index q = 0; q < nq; ++q) {
     double m0, m1, m2;

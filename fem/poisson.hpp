@@ -102,11 +102,11 @@ class PoissonProblem {
   // Products of reference gradients per quadrature point, (a*n + b, q):
   // ∂u φa ∂u φb, ∂u φa ∂v φb + ∂v φa ∂u φb, ∂v φa ∂v φb. The element stiffness is
   // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
-  // Products of reference gradients per DOF pair (a, b), a <= b (pairs_ order),
-  // and quadrature point: [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb.
+  // Products of reference gradients per DOF pair (a, b), a <= b (rows in the
+  // order a = 0, b = 0..n-1, then a = 1, ...) and quadrature point:
+  // [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb.
   static constexpr int kMaxPairs = 64;  // Q2: 45
-  std::vector<std::array<int, 2>> pairs_;
-  std::vector<int> packed_entry_;  // entry a n + b of the element matrix -> its pair
+  std::vector<int> packed_entry_;       // entry a n + b of the element matrix -> its pair (row)
   std::array<MatrixX, 3> gradient_products_;
   std::array<std::vector<double>, 3> constant_products_;  // constant gradients: full n x n, any point
   bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
