@@ -52,9 +52,15 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
   owned_begin_ = count[rank_];
   owned_end_ = count[rank_ + 1];
   num_global_ = count[size_];
-  global_.resize(static_cast<std::size_t>(nd));
   std::vector<PetscInt> next(count.begin(), count.end() - 1);
-  for (Index d = 0; d < nd; ++d) global_[d] = next[owner_[d]]++;
+  // Number each rank's DOFs by first use in the cells (in cell order), so that
+  // a cell's DOFs are close in PETSc's numbering (P2: vertex and edge nodes interleaved).
+  global_.assign(static_cast<std::size_t>(nd), -1);
+  for (Index c = 0; c < mesh.num_cells(); ++c)
+    for (Index k = 0; k < cd.cols(); ++k)
+      if (PetscInt& g = global_[cd(c, k)]; g < 0) g = next[owner_[cd(c, k)]]++;
+  for (Index d = 0; d < nd; ++d)
+    if (global_[d] < 0) global_[d] = next[owner_[d]]++;
 }
 
 void DofDistribution::build_relevant() const {

@@ -3,8 +3,10 @@
 //
 // Cells are owned by the rank partition_cells() (or the caller) gives them; a DOF is owned by
 // the lowest rank among the cells that contain it. PETSc global indices number
-// the DOFs of rank 0 first, then rank 1, ..., each block in mesh order, so
-// every rank owns one contiguous range [owned_begin, owned_end).
+// the DOFs of rank 0 first, then rank 1, ..., each block in order of first use
+// by the cells (a cell's DOFs end up close together: for P2 the vertex and
+// edge nodes are interleaved, which keeps matrix-vector products cache
+// friendly), so every rank owns one contiguous range [owned_begin, owned_end).
 
 #include <mpi.h>
 #include <petscvec.h>
