@@ -68,6 +68,30 @@ TEST(DofDistribution, GivenCellOwnersAreCheckedAndUsed) {
   EXPECT_THROW(fem::DofDistribution(MPI_COMM_SELF, mesh, dofs, foreign), warpfem::Error);
 }
 
+TEST(DofDistribution, NumbersDofsByFirstUseInTheCells) {
+  // PETSc's numbering follows the cells, not the DofMap's blocks (vertices,
+  // then edges): cell c's DOFs not used by an earlier cell take the next indices.
+  const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
+  const fem::Mesh<2> triangles =
+      fem::refine_uniformly(fem::mesh_polygon(square, {.max_edge_length = 0.3})).mesh;
+  const fem::Mesh<2> quads = fem::split_into_quadrilaterals(triangles);
+  for (const fem::Mesh<2>* mesh : {&triangles, &quads})
+    for (int order : {1, 2}) {
+      const fem::DofMap dofs(*mesh, fem::LagrangeElement(mesh->cell_type, order));
+      const fem::DofDistribution dist(MPI_COMM_SELF, *mesh, dofs);
+      std::vector<char> seen(static_cast<std::size_t>(dofs.num_dofs()), 0);
+      PetscInt next = 0;
+      const auto& cd = dofs.cell_dofs();
+      for (Index c = 0; c < mesh->num_cells(); ++c)
+        for (Index k = 0; k < cd.cols(); ++k)
+          if (!seen[static_cast<std::size_t>(cd(c, k))]) {
+            seen[static_cast<std::size_t>(cd(c, k))] = 1;
+            ASSERT_EQ(dist.global(cd(c, k)), next++) << "cell " << c << ", order " << order;
+          }
+      EXPECT_EQ(next, dofs.num_dofs());
+    }
+}
+
 TEST(DofMap, FirstOrderDofsAreTheMeshVerticesWithoutACopy) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
   const fem::Mesh<2> triangles = fem::mesh_polygon(square, {.max_edge_length = 0.3});
