@@ -159,7 +159,7 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   const auto offer = [&]<int NLOC>(std::integral_constant<int, NLOC>) {
     PetscInt global_cell[NLOC];
     for (Index i = 0; i < ncells; ++i) {
-      const Index* d = &cd(cell(i), 0);
+      const TableIndex* d = &cd(cell(i), 0);
       for (int k = 0; k < NLOC; ++k) global_cell[k] = global_[d[k]];
       for (int k = 0; k < NLOC; ++k)
         if (const PetscInt r = owned_row(d[k]); r >= 0) {

@@ -10,7 +10,7 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
   const int per_edge = element.dofs_per_edge(), interior = element.interior_dofs();
   if (per_edge > 0) edges_.emplace(mesh);
   const Index nv = mesh.num_vertices(), ne = edges_ ? edges_->num_edges() : 0, nc = mesh.num_cells();
-  num_dofs_ = nv + ne * per_edge + nc * interior;
+  num_dofs_ = checked_table_size(nv + ne * per_edge + nc * interior, "DofMap: DOFs of " + element.name());
   const int nloc = element.num_dofs();
   const int nvert = element.num_vertex_dofs();
   const auto& edges = cell_edges(mesh.cell_type);
@@ -54,7 +54,7 @@ template <int NV>
 void straight_cell_geometry(const Mesh<2>& mesh, Index cell, Index nq, const MatrixX& N,
                             const std::array<MatrixX, 2>& dN, Points<2>& x0, Jacobians<2>& JG, Index offset) {
   double vx[NV], vy[NV];  // the cell's vertices, read once
-  const Index* c = &mesh.cells(cell, 0);
+  const TableIndex* c = &mesh.cells(cell, 0);
   for (int k = 0; k < NV; ++k) {
     vx[k] = mesh.vertices(c[k], 0);
     vy[k] = mesh.vertices(c[k], 1);

@@ -1,6 +1,21 @@
 #include "fem/mesh.hpp"
 
+#include <limits>
+
+#include "core/error.hpp"
+
 namespace warpfem::fem {
+
+TableIndex checked_table_size(Index count, const std::string& what) {
+  if (count < 0 || count > std::numeric_limits<TableIndex>::max())
+    throw Error(
+        what + ": " + std::to_string(count) + " entries do not fit the 32-bit mesh tables (at most " +
+            std::to_string(std::numeric_limits<TableIndex>::max()) + ")",
+        {.file = "",
+         .key_path = "",
+         .hint = "use fewer refinements or a coarser mesh (every rank holds the whole mesh hierarchy)"});
+  return static_cast<TableIndex>(count);
+}
 
 std::string to_string(CellType t) {
   switch (t) {

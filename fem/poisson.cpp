@@ -223,7 +223,7 @@ void PoissonProblem::assemble() {
         for (Index q = 0; q < nq; ++q) sum += wf[q] * N[k * nq + q];
         fe[k] = sum;
       }
-      const Index* dofs = &cell_dofs(c, 0);
+      const TableIndex* dofs = &cell_dofs(c, 0);
       for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs[k]);
       for (int r = 0; r < n; ++r) {
         const PetscInt row = idx[r] - begin;

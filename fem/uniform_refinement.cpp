@@ -19,12 +19,14 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   Mesh<2>& fine = out.mesh;
   fine.cell_type = coarse.cell_type;
   const Index nf_vertices = nv + ne + (quads ? nc : 0);
+  checked_table_size(nf_vertices, "refine_uniformly: fine vertices");
+  checked_table_size(4 * nc, "refine_uniformly: fine cells");
 
   // 1. Fine cells over the fine *nodes*: coarse vertex v, midpoint of coarse
   // edge e at nv + e, centre of quadrilateral c at nv + ne + c.
   fine.cells.resize(4 * nc, quads ? 4 : 3);
   for (Index c = 0; c < nc; ++c) {
-    const Index* v = &coarse.cells(c, 0);
+    const TableIndex* v = &coarse.cells(c, 0);
     if (!quads) {  // layouts: child_reference_vertices()
       const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1),
                   m20 = nv + edges.cell_edge(c, 2);
@@ -49,17 +51,17 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   // (sparsity pattern, assembly scatter, matrix rows, prolongation) would jump
   // across the mesh; the cells are ordered hierarchically (children 4c … 4c+3
   // of c), so first use keeps a cell's vertices, and its matrix rows, together.
-  std::vector<Index>& vertex_of = out.fine_vertex_of_node;
+  std::vector<TableIndex>& vertex_of = out.fine_vertex_of_node;
   vertex_of.assign(static_cast<std::size_t>(nf_vertices), -1);
-  Index next = 0;
+  TableIndex next = 0;
   for (Index c = 0; c < fine.num_cells(); ++c)
     for (Index k = 0; k < fine.cells.cols(); ++k) {
-      Index& node = fine.cells(c, k);
-      Index& v = vertex_of[static_cast<std::size_t>(node)];
+      TableIndex& node = fine.cells(c, k);
+      TableIndex& v = vertex_of[static_cast<std::size_t>(node)];
       if (v < 0) v = next++;
       node = v;
     }
-  for (Index& v : vertex_of)  // a coarse vertex in no cell keeps a place at the end
+  for (TableIndex& v : vertex_of)  // a coarse vertex in no cell keeps a place at the end
     if (v < 0) v = next++;
 
   // 3. Positions, written once at the final numbers.
@@ -73,7 +75,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   }
   if (quads)
     for (Index c = 0; c < nc; ++c) {
-      const Index* v = &coarse.cells(c, 0);
+      const TableIndex* v = &coarse.cells(c, 0);
       fine.vertices.row(vertex_of[static_cast<std::size_t>(nv + ne + c)]) =
           0.25 * (coarse.vertices.row(v[0]) + coarse.vertices.row(v[1]) + coarse.vertices.row(v[2]) +
                   coarse.vertices.row(v[3]));

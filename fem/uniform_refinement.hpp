@@ -21,7 +21,7 @@ struct RefinedMesh {
   /// mesh) at nv + e, then, for quadrilaterals, the centre of cell c at
   /// nv + ne + c. Fine vertices are numbered by first use in the fine cells,
   /// so this is not the identity.
-  std::vector<Index> fine_vertex_of_node;
+  std::vector<TableIndex> fine_vertex_of_node;
 };
 
 RefinedMesh refine_uniformly(const Mesh<2>& coarse);

@@ -68,7 +68,7 @@ void WarpedGeometry::compute(Index first, Index last, Scratch& s, double* x, dou
     const double *xi = rule_.points.data(), *eta = xi + nq_;
     double *X = s.x0.data(), *Y = X + m, *G = s.JG.data();
     for (Index i = 0; i < nc; ++i) {
-      const Index* c = &mesh_->cells(cells_[static_cast<std::size_t>(first + i)], 0);
+      const TableIndex* c = &mesh_->cells(cells_[static_cast<std::size_t>(first + i)], 0);
       const double x0 = V(c[0], 0), y0 = V(c[0], 1);
       const double e = V(c[1], 0) - x0, f = V(c[2], 0) - x0, g = V(c[1], 1) - y0, h = V(c[2], 1) - y0;
       G[i] = e, G[nc + i] = f, G[2 * nc + i] = g, G[3 * nc + i] = h;

@@ -131,6 +131,18 @@ TEST(UniformRefinement, NumbersVerticesByFirstUseAndRecordsWhereCoarseNodesWent)
   }
 }
 
+TEST(MeshTables, SizesBeyondThe32BitTablesAreRefusedWithTheirName) {
+  EXPECT_EQ(fem::checked_table_size(0, "cells"), 0);
+  EXPECT_EQ(fem::checked_table_size(2147483647, "cells"), 2147483647);
+  try {
+    fem::checked_table_size(Index{2147483648}, "refine_uniformly: fine cells");
+    FAIL() << "2^31 entries accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("refine_uniformly: fine cells"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(fem::checked_table_size(-1, "cells"), Error);
+}
+
 TEST(CellPartition, BalancedAndDeterministic) {
   const Mesh<2> m = mesh_polygon(lshape(), {.max_edge_length = 0.1});
   const auto parts = partition_cells(m, 3);
