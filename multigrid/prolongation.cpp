@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -70,63 +71,61 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
   };
 
   // Each owned fine row is filled from the first local fine cell containing it
-  // (the owner of a DOF always assembles a cell containing it).
+  // (the owner of a DOF always assembles a cell containing it). Pass 1 finds
+  // that cell and the DOF's place in it and counts the row's entries; pass 2
+  // writes the rows straight into the compressed arrays, in row order.
   const PetscInt rows = fdist.num_owned();
-  std::vector<PetscInt> count(static_cast<std::size_t>(rows), -1), cols(static_cast<std::size_t>(rows) * n);
-  std::vector<PetscScalar> vals(static_cast<std::size_t>(rows) * n);
+  constexpr std::int64_t kUnset = -1;
+  std::vector<std::int64_t> source(static_cast<std::size_t>(rows), kUnset);  // fine cell * n + place
   // refine_uniformly makes fine cells 4c .. 4c+3 the children of coarse cell c,
   // always in the same layout, so a child's table depends only on f − 4c.
   const std::array<MatrixX, 4> tables = child_tables(fine.dofs->element());
-  for (Index f : fdist.local_cells()) {
+  // The entries of fine DOF d at place k of fine cell f: coarse DOF j of the
+  // parent with a nonzero coarse shape value (no coupling across the
+  // eliminated Dirichlet block; Dirichlet rows are injections).
+  const auto for_each_entry = [&](Index f, int k, auto&& emit) {
     const Index c = fem::RefinedMesh::parent_of(f);
-    bool todo = false;
-    for (int k = 0; k < n && !todo; ++k) {
-      const Index d = fdofs(f, k);
-      todo = fdist.owns(d) && count[static_cast<std::size_t>(fdist.global(d) - fdist.owned_begin())] < 0;
-    }
-    if (!todo) continue;
     const MatrixX& table = tables[static_cast<std::size_t>(f - 4 * c)];
+    const bool fixed = is_dirichlet(fine, fdofs(f, k));
+    for (int j = 0; j < n; ++j) {
+      const double v = table(k, j);
+      if (std::abs(v) < kZero) continue;
+      const Index cd = cdofs(c, j);
+      if (fixed != is_dirichlet(coarse, cd)) continue;   // no coupling across the eliminated block
+      if (fixed && std::abs(v - 1.0) > 1e-10) continue;  // Dirichlet block: injection only
+      emit(cdist.global(cd), fixed ? 1.0 : v);
+    }
+  };
+  petsc::OwnedRows csr;
+  csr.row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
+  for (Index f : fdist.local_cells())
     for (int k = 0; k < n; ++k) {
       const Index d = fdofs(f, k);
       if (!fdist.owns(d)) continue;
       const std::size_t row = static_cast<std::size_t>(fdist.global(d) - fdist.owned_begin());
-      if (count[row] >= 0) continue;
+      if (source[row] != kUnset) continue;
+      source[row] = static_cast<std::int64_t>(f) * n + k;
       PetscInt m = 0;
-      const bool fixed = is_dirichlet(fine, d);
-      for (int j = 0; j < n; ++j) {
-        const double v = table(k, j);
-        if (std::abs(v) < kZero) continue;
-        const Index cd = cdofs(c, j);
-        if (fixed != is_dirichlet(coarse, cd)) continue;   // no coupling across the eliminated block
-        if (fixed && std::abs(v - 1.0) > 1e-10) continue;  // Dirichlet block: injection only
-        cols[row * n + m] = cdist.global(cd);
-        vals[row * n + m] = fixed ? 1.0 : v;
-        ++m;
-      }
-      count[row] = m;
+      for_each_entry(f, k, [&](PetscInt, double) { ++m; });
+      csr.row_ptr[row + 1] = m;
     }
-  }
-  // Compressed rows with sorted columns, adopted by PETSc without a copy. A row
-  // has at most n entries: each is sorted in place by insertion.
-  petsc::OwnedRows csr;
-  csr.row_ptr.resize(static_cast<std::size_t>(rows) + 1);
-  csr.row_ptr[0] = 0;
   for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
-    if (count[r] < 0) throw Error("assemble_prolongation: an owned fine DOF lies in no local cell");
-    csr.row_ptr[r + 1] = csr.row_ptr[r] + count[r];
+    if (source[r] == kUnset) throw Error("assemble_prolongation: an owned fine DOF lies in no local cell");
+    csr.row_ptr[r + 1] += csr.row_ptr[r];
   }
+  // A row has at most n entries: each is sorted in place by insertion.
   csr.cols.resize(static_cast<std::size_t>(csr.row_ptr[static_cast<std::size_t>(rows)]));
   csr.vals.resize(csr.cols.size());
   for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
     PetscInt* oc = csr.cols.data() + csr.row_ptr[r];
     PetscScalar* ov = csr.vals.data() + csr.row_ptr[r];
-    for (PetscInt k = 0; k < count[r]; ++k) {
-      const PetscInt col = cols[r * n + k];
-      const PetscScalar val = vals[r * n + k];
-      PetscInt j = k;
-      for (; j > 0 && oc[j - 1] > col; --j) oc[j] = oc[j - 1], ov[j] = ov[j - 1];
-      oc[j] = col, ov[j] = val;
-    }
+    PetscInt m = 0;
+    for_each_entry(static_cast<Index>(source[r] / n), static_cast<int>(source[r] % n),
+                   [&](PetscInt col, double val) {
+                     PetscInt j = m++;
+                     for (; j > 0 && oc[j - 1] > col; --j) oc[j] = oc[j - 1], ov[j] = ov[j - 1];
+                     oc[j] = col, ov[j] = val;
+                   });
   }
   return petsc::adopt_owned_rows(fdist.comm(), std::move(csr), cdist.num_owned(), cdist.owned_begin(),
                                  fdist.num_global(), cdist.num_global());
