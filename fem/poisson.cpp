@@ -89,36 +89,14 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
 }
 
 void PoissonProblem::create_matrix() {
-  dist_.sparsity(mesh_, dofs_, row_ptr_, cols_);
+  // PETSc adopts the pattern without copying it (split in place into the
+  // diagonal and off-diagonal blocks under MPI); assembly then writes into the
+  // matrix's own arrays. rows.vals stays empty: the values start as zeros.
+  petsc::OwnedRows rows;
+  dist_.sparsity(mesh_, dofs_, rows.row_ptr, rows.cols);
   int size = 1;
   MPI_Comm_size(comm_, &size);
   serial_ = size == 1;
-  // PETSc adopts the pattern without copying it (split into diagonal and
-  // off-diagonal blocks under MPI). Serial assembly writes into the matrix's own
-  // arrays. Under MPI it searches the global pattern kept here and writes into
-  // the block that holds the entry: a row's columns in [begin, end) are one run
-  // (the row is sorted), so the blocks' positions follow from the run's start
-  // in the row and the diagonal block's row pointers.
-  petsc::OwnedRows rows;
-  if (serial_) {
-    rows.row_ptr = std::move(row_ptr_);
-    rows.cols = std::move(cols_);
-  } else {
-    rows.row_ptr = row_ptr_;
-    rows.cols = cols_;
-    const PetscInt begin = dist_.owned_begin(), end = begin + dist_.num_owned();
-    diag_ptr_.assign(row_ptr_.size(), 0);
-    diag_start_.resize(row_ptr_.size() - 1);
-    for (std::size_t r = 0; r + 1 < row_ptr_.size(); ++r) {
-      PetscInt lo = row_ptr_[r];
-      while (lo < row_ptr_[r + 1] && cols_[lo] < begin) ++lo;
-      PetscInt hi = lo;
-      while (hi < row_ptr_[r + 1] && cols_[hi] < end) ++hi;
-      diag_start_[r] = lo - row_ptr_[r];
-      diag_ptr_[r + 1] = diag_ptr_[r] + (hi - lo);
-    }
-  }
-  // rows.vals stays empty: the values start as zeros.
   A_ = petsc::adopt_owned_rows(comm_, std::move(rows), dist_.num_owned(), dist_.owned_begin(),
                                dist_.num_global(), dist_.num_global());
   WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
@@ -174,24 +152,29 @@ void PoissonProblem::assemble() {
   // create_matrix); entries of rows owned by other ranks go through MatSetValues
   // afterwards.
   WARPFEM_PETSC_CHECK(MatZeroEntries(A_.get()));
-  const PetscInt *ia = nullptr, *ja = nullptr;
-  PetscScalar *a = nullptr, *ad = nullptr, *ao = nullptr;
-  Mat Ad = nullptr, Ao = nullptr;
+  // Serial: the matrix's arrays (ia, ja, a). MPI: its diagonal block (the same,
+  // with local columns) and its off-diagonal block (ia_o, ja_o, ao; columns are
+  // positions in garray, the sorted global columns of the block).
+  const PetscInt *ia = nullptr, *ja = nullptr, *ia_o = nullptr, *ja_o = nullptr, *garray = nullptr;
+  PetscScalar *a = nullptr, *ao = nullptr;
+  Mat Ad = A_.get(), Ao = nullptr;
   const bool serial = serial_;
-  if (serial) {
+  if (!serial) WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A_.get(), &Ad, &Ao, &garray));
+  const auto get_rows = [&](Mat block, const PetscInt** i, const PetscInt** j, PetscScalar** v) {
     PetscInt rows = 0;
     PetscBool done = PETSC_FALSE;
-    WARPFEM_PETSC_CHECK(MatGetRowIJ(A_.get(), 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
+    WARPFEM_PETSC_CHECK(MatGetRowIJ(block, 0, PETSC_FALSE, PETSC_FALSE, &rows, i, j, &done));
     require(done == PETSC_TRUE && rows == owned, "Poisson assembly: cannot access the matrix rows");
-    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(A_.get(), &a));
-  } else {
-    ia = row_ptr_.data();
-    ja = cols_.data();
-    const PetscInt* garray = nullptr;
-    WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A_.get(), &Ad, &Ao, &garray));
-    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ad, &ad));
-    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(Ao, &ao));
-  }
+    WARPFEM_PETSC_CHECK(MatSeqAIJGetArray(block, v));
+  };
+  const auto restore_rows = [&](Mat block, const PetscInt** i, const PetscInt** j, PetscScalar** v) {
+    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(block, v));
+    PetscInt rows = 0;
+    PetscBool done = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(MatRestoreRowIJ(block, 0, PETSC_FALSE, PETSC_FALSE, &rows, i, j, &done));
+  };
+  get_rows(Ad, &ia, &ja, &a);
+  if (!serial) get_rows(Ao, &ia_o, &ja_o, &ao);
   WARPFEM_PETSC_CHECK(VecSet(b_.get(), 0.0));
   WARPFEM_PETSC_CHECK(VecSet(u_.get(), 0.0));
   PetscScalar* b = nullptr;
@@ -239,37 +222,33 @@ void PoissonProblem::assemble() {
         }
         b[row] += fe[r];
         const PetscInt* cols = ja + ia[row];
+        PetscScalar* vals = a + ia[row];
         if (serial) {
-          PetscScalar* vals = a + ia[row];
           for (int k = 0; k < n; ++k) {
             PetscInt j = 0;
             while (cols[j] != idx[k]) ++j;  // rows hold ~7-20 entries: a linear scan beats bisection
             vals[j] += ke[r * n + k];
           }
         } else {
-          // Entry j of the row: off-diagonal block before and after the diagonal run.
-          const PetscInt lo = diag_start_[row], nd = diag_ptr_[row + 1] - diag_ptr_[row];
-          PetscScalar* d = ad + diag_ptr_[row];
-          PetscScalar* o = ao + (ia[row] - diag_ptr_[row]);
           for (int k = 0; k < n; ++k) {
-            PetscInt j = 0;
-            while (cols[j] != idx[k]) ++j;
-            (j < lo ? o[j] : j < lo + nd ? d[j - lo] : o[j - nd]) += ke[r * n + k];
+            const PetscInt col = idx[k] - begin;  // the diagonal block's columns are local
+            if (col >= 0 && col < owned) {
+              PetscInt j = 0;
+              while (cols[j] != col) ++j;
+              vals[j] += ke[r * n + k];
+            } else {  // a column of another rank (rows along the interface only)
+              PetscInt j = ia_o[row];
+              while (garray[ja_o[j]] != idx[k]) ++j;
+              ao[j] += ke[r * n + k];
+            }
           }
         }
       }
     }
   });
   WARPFEM_PETSC_CHECK(VecRestoreArray(b_.get(), &b));
-  if (serial) {
-    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(A_.get(), &a));
-    PetscInt rows = 0;
-    PetscBool done = PETSC_FALSE;
-    WARPFEM_PETSC_CHECK(MatRestoreRowIJ(A_.get(), 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
-  } else {
-    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(Ao, &ao));
-    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArray(Ad, &ad));
-  }
+  restore_rows(Ad, &ia, &ja, &a);
+  if (!serial) restore_rows(Ao, &ia_o, &ja_o, &ao);
   for (std::size_t g = 0; g < ghost_rows.size(); ++g)
     WARPFEM_PETSC_CHECK(
         MatSetValues(A_.get(), 1, &ghost_rows[g], 1, &ghost_cols[g], &ghost_vals[g], ADD_VALUES));

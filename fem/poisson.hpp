@@ -110,13 +110,7 @@ class PoissonProblem {
   std::array<MatrixX, 3> gradient_products_;
   std::array<std::vector<double>, 3> constant_products_;  // constant gradients: full n x n, any point
   bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
-  // Under MPI: the owned rows' pattern (global columns), where assembly finds an
-  // entry, and per row where its diagonal-block run starts (diag_start_, relative
-  // to the row) and the diagonal block's row pointers (diag_ptr_), which give the
-  // entry's place in the matrix's two blocks. Empty in serial, where assembly
-  // searches the matrix's own arrays.
   bool serial_ = true;
-  std::vector<PetscInt> row_ptr_, cols_, diag_ptr_, diag_start_;
   // Owned Dirichlet DOFs: global rows, which condition applies, f at their nodes.
   std::vector<PetscInt> dirichlet_rows_;
   std::vector<int> dirichlet_condition_;

@@ -39,67 +39,72 @@ Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, Pets
   int size = 1;
   MPI_Comm_size(comm, &size);
   const PetscInt local_rows = static_cast<PetscInt>(rows.row_ptr.size()) - 1;
-  auto storage = std::make_unique<Storage>();
-  Matrix A;
-  if (rows.vals.empty()) rows.vals.assign(size == 1 ? rows.cols.size() : 0, 0.0);
   require(rows.vals.empty() || rows.vals.size() == rows.cols.size(),
           "adopt_owned_rows: " + std::to_string(rows.vals.size()) + " values for " +
               std::to_string(rows.cols.size()) + " columns");
-  if (size == 1) {
-    storage->diagonal = std::move(rows);
-    OwnedRows& d = storage->diagonal;
-    WARPFEM_PETSC_CHECK(MatCreateSeqAIJWithArrays(comm, local_rows, local_cols, d.row_ptr.data(),
-                                                  d.cols.data(), d.vals.data(), A.out()));
-  } else {
+  if (size > 1) {
     // Columns in [first_col, first_col + local_cols) go to the diagonal block (as
-    // local indices), the others to the off-diagonal block (global indices).
-    // A row's columns are sorted, so its diagonal-block columns are one run
-    // [lo, hi): the blocks' row pointers are counted first, then the runs are
-    // appended (no zero-filled arrays to overwrite).
-    OwnedRows& d = storage->diagonal;
-    OwnedRows& o = storage->off_diagonal;
-    const PetscInt last_col = first_col + local_cols;
-    const auto diagonal_run = [&](PetscInt r) {
-      PetscInt lo = rows.row_ptr[r];
-      while (lo < rows.row_ptr[r + 1] && rows.cols[lo] < first_col) ++lo;
-      PetscInt hi = lo;
-      while (hi < rows.row_ptr[r + 1] && rows.cols[hi] < last_col) ++hi;
-      return std::pair{lo, hi};
-    };
-    d.row_ptr.resize(static_cast<std::size_t>(local_rows) + 1);
-    o.row_ptr.resize(static_cast<std::size_t>(local_rows) + 1);
-    d.row_ptr[0] = o.row_ptr[0] = 0;
-    for (PetscInt r = 0; r < local_rows; ++r) {
-      const auto [lo, hi] = diagonal_run(r);
-      d.row_ptr[r + 1] = d.row_ptr[r] + (hi - lo);
-      o.row_ptr[r + 1] = o.row_ptr[r] + (rows.row_ptr[r + 1] - rows.row_ptr[r]) - (hi - lo);
-    }
+    // local indices), the others to the off-diagonal block (global indices). The
+    // diagonal block is compacted in place in `rows`' own arrays (an entry moves
+    // only towards the front), so the pattern is never copied; the off-diagonal
+    // block (the interface) is small.
+    OwnedRows off;
+    off.row_ptr.assign(rows.row_ptr.size(), 0);
     const bool zeros = rows.vals.empty();
-    d.cols.reserve(static_cast<std::size_t>(d.row_ptr[local_rows]));
-    o.cols.reserve(static_cast<std::size_t>(o.row_ptr[local_rows]));
-    if (zeros) {
-      d.vals.assign(static_cast<std::size_t>(d.row_ptr[local_rows]), 0.0);
-      o.vals.assign(static_cast<std::size_t>(o.row_ptr[local_rows]), 0.0);
-    } else {
-      d.vals.reserve(static_cast<std::size_t>(d.row_ptr[local_rows]));
-      o.vals.reserve(static_cast<std::size_t>(o.row_ptr[local_rows]));
-    }
-    const auto append = [&](OwnedRows& block, PetscInt from, PetscInt to, PetscInt shift) {
-      for (PetscInt k = from; k < to; ++k) {
-        block.cols.push_back(rows.cols[k] - shift);
-        if (!zeros) block.vals.push_back(rows.vals[k]);
-      }
-    };
+    const PetscInt last_col = first_col + local_cols;
+    PetscInt kept = 0, start = rows.row_ptr[0];
     for (PetscInt r = 0; r < local_rows; ++r) {
-      const auto [lo, hi] = diagonal_run(r);
-      append(o, rows.row_ptr[r], lo, 0);
-      append(d, lo, hi, first_col);
-      append(o, hi, rows.row_ptr[r + 1], 0);
+      const PetscInt end = rows.row_ptr[r + 1];
+      for (PetscInt k = start; k < end; ++k) {
+        const PetscInt col = rows.cols[k];
+        if (col >= first_col && col < last_col) {
+          rows.cols[kept] = col - first_col;
+          if (!zeros) rows.vals[kept] = rows.vals[k];
+          ++kept;
+        } else {
+          off.cols.push_back(col);
+          if (!zeros) off.vals.push_back(rows.vals[k]);
+        }
+      }
+      rows.row_ptr[r + 1] = kept;
+      off.row_ptr[r + 1] = static_cast<PetscInt>(off.cols.size());
+      start = end;
     }
-    WARPFEM_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(
-        comm, local_rows, local_cols, global_rows, global_cols, d.row_ptr.data(), d.cols.data(),
-        d.vals.data(), o.row_ptr.data(), o.cols.data(), o.vals.data(), A.out()));
+    rows.cols.resize(static_cast<std::size_t>(kept));
+    if (!zeros) rows.vals.resize(static_cast<std::size_t>(kept));
+    return adopt_split_rows(comm, std::move(rows), std::move(off), local_cols, global_rows, global_cols);
   }
+  if (rows.vals.empty()) rows.vals.assign(rows.cols.size(), 0.0);
+  auto storage = std::make_unique<Storage>();
+  storage->diagonal = std::move(rows);
+  OwnedRows& d = storage->diagonal;
+  Matrix A;
+  WARPFEM_PETSC_CHECK(MatCreateSeqAIJWithArrays(comm, local_rows, local_cols, d.row_ptr.data(), d.cols.data(),
+                                                d.vals.data(), A.out()));
+  attach(A.get(), std::move(storage));
+  return A;
+}
+
+Matrix adopt_split_rows(MPI_Comm comm, OwnedRows diagonal, OwnedRows off_diagonal, PetscInt local_cols,
+                        PetscInt global_rows, PetscInt global_cols) {
+  const PetscInt local_rows = static_cast<PetscInt>(diagonal.row_ptr.size()) - 1;
+  require(local_rows >= 0 && off_diagonal.row_ptr.size() == diagonal.row_ptr.size(),
+          "adopt_split_rows: the diagonal and off-diagonal blocks have different row counts");
+  for (OwnedRows* block : {&diagonal, &off_diagonal}) {
+    if (block->vals.empty()) block->vals.assign(block->cols.size(), 0.0);
+    require(block->vals.size() == block->cols.size(),
+            "adopt_split_rows: " + std::to_string(block->vals.size()) + " values for " +
+                std::to_string(block->cols.size()) + " columns");
+  }
+  auto storage = std::make_unique<Storage>();
+  storage->diagonal = std::move(diagonal);
+  storage->off_diagonal = std::move(off_diagonal);
+  OwnedRows& d = storage->diagonal;
+  OwnedRows& o = storage->off_diagonal;
+  Matrix A;
+  WARPFEM_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(
+      comm, local_rows, local_cols, global_rows, global_cols, d.row_ptr.data(), d.cols.data(), d.vals.data(),
+      o.row_ptr.data(), o.cols.data(), o.vals.data(), A.out()));
   attach(A.get(), std::move(storage));
   return A;
 }

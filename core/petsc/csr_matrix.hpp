@@ -28,4 +28,12 @@ struct OwnedRows {
 Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, PetscInt first_col,
                         PetscInt global_rows, PetscInt global_cols);
 
+/// MATMPIAIJ from rows already split into PETSc's two blocks: `diagonal` holds
+/// the columns in this rank's column range as local indices (0 .. local_cols),
+/// `off_diagonal` the others as global indices; both sorted per row, with the
+/// same number of rows; empty vals stand for zeros. Adopted without a copy,
+/// like adopt_owned_rows(). Collective on `comm`.
+Matrix adopt_split_rows(MPI_Comm comm, OwnedRows diagonal, OwnedRows off_diagonal, PetscInt local_cols,
+                        PetscInt global_rows, PetscInt global_cols);
+
 }  // namespace warpfem::petsc

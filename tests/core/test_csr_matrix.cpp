@@ -116,3 +116,46 @@ TEST(CsrMatrix, PatternWithoutValuesKeepsEveryColumn) {
   bad.vals = {1.0, 2.0};
   EXPECT_THROW(petsc::adopt_owned_rows(PETSC_COMM_WORLD, std::move(bad), kRows, 0, 1, kRows), Error);
 }
+
+// Rows already split into PETSc's two blocks: the same matrix as adopting the
+// unsplit rows (here: the identity with the last global column appended to
+// every row as a coupling to another rank), and blocks of different row counts
+// are refused on every rank.
+TEST(CsrMatrix, SplitRowsAreAdoptedAsTheyAreGiven) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const PetscInt r0 = kRows * rank / size, r1 = kRows * (rank + 1) / size;
+  petsc::OwnedRows diagonal, off;
+  diagonal.row_ptr.push_back(0);
+  off.row_ptr.push_back(0);
+  for (PetscInt i = r0; i < r1; ++i) {
+    diagonal.cols.push_back(i - r0);  // local column
+    diagonal.vals.push_back(2.0);
+    if (kRows - 1 >= r1) {  // the last column belongs to another rank
+      off.cols.push_back(kRows - 1);
+      off.vals.push_back(-1.0);
+    }
+    diagonal.row_ptr.push_back(static_cast<PetscInt>(diagonal.cols.size()));
+    off.row_ptr.push_back(static_cast<PetscInt>(off.cols.size()));
+  }
+  petsc::Matrix A =
+      petsc::adopt_split_rows(PETSC_COMM_WORLD, std::move(diagonal), std::move(off), r1 - r0, kRows, kRows);
+  for (PetscInt i = r0; i < r1; ++i) {
+    PetscInt n = 0;
+    const PetscInt* cols = nullptr;
+    const PetscScalar* vals = nullptr;
+    WARPFEM_PETSC_CHECK(MatGetRow(A.get(), i, &n, &cols, &vals));
+    std::vector<std::pair<PetscInt, double>> got;
+    for (PetscInt k = 0; k < n; ++k) got.emplace_back(cols[k], vals[k]);
+    WARPFEM_PETSC_CHECK(MatRestoreRow(A.get(), i, &n, &cols, &vals));
+    std::vector<std::pair<PetscInt, double>> want{{i, 2.0}};
+    if (kRows - 1 >= r1) want.emplace_back(kRows - 1, -1.0);
+    EXPECT_EQ(got, want) << "row " << i;
+  }
+  petsc::OwnedRows one, two;
+  one.row_ptr = {0};
+  two.row_ptr = {0, 0};
+  EXPECT_THROW(petsc::adopt_split_rows(PETSC_COMM_WORLD, std::move(one), std::move(two), 0, kRows, kRows),
+               Error);
+}
