@@ -53,8 +53,14 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
   owned_end_ = count[rank_ + 1];
   num_global_ = count[size_];
   std::vector<PetscInt> next(count.begin(), count.end() - 1);
-  // Number each rank's DOFs by first use in the cells (in cell order), so that
-  // a cell's DOFs are close in PETSc's numbering (P2: vertex and edge nodes interleaved).
+  if (dofs.dofs_are_vertices()) {
+    // P1/Q1: in vertex order (refine_uniformly numbers vertices by first use).
+    global_.resize(static_cast<std::size_t>(nd));
+    for (Index d = 0; d < nd; ++d) global_[d] = next[owner_[d]]++;
+    return;
+  }
+  // Higher orders: by first use in the cells (in cell order), so that a cell's
+  // DOFs are close in PETSc's numbering (vertex and edge nodes interleaved).
   global_.assign(static_cast<std::size_t>(nd), -1);
   for (Index c = 0; c < mesh.num_cells(); ++c)
     for (Index k = 0; k < cd.cols(); ++k)

@@ -3,10 +3,12 @@
 //
 // Cells are owned by the rank partition_cells() (or the caller) gives them; a DOF is owned by
 // the lowest rank among the cells that contain it. PETSc global indices number
-// the DOFs of rank 0 first, then rank 1, ..., each block in order of first use
-// by the cells (a cell's DOFs end up close together: for P2 the vertex and
-// edge nodes are interleaved, which keeps matrix-vector products cache
-// friendly), so every rank owns one contiguous range [owned_begin, owned_end).
+// the DOFs of rank 0 first, then rank 1, ..., so every rank owns one contiguous
+// range [owned_begin, owned_end). Within a rank: P1/Q1 in vertex order (which
+// refine_uniformly makes the order of first use by the cells), higher orders
+// in order of first use by the cells, so a cell's DOFs end up close together
+// (vertex and edge nodes interleaved, which keeps matrix-vector products cache
+// friendly).
 
 #include <mpi.h>
 #include <petscvec.h>

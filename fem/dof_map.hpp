@@ -29,6 +29,8 @@ class DofMap {
   const IndexTable& cell_dofs() const { return vertex_dofs_ ? vertex_dofs_->cells : cell_dofs_; }
   /// Position of every DOF node in Ω0 (num_dofs x 2).
   const Points<2>& dof_points() const { return vertex_dofs_ ? vertex_dofs_->vertices : dof_points_; }
+  /// P1/Q1: DOF v is mesh vertex v (cell_dofs() is the mesh's cell table).
+  bool dofs_are_vertices() const { return vertex_dofs_ != nullptr; }
   /// DOFs on boundary facet f, ordered (start vertex, end vertex, interior nodes).
   std::vector<Index> facet_dofs(const Mesh<2>& mesh, Index facet) const;
 

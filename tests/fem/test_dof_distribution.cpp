@@ -71,10 +71,13 @@ TEST(DofDistribution, GivenCellOwnersAreCheckedAndUsed) {
 TEST(DofDistribution, NumbersDofsByFirstUseInTheCells) {
   // PETSc's numbering follows the cells, not the DofMap's blocks (vertices,
   // then edges): cell c's DOFs not used by an earlier cell take the next indices.
+  // P1/Q1 keep the mesh's vertex order, which is first use on refined meshes.
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
   const fem::Mesh<2> triangles =
       fem::refine_uniformly(fem::mesh_polygon(square, {.max_edge_length = 0.3})).mesh;
-  const fem::Mesh<2> quads = fem::split_into_quadrilaterals(triangles);
+  const fem::Mesh<2> quads = fem::refine_uniformly(fem::split_into_quadrilaterals(
+                                                       fem::mesh_polygon(square, {.max_edge_length = 0.3})))
+                                 .mesh;
   for (const fem::Mesh<2>* mesh : {&triangles, &quads})
     for (int order : {1, 2}) {
       const fem::DofMap dofs(*mesh, fem::LagrangeElement(mesh->cell_type, order));
