@@ -1,6 +1,7 @@
 #include "fem/quadrature.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -44,22 +45,31 @@ QuadratureRule<2> cell_quadrature(CellType type, int degree) {
     return rule;
   }
   require(type == CellType::triangle, "cell_quadrature: unsupported cell type " + to_string(type));
-  if (degree <= 5) {
+  if (degree <= 6) {
     // Symmetric rules with fewer points than the collapsed Gauss rule (Strang–Fix / Dunavant):
     // every quadrature point costs one evaluation of the map, so this is what matters for WarpedGeometry.
+    // Degree 4: 6 points (collapsed Gauss 9), 5: 7 (9), 6: 12 (16); all inside, positive weights.
     struct Orbit {
       double a, weight;  // points (a, a), (1 - 2a, a), (a, 1 - 2a); a = 1/3 is the centroid
     };
     std::vector<Orbit> orbits;
+    struct FullOrbit {
+      double a, b, weight;  // the 6 points with barycentric coordinates a permutation of (a, b, 1 - a - b)
+    };
+    std::vector<FullOrbit> full_orbits;
     if (degree <= 1)
       orbits = {{1.0 / 3.0, 1.0}};
     else if (degree == 2)
       orbits = {{1.0 / 6.0, 1.0 / 3.0}};
     else if (degree <= 4)
       orbits = {{0.445948490915965, 0.223381589678011}, {0.091576213509771, 0.109951743655322}};
-    else
+    else if (degree == 5)
       orbits = {
           {1.0 / 3.0, 0.225}, {0.470142064105115, 0.132394152788506}, {0.101286507323456, 0.125939180544827}};
+    else {
+      orbits = {{0.249286745170910, 0.116786275726379}, {0.063089014491502, 0.050844906370207}};
+      full_orbits = {{0.053145049844817, 0.310352451033784, 0.082851075618374}};
+    }
     std::vector<std::array<double, 3>> pts;  // x, y, weight on the unit-area-normalized triangle
     for (const auto& o : orbits) {
       if (o.a == 1.0 / 3.0) {
@@ -69,6 +79,11 @@ QuadratureRule<2> cell_quadrature(CellType type, int degree) {
         pts.push_back({1 - 2 * o.a, o.a, o.weight});
         pts.push_back({o.a, 1 - 2 * o.a, o.weight});
       }
+    }
+    for (const auto& o : full_orbits) {
+      const double c = 1 - o.a - o.b;
+      for (const auto& [x, y] : {std::pair{o.a, o.b}, {o.b, o.a}, {o.a, c}, {c, o.a}, {o.b, c}, {c, o.b}})
+        pts.push_back({x, y, o.weight});
     }
     rule.points.resize(static_cast<Index>(pts.size()), 2);
     rule.weights.resize(static_cast<Index>(pts.size()));

@@ -30,6 +30,12 @@ TEST(Quadrature, TriangleRulesIntegrateMonomialsExactly) {
   for (int degree = 0; degree <= 10; ++degree) {
     const auto rule = cell_quadrature(CellType::triangle, degree);
     EXPECT_GT(rule.weights.minCoeff(), 0.0);
+    // Inside the cell: WarpedGeometry evaluates the map at these points.
+    for (Index q = 0; q < rule.size(); ++q) {
+      EXPECT_GT(rule.points(q, 0), 0.0) << "degree " << degree;
+      EXPECT_GT(rule.points(q, 1), 0.0) << "degree " << degree;
+      EXPECT_LT(rule.points(q, 0) + rule.points(q, 1), 1.0) << "degree " << degree;
+    }
     for (int a = 0; a <= degree; ++a)
       for (int b = 0; a + b <= degree; ++b) {
         double s = 0;
