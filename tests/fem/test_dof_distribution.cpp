@@ -1,5 +1,7 @@
 // The matrix sparsity pattern: every owned row lists, sorted and without
-// duplicates, exactly the DOFs that share a cell with the row's DOF.
+// duplicates, exactly the DOFs that share a cell with the row's DOF (on one
+// rank, and on two as test_mpi_dof_distribution: the other rank's columns on
+// both sides of the own range included).
 
 #include <gtest/gtest.h>
 
@@ -17,23 +19,39 @@ using namespace warpfem;
 
 namespace {
 
+/// On every rank of MPI_COMM_WORLD (this file also runs under mpiexec -n 2 as
+/// test_mpi_dof_distribution): every owned row is the brute-force coupling.
 void expect_sparsity_is_the_cell_coupling(const fem::Mesh<2>& mesh, int order) {
   const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, order));
-  const fem::DofDistribution dist(MPI_COMM_SELF, mesh, dofs);
+  const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
   std::vector<PetscInt> row_ptr, cols;
   dist.sparsity(mesh, dofs, row_ptr, cols);
-  // Brute force: the global DOFs coupled through some cell.
-  std::vector<std::set<PetscInt>> expected(static_cast<std::size_t>(dofs.num_dofs()));
+  // Brute force: the global DOFs coupled through some cell with an owned DOF.
+  std::vector<std::set<PetscInt>> expected(static_cast<std::size_t>(dist.num_owned()));
   const auto& cd = dofs.cell_dofs();
   for (Index c = 0; c < mesh.num_cells(); ++c)
     for (Index a = 0; a < cd.cols(); ++a)
-      for (Index b = 0; b < cd.cols(); ++b)
-        expected[static_cast<std::size_t>(dist.global(cd(c, a)))].insert(dist.global(cd(c, b)));
-  ASSERT_EQ(static_cast<Index>(row_ptr.size()), dofs.num_dofs() + 1);
+      if (dist.owns(cd(c, a)))
+        for (Index b = 0; b < cd.cols(); ++b)
+          expected[static_cast<std::size_t>(dist.global(cd(c, a)) - dist.owned_begin())].insert(
+              dist.global(cd(c, b)));
+  ASSERT_EQ(static_cast<PetscInt>(row_ptr.size()), dist.num_owned() + 1);
+  bool foreign_below = false, foreign_above = false;
   for (std::size_t r = 0; r + 1 < row_ptr.size(); ++r) {
     const std::vector<PetscInt> row(cols.begin() + row_ptr[r], cols.begin() + row_ptr[r + 1]);
     const std::vector<PetscInt> want(expected[r].begin(), expected[r].end());  // sorted, unique
-    ASSERT_EQ(row, want) << "row " << r << ", order " << order;
+    ASSERT_EQ(row, want) << "owned row " << r << ", order " << order;
+    for (const PetscInt c : row) {
+      foreign_below |= c < dist.owned_begin();
+      foreign_above |= c >= dist.owned_end();
+    }
+  }
+  // On two ranks the rows along the interface hold the other rank's columns.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 2) {
+    EXPECT_TRUE(rank == 0 ? foreign_above : foreign_below) << "no interface on rank " << rank;
   }
 }
 

@@ -3,15 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <set>
 
 #include "apps/poisson_run.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/dof_distribution.hpp"
-#include "fem/dof_map.hpp"
-#include "fem/lagrange_element.hpp"
 #include "fem/poisson.hpp"
-#include "fem/polygon_mesher.hpp"
 #include "fem/structured_mesher.hpp"
 #include "fem/uniform_refinement.hpp"
 #include "mapping/make_map.hpp"
@@ -100,39 +95,6 @@ TEST_P(MpiPoisson, TwoRankOperatorEqualsSerial) {
   ASSERT_EQ(y_parallel.size(), y_serial.size());
   EXPECT_LT((y_parallel - y_serial).lpNorm<Eigen::Infinity>(), 1e-12 * y_serial.lpNorm<Eigen::Infinity>());
   EXPECT_LT((b_parallel - b_serial).lpNorm<Eigen::Infinity>(), 1e-12 * b_serial.lpNorm<Eigen::Infinity>());
-}
-
-// Every owned row of the distributed sparsity pattern lists, sorted and
-// without duplicates, exactly the global DOFs that share a cell with it: the
-// columns of other ranks on both sides of the rank's own range included.
-TEST_P(MpiPoisson, OwnedPatternRowsAreTheSortedCellCoupling) {
-  const Polygon l_shape = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L");
-  const fem::Mesh<2> mesh = fem::refine_uniformly(fem::mesh_polygon(l_shape, {.max_edge_length = 0.4})).mesh;
-  const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, GetParam()));
-  const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
-  std::vector<PetscInt> row_ptr, cols;
-  dist.sparsity(mesh, dofs, row_ptr, cols);
-  std::vector<std::set<PetscInt>> expected(static_cast<std::size_t>(dist.num_owned()));
-  const auto& cd = dofs.cell_dofs();
-  for (Index c = 0; c < mesh.num_cells(); ++c)
-    for (Index a = 0; a < cd.cols(); ++a)
-      if (dist.owns(cd(c, a)))
-        for (Index b = 0; b < cd.cols(); ++b)
-          expected[static_cast<std::size_t>(dist.global(cd(c, a)) - dist.owned_begin())].insert(
-              dist.global(cd(c, b)));
-  ASSERT_EQ(static_cast<PetscInt>(row_ptr.size()), dist.num_owned() + 1);
-  bool foreign_below = false, foreign_above = false;
-  for (std::size_t r = 0; r + 1 < row_ptr.size(); ++r) {
-    const std::vector<PetscInt> row(cols.begin() + row_ptr[r], cols.begin() + row_ptr[r + 1]);
-    ASSERT_EQ(row, std::vector<PetscInt>(expected[r].begin(), expected[r].end())) << "owned row " << r;
-    for (const PetscInt c : row) {
-      foreign_below |= c < dist.owned_begin();
-      foreign_above |= c >= dist.owned_end();
-    }
-  }
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  EXPECT_TRUE(rank == 0 ? foreign_above : foreign_below) << "the partition has no interface on rank " << rank;
 }
 
 INSTANTIATE_TEST_SUITE_P(Orders, MpiPoisson, ::testing::Values(1, 2));
