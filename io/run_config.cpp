@@ -276,6 +276,11 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
     m.chebyshev_bounds = bounds == "estimate"     ? S::ChebyshevBounds::estimate
                          : bounds == "gershgorin" ? S::ChebyshevBounds::gershgorin
                                                   : S::ChebyshevBounds::automatic;
+    const std::string kernel =
+        mg.get_choice("chebyshev_kernel", "fused_single", {"fused_single", "fused_double", "petsc"});
+    m.chebyshev_kernel = kernel == "petsc"          ? S::ChebyshevKernel::petsc
+                         : kernel == "fused_double" ? S::ChebyshevKernel::fused_double
+                                                    : S::ChebyshevKernel::fused_single;
     if (m.chebyshev_bounds == S::ChebyshevBounds::gershgorin &&
         (m.smoother != S::Smoother::chebyshev_jacobi || m.coarse_operators == S::CoarseOperators::galerkin))
       throw mg.error("chebyshev_bounds",

@@ -5,6 +5,7 @@
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "multigrid/chebyshev_bounds.hpp"
+#include "multigrid/fused_chebyshev_jacobi.hpp"
 
 namespace warpfem::multigrid {
 namespace {
@@ -30,6 +31,25 @@ void configure_smoother(KSP smoother, const MultigridSettings& s) {
     WARPFEM_PETSC_CHECK(PCSetType(pc, PCSOR));
     WARPFEM_PETSC_CHECK(PCSORSetSymmetric(pc, SOR_LOCAL_SYMMETRIC_SWEEP));
   }
+}
+
+/// True if the options database has `name` under the smoother's prefix.
+bool has_option(KSP smoother, const char* name) {
+  const char* prefix = nullptr;
+  PetscBool set = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(KSPGetOptionsPrefix(smoother, &prefix));
+  WARPFEM_PETSC_CHECK(PetscOptionsHasName(nullptr, prefix, name, &set));
+  return set == PETSC_TRUE;
+}
+
+/// True for PCJACOBI scaling by the diagonal itself (not its absolute value,
+/// row maxima or row sums), i.e. the D of Gershgorin's bound on D⁻¹A.
+bool plain_jacobi(PC jacobi) {
+  PCJacobiType type = PC_JACOBI_DIAGONAL;
+  PetscBool abs = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(PCJacobiGetType(jacobi, &type));
+  WARPFEM_PETSC_CHECK(PCJacobiGetUseAbs(jacobi, &abs));
+  return type == PC_JACOBI_DIAGONAL && !abs;
 }
 
 }  // namespace
@@ -77,12 +97,9 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
     WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, l, &smoother));
     if (!galerkin) WARPFEM_PETSC_CHECK(KSPSetOperators(smoother, operators[l], operators[l]));
     configure_smoother(smoother, settings);
-    if (gershgorin) {
-      // No Krylov estimate: target [0.1, 1]·g with g >= λmax(D⁻¹A_l) guaranteed.
-      const double g = jacobi_gershgorin_bound(operators[l]);
-      WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.0, 0.0, 0.0));
-      WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(smoother, g, 0.1 * g));
-    }
+    // No Krylov estimate: reconcile_chebyshev_bounds targets [0.1, 1]·g with
+    // g >= λmax(D⁻¹A_l) guaranteed, once the options are known.
+    if (gershgorin) WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.0, 0.0, 0.0));
   }
   KSP coarse = nullptr;
   WARPFEM_PETSC_CHECK(PCMGGetCoarseSolve(pc, &coarse));
@@ -116,8 +133,27 @@ void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings) {
     if (!chebyshev) continue;
     WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &spc));
     WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(spc), PCJACOBI, &jacobi));
-    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigGetKSP(smoother, &estimator));
-    if (jacobi || estimator) continue;
+    if (has_option(smoother, "-ksp_chebyshev_esteig") || has_option(smoother, "-ksp_chebyshev_eigenvalues"))
+      continue;
+    // Chebyshev estimates by default when it has no eigenvalues; they come below.
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.0, 0.0, 0.0));
+    if (jacobi && plain_jacobi(spc)) {
+      using Kernel = MultigridSettings::ChebyshevKernel;
+      // Per-step monitors need PETSc's iteration (the fused one runs all steps in one call).
+      if (settings.chebyshev_kernel == Kernel::petsc || has_option(smoother, "-ksp_monitor")) {
+        Mat A = nullptr;
+        WARPFEM_PETSC_CHECK(KSPGetOperators(smoother, &A, nullptr));
+        const double g = jacobi_gershgorin_bound(A);
+        WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(smoother, g, 0.1 * g));
+      } else {
+        set_fused_chebyshev_jacobi(smoother, {.lower = 0.1,
+                                              .upper = 1.0,
+                                              .precision = settings.chebyshev_kernel == Kernel::fused_single
+                                                               ? SmootherPrecision::single
+                                                               : SmootherPrecision::double_precision});
+      }
+      continue;
+    }
     WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.1, 0.0, 1.1));
     WARPFEM_PETSC_CHECK(KSPChebyshevEstEigGetKSP(smoother, &estimator));
     if (estimator) WARPFEM_PETSC_CHECK(KSPSetType(estimator, KSPCG));

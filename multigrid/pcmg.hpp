@@ -32,6 +32,15 @@ struct MultigridSettings {
   /// chebyshev_jacobi, else estimate); configure_pcmg itself treats it as estimate.
   enum class ChebyshevBounds { automatic, estimate, gershgorin };
   ChebyshevBounds chebyshev_bounds = ChebyshevBounds::automatic;
+  /// How levels that keep Chebyshev–Jacobi with Gershgorin bounds (after the
+  /// options database has been read) run it. `petsc`: KSPCHEBYSHEV + PCJACOBI.
+  /// `fused_double`: the same iteration in one pass over the matrix per step
+  /// (fused_chebyshev_jacobi.hpp), the bound found in the pass that takes the
+  /// diagonal. `fused_single` (default): that pass over a float copy of the
+  /// level matrices' values; the Krylov method and PCMG's residuals keep the
+  /// double matrices.
+  enum class ChebyshevKernel { petsc, fused_double, fused_single };
+  ChebyshevKernel chebyshev_kernel = ChebyshevKernel::fused_single;
 };
 
 /// Makes the preconditioner of `ksp` a PCMG with interpolations.size() + 1
@@ -45,11 +54,14 @@ struct MultigridSettings {
 void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::vector<Mat>& operators,
                     const MultigridSettings& settings = {});
 
-/// Call after KSPSetFromOptions: a level whose Chebyshev smoother got Gershgorin
-/// bounds from configure_pcmg but whose preconditioner the options database
-/// changed from Jacobi (e.g. -mg_levels_pc_type sor) gets PETSc's eigenvalue
-/// estimate back, since the bound is one for D⁻¹A only. Levels where the
-/// options asked for an estimate or for eigenvalues themselves are left alone.
+/// Call after KSPSetFromOptions; required with Gershgorin bounds, which it
+/// supplies. A level that keeps Chebyshev–Jacobi gets [0.1, 1]·g, g =
+/// jacobi_gershgorin_bound(A_l), or becomes a fused smoother that finds g at
+/// its set-up (settings.chebyshev_kernel). A level whose preconditioner the
+/// options database changed from Jacobi (e.g. -mg_levels_pc_type sor) gets
+/// PETSc's eigenvalue estimate back, since the bound is one for D⁻¹A only.
+/// Levels where the options asked for an estimate or for eigenvalues
+/// themselves are left alone.
 void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings);
 
 }  // namespace warpfem::multigrid

@@ -10,16 +10,16 @@
 // -map identity|composite (L-shape to an L-shape with a pulled re-entrant corner; -target x0,y0,...,x5,y5
 // gives another target hexagon), -map_config <file.json> (the map of a config file instead, e.g.
 // examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1, -smoother
-// chebyshev_jacobi|chebyshev_sor|sor and -smoothing_steps k (solver.multigrid of a run config),
-// -quadrature_degree <q> (default fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest
-// level's geometry streamed instead of cached; coarse levels are always streamed), -pullback 1 (coarse
-// mesh: CGAL's mesh of the map's target pulled back through f⁻¹, -coarse_h in target units), -prerefine k
-// (refine the coarse mesh k times before the hierarchy starts, e.g. with -mg_coarse_pc_type hypre).
-// MG set-up = refinement + per-level problems + assembly of every level + prolongations + KSPSetUp.
-// AMG set-up = KSPSetUp only (the finest matrix is shared, its assembly is the "fine asm" column).
-// Any PETSc option applies (-log_view, -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...);
-// P1/Q1 Chebyshev smoothers use Gershgorin bounds (no eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig
-// 0,0.1,0,1.1 brings the estimate back.
+// chebyshev_jacobi|chebyshev_sor|sor, -smoothing_steps k and -chebyshev_kernel
+// petsc|fused_double|fused_single (solver.multigrid of a run config), -quadrature_degree <q> (default
+// fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest level's geometry streamed instead of
+// cached; coarse levels are always streamed), -pullback 1 (coarse mesh: CGAL's mesh of the map's target
+// pulled back through f⁻¹, -coarse_h in target units), -prerefine k (refine the coarse mesh k times before
+// the hierarchy starts, e.g. with -mg_coarse_pc_type hypre). MG set-up = refinement + per-level problems +
+// assembly of every level + prolongations + KSPSetUp. AMG set-up = KSPSetUp only (the finest matrix is
+// shared, its assembly is the "fine asm" column). Any PETSc option applies (-log_view, -mg_levels_ksp_type
+// richardson, -amg_pc_gamg_threshold 0.05, ...); P1/Q1 Chebyshev smoothers use Gershgorin bounds (no
+// eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1 brings the estimate back.
 
 #include <cstdio>
 #include <string>
@@ -105,6 +105,10 @@ int main(int argc, char** argv) {
   // The config's solver.multigrid.smoother / smoothing_steps (defaults: chebyshev_jacobi, 2).
   const std::string smoother = string_option("-smoother", "chebyshev_jacobi");
   const int smoothing_steps = static_cast<int>(int_option("-smoothing_steps", 2));
+  // solver.multigrid.chebyshev_kernel: petsc | fused_double | fused_single (default)
+  const std::string kernel = string_option("-chebyshev_kernel", "fused_single");
+  if (kernel != "petsc" && kernel != "fused_double" && kernel != "fused_single")
+    throw Error("-chebyshev_kernel " + kernel + ": expected petsc, fused_double or fused_single");
   if (smoother != "chebyshev_jacobi" && smoother != "chebyshev_sor" && smoother != "sor")
     throw Error("-smoother " + smoother + ": expected chebyshev_jacobi, chebyshev_sor or sor");
   const bool stream_finest = int_option("-stream_finest", 0) != 0;
@@ -178,6 +182,10 @@ int main(int argc, char** argv) {
                                  : smoother == "chebyshev_sor" ? Smoother::chebyshev_sor
                                                                : Smoother::chebyshev_jacobi;
     options.multigrid.smoothing_steps = smoothing_steps;
+    using Kernel = multigrid::MultigridSettings::ChebyshevKernel;
+    options.multigrid.chebyshev_kernel = kernel == "petsc"          ? Kernel::petsc
+                                         : kernel == "fused_double" ? Kernel::fused_double
+                                                                    : Kernel::fused_single;
     multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, r, map, order, qdeg, data, options);
     fem::PoissonProblem& fine = mg.finest();
     petsc::Vector u0;

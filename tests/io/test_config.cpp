@@ -141,6 +141,15 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "gershgorin"})");
   EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_bounds,
             S::ChebyshevBounds::gershgorin);
+  EXPECT_EQ(defaults.solver.multigrid.chebyshev_kernel, S::ChebyshevKernel::fused_single);
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_kernel": "petsc"})");
+  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_kernel,
+            S::ChebyshevKernel::petsc);
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_kernel": "fused_double"})");
+  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_kernel,
+            S::ChebyshevKernel::fused_double);
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_kernel": "fast"})");
+  expect_contains(error_of(j), "/solver/multigrid/chebyshev_kernel");
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "gershgorin", "smoother": "sor"})");
   expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"gershgorin\" bounds");
   j["solver"]["multigrid"] = json::parse(

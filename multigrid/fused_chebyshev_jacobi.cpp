@@ -1,0 +1,407 @@
+#include "multigrid/fused_chebyshev_jacobi.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/petsc/check.hpp"
+
+namespace warpfem::multigrid {
+namespace {
+
+/// One sequential AIJ block: its compressed-row structure, held from set-up
+/// on, and (single precision) a float copy of its values. The double values
+/// are fetched for every application, so a re-assembled matrix is seen.
+struct Block {
+  Mat mat = nullptr;
+  PetscInt rows = 0;
+  const PetscInt* ia = nullptr;
+  const PetscInt* ja = nullptr;
+  std::vector<float> single;
+
+  void take(Mat m) {
+    release();
+    PetscBool done = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(MatGetRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
+    require(done == PETSC_TRUE, "fused Chebyshev–Jacobi: cannot read the rows of a level matrix");
+    mat = m;
+  }
+  void release() {
+    if (mat) {
+      PetscBool done = PETSC_FALSE;
+      MatRestoreRowIJ(mat, 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done);
+    }
+    mat = nullptr;
+    std::vector<float>().swap(single);
+  }
+};
+
+struct FusedChebyshev {
+  FusedChebyshevOptions options;
+  double emin = 0, emax = 0;  // [lower, upper]·g from the last set-up
+  bool use_single = false;    // precision single and every value fits a float
+  Block diag, off;            // off: MPI only; its columns index `ghosts`
+  Vec inv_diag = nullptr, direction = nullptr, spare = nullptr;
+  Vec ghosts = nullptr;
+  VecScatter gather = nullptr;
+
+  void reset() {
+    diag.release();
+    off.release();
+    VecDestroy(&inv_diag);
+    VecDestroy(&direction);
+    VecDestroy(&spare);
+    VecDestroy(&ghosts);
+    VecScatterDestroy(&gather);
+  }
+};
+
+constexpr const char* kShellName = "warpfem fused Chebyshev-Jacobi";
+
+FusedChebyshev* context_of(PC pc) {
+  void* ctx = nullptr;
+  PCShellGetContext(pc, &ctx);
+  return static_cast<FusedChebyshev*>(ctx);
+}
+
+PetscErrorCode fail(const std::exception& e) {
+  return PetscError(PETSC_COMM_SELF, __LINE__, "fused Chebyshev-Jacobi", __FILE__, PETSC_ERR_ARG_WRONG,
+                    PETSC_ERROR_INITIAL, "%s", e.what());
+}
+
+PetscLogEvent log_event() {
+  static const PetscLogEvent event = [] {
+    PetscClassId id = 0;
+    PetscLogEvent e = 0;
+    PetscClassIdRegister("warpfem multigrid", &id);
+    PetscLogEventRegister("MGFusedChebJac", id, &e);
+    return e;
+  }();
+  return event;
+}
+
+void set_up(PC pc, FusedChebyshev& c) {
+  Mat A = nullptr;
+  WARPFEM_PETSC_CHECK(PCGetOperators(pc, &A, nullptr));
+  PetscBool seq = PETSC_FALSE, mpi = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A), MATSEQAIJ, &seq));
+  WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A), MATMPIAIJ, &mpi));
+  if (!seq && !mpi) {
+    MatType type = nullptr;
+    MatGetType(A, &type);
+    throw Error(std::string("fused Chebyshev–Jacobi smoothing needs an AIJ level matrix, not ") +
+                    (type ? type : "one of unknown type"),
+                {.file = "",
+                 .key_path = "/solver/multigrid/chebyshev_kernel",
+                 .hint = "set it to \"petsc\" to use PETSc's Chebyshev smoother"});
+  }
+  c.reset();
+  if (seq) {
+    c.diag.take(A);
+  } else {
+    Mat Ad = nullptr, Ao = nullptr;
+    const PetscInt* garray = nullptr;
+    WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &garray));
+    c.diag.take(Ad);
+    c.off.take(Ao);
+    PetscInt ghost_count = 0;
+    WARPFEM_PETSC_CHECK(MatGetSize(Ao, nullptr, &ghost_count));
+    WARPFEM_PETSC_CHECK(VecCreateSeq(PETSC_COMM_SELF, ghost_count, &c.ghosts));
+    IS from = nullptr;
+    WARPFEM_PETSC_CHECK(ISCreateGeneral(PETSC_COMM_SELF, ghost_count, garray, PETSC_COPY_VALUES, &from));
+    Vec layout = nullptr;
+    PetscErrorCode ierr = MatCreateVecs(A, &layout, nullptr);
+    if (!ierr) ierr = VecScatterCreate(layout, from, c.ghosts, nullptr, &c.gather);
+    VecDestroy(&layout);
+    ISDestroy(&from);
+    WARPFEM_PETSC_CHECK(ierr);
+  }
+  WARPFEM_PETSC_CHECK(MatCreateVecs(A, &c.inv_diag, nullptr));
+  WARPFEM_PETSC_CHECK(VecDuplicate(c.inv_diag, &c.direction));
+
+  // One pass over the values: the diagonal, Gershgorin's row sums Σ_j |a_ij|
+  // and (single precision) the float copy.
+  const bool want_single = c.options.precision == SmootherPrecision::single;
+  PetscScalar* inv = nullptr;
+  WARPFEM_PETSC_CHECK(VecGetArrayWrite(c.inv_diag, &inv));
+  std::fill(inv, inv + c.diag.rows, 0.0);
+  std::vector<double> abs_sum(static_cast<std::size_t>(c.diag.rows), 0.0);
+  bool fits = true;
+  for (Block* block : {&c.diag, &c.off}) {
+    if (!block->mat) continue;
+    const PetscScalar* a = nullptr;
+    WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(block->mat, &a));
+    if (want_single) block->single.resize(static_cast<std::size_t>(block->ia[block->rows]));
+    const bool diagonal_block = block == &c.diag;
+    for (PetscInt i = 0; i < block->rows; ++i) {
+      double sum = 0;
+      for (PetscInt k = block->ia[i]; k < block->ia[i + 1]; ++k) {
+        sum += std::abs(a[k]);
+        if (diagonal_block && block->ja[k] == i) inv[i] = a[k];
+      }
+      abs_sum[static_cast<std::size_t>(i)] += sum;
+      if (want_single) {
+        fits = fits && sum <= std::numeric_limits<float>::max();
+        for (PetscInt k = block->ia[i]; k < block->ia[i + 1]; ++k)
+          block->single[static_cast<std::size_t>(k)] = static_cast<float>(a[k]);
+      }
+    }
+    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(block->mat, &a));
+  }
+  PetscInt begin = 0, bad = -1;
+  double local[2] = {0.0, 0.0};  // max_i Σ_j |a_ij| / a_ii, and whether some a_ii is not positive
+  WARPFEM_PETSC_CHECK(VecGetOwnershipRange(c.inv_diag, &begin, nullptr));
+  for (PetscInt i = 0; i < c.diag.rows; ++i) {
+    if (!(inv[i] > 0) || !std::isfinite(inv[i])) {
+      if (bad < 0) bad = begin + i;
+      continue;
+    }
+    local[0] = std::max(local[0], abs_sum[static_cast<std::size_t>(i)] / inv[i]);
+    inv[i] = 1.0 / inv[i];
+  }
+  local[1] = bad >= 0 ? 1.0 : 0.0;
+  WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(c.inv_diag, &inv));
+  // Reduced together, so a rank with a bad row cannot leave the others waiting.
+  double global[2] = {0.0, 0.0};
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm);
+  if (global[1] > 0)
+    throw Error("Chebyshev–Jacobi smoothing needs a positive diagonal; " +
+                    (bad >= 0 ? "row " + std::to_string(bad) + " of a level matrix has none"
+                              : std::string("a level matrix has a row without one on another rank")),
+                {.file = "",
+                 .key_path = "/solver/multigrid/smoother",
+                 .hint = "Jacobi smoothing needs SPD level operators; check the boundary conditions"});
+  c.emax = c.options.upper * global[0];
+  c.emin = c.options.lower * global[0];
+  // A value beyond float's range keeps the double values (each rank decides for its rows).
+  c.use_single = want_single && fits;
+  if (!c.use_single) {
+    std::vector<float>().swap(c.diag.single);
+    std::vector<float>().swap(c.off.single);
+  }
+}
+
+/// Σ_k a[k]·x[col[k]] over one compressed row, two products per addition.
+template <class Value>
+inline double row_dot(const Value* __restrict a, const PetscInt* __restrict col, PetscInt begin, PetscInt end,
+                      const PetscScalar* __restrict x) {
+  double sum = 0;
+  PetscInt k = begin;
+  for (; k + 1 < end; k += 2)
+    sum += static_cast<double>(a[k]) * x[col[k]] + static_cast<double>(a[k + 1]) * x[col[k + 1]];
+  if (k < end) sum += static_cast<double>(a[k]) * x[col[k]];
+  return sum;
+}
+
+struct StepData {
+  const PetscScalar* b;
+  const PetscScalar* inv;    // 1 / a_ii
+  const PetscScalar* x;      // current iterate (owned rows); nullptr: zero
+  const PetscScalar* ghost;  // current iterate at the off-diagonal block's columns
+  PetscScalar* d;            // Chebyshev direction, updated in place
+  PetscScalar* x_next;
+  double c1, c2;
+};
+
+/// One Chebyshev step over the owned rows: r = b − A·x, d ← c1·d + c2·D⁻¹r, x_next = x + d.
+template <class Value, bool with_off_block>
+void step_rows(const Block& diag, const Value* __restrict a_diag, const Block& off,
+               const Value* __restrict a_off, const StepData& s) {
+  const PetscScalar* __restrict b = s.b;
+  const PetscScalar* __restrict inv = s.inv;
+  const PetscScalar* __restrict x = s.x;
+  PetscScalar* __restrict d = s.d;
+  PetscScalar* __restrict x_next = s.x_next;
+  for (PetscInt i = 0; i < diag.rows; ++i) {
+    double r = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
+    if constexpr (with_off_block) r -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], s.ghost);
+    const double di = s.c1 * d[i] + s.c2 * inv[i] * r;
+    d[i] = di;
+    x_next[i] = x[i] + di;
+  }
+}
+
+template <class Value>
+void step_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const StepData& s) {
+  if (c.off.mat)
+    step_rows<Value, true>(c.diag, a_diag, c.off, a_off, s);
+  else
+    step_rows<Value, false>(c.diag, a_diag, c.off, a_off, s);
+}
+
+void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_guess) {
+  if (steps <= 0) return;
+  // Classical first-kind Chebyshev iteration on [emin, emax] (Saad, Iterative
+  // Methods for Sparse Linear Systems, Alg. 12.1), preconditioned by D.
+  const double theta = 0.5 * (c.emax + c.emin), delta = 0.5 * (c.emax - c.emin);
+  const double sigma = theta / delta;
+  if (!work) {
+    if (!c.spare) WARPFEM_PETSC_CHECK(VecDuplicate(x, &c.spare));
+    work = c.spare;
+  }
+  // Steps alternate between x and `work`. With a zero guess the first step
+  // reads no iterate, so it writes where the last step then lands in x.
+  Vec buffers[2] = {x, work};
+  int write = zero_guess ? static_cast<int>((steps - 1) % 2) : 1;
+  const PetscScalar *a_diag = nullptr, *a_off = nullptr;
+  StepData s{};
+  WARPFEM_PETSC_CHECK(VecGetArrayRead(b, &s.b));
+  WARPFEM_PETSC_CHECK(VecGetArrayRead(c.inv_diag, &s.inv));
+  WARPFEM_PETSC_CHECK(VecGetArray(c.direction, &s.d));
+  if (!c.use_single) {
+    WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.diag.mat, &a_diag));
+    if (c.off.mat) WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.off.mat, &a_off));
+  }
+  double rho = 1.0 / sigma;
+  for (PetscInt k = 0; k < steps; ++k) {
+    s.c1 = 0;
+    s.c2 = 1.0 / theta;
+    if (k > 0) {
+      const double rho_next = 1.0 / (2.0 * sigma - rho);
+      s.c1 = rho_next * rho;
+      s.c2 = 2.0 * rho_next / delta;
+      rho = rho_next;
+    }
+    Vec in = buffers[1 - write], out = buffers[write];
+    WARPFEM_PETSC_CHECK(VecGetArrayWrite(out, &s.x_next));
+    if (k == 0 && zero_guess) {
+      for (PetscInt i = 0; i < c.diag.rows; ++i) {
+        const double di = s.c2 * s.inv[i] * s.b[i];
+        s.d[i] = di;
+        s.x_next[i] = di;
+      }
+    } else {
+      if (c.gather) {
+        WARPFEM_PETSC_CHECK(VecScatterBegin(c.gather, in, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
+        WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, in, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
+        WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &s.ghost));
+      }
+      WARPFEM_PETSC_CHECK(VecGetArrayRead(in, &s.x));
+      if (c.use_single)
+        step_rows(c, c.diag.single.data(), c.off.single.data(), s);
+      else
+        step_rows(c, a_diag, a_off, s);
+      WARPFEM_PETSC_CHECK(VecRestoreArrayRead(in, &s.x));
+      if (c.gather) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &s.ghost));
+    }
+    WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(out, &s.x_next));
+    write = 1 - write;
+  }
+  if (a_off) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.off.mat, &a_off));
+  if (a_diag) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.diag.mat, &a_diag));
+  WARPFEM_PETSC_CHECK(VecRestoreArray(c.direction, &s.d));
+  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.inv_diag, &s.inv));
+  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(b, &s.b));
+  if (buffers[1 - write] != x) WARPFEM_PETSC_CHECK(VecCopy(buffers[1 - write], x));
+}
+
+PetscErrorCode set_up_callback(PC pc) {
+  try {
+    set_up(pc, *context_of(pc));
+    return 0;
+  } catch (const std::exception& e) {
+    return fail(e);
+  }
+}
+
+PetscErrorCode destroy_callback(PC pc) {
+  FusedChebyshev* c = context_of(pc);
+  if (c) c->reset();
+  delete c;
+  return 0;
+}
+
+PetscErrorCode apply_richardson_callback(PC pc, Vec b, Vec x, Vec work, PetscReal, PetscReal, PetscReal,
+                                         PetscInt steps, PetscBool zero_guess, PetscInt* done,
+                                         PCRichardsonConvergedReason* reason) {
+  try {
+    PetscLogEventBegin(log_event(), pc, b, x, 0);
+    apply(*context_of(pc), b, x, work, steps, zero_guess == PETSC_TRUE);
+    PetscLogEventEnd(log_event(), pc, b, x, 0);
+    *done = steps;
+    *reason = PCRICHARDSON_CONVERGED_ITS;
+    return 0;
+  } catch (const std::exception& e) {
+    PetscLogEventEnd(log_event(), pc, b, x, 0);
+    return fail(e);
+  }
+}
+
+PetscErrorCode apply_callback(PC, Vec, Vec) {
+  // Reached only when KSPRICHARDSON cannot take its smoother hook (per-step
+  // monitors, a scale other than 1): one application of this PC alone would
+  // be damped Jacobi, not the Chebyshev smoother asked for, so refuse.
+  return fail(
+      Error("the fused Chebyshev–Jacobi smoother runs only through KSPRICHARDSON's smoother hook "
+            "(no -mg_levels_ksp_monitor, Richardson scale 1)",
+            {.file = "",
+             .key_path = "/solver/multigrid/chebyshev_kernel",
+             .hint = "set it to \"petsc\" to monitor or rescale PETSc's Chebyshev smoother"}));
+}
+
+PetscErrorCode view_callback(PC pc, PetscViewer viewer) {
+  const FusedChebyshev* c = context_of(pc);
+  PetscBool ascii = PETSC_FALSE;
+  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(viewer), PETSCVIEWERASCII, &ascii);
+  if (!c || !ascii) return 0;
+  return PetscViewerASCIIPrintf(viewer,
+                                "  fused Chebyshev-Jacobi smoother (warpfem): interval [%g, %g] = [%g, %g] x "
+                                "Gershgorin bound, %s-precision matrix values\n",
+                                c->emin, c->emax, c->options.lower, c->options.upper,
+                                c->use_single ? "single" : "double");
+}
+
+}  // namespace
+
+void set_fused_chebyshev_jacobi(KSP smoother, const FusedChebyshevOptions& options) {
+  if (!(options.lower > 0) || !(options.upper > options.lower) || !std::isfinite(options.upper))
+    throw Error(
+        "fused Chebyshev–Jacobi: the interval [" + std::to_string(options.lower) + ", " +
+            std::to_string(options.upper) + "]·g is not 0 < lower < upper",
+        {.file = "", .key_path = "", .hint = "pass fractions of Gershgorin's bound such as [0.1, 1]"});
+  WARPFEM_PETSC_CHECK(KSPSetType(smoother, KSPRICHARDSON));
+  WARPFEM_PETSC_CHECK(KSPRichardsonSetScale(smoother, 1.0));
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
+  // PCSetType keeps a PC that already is a shell; drop an earlier context first.
+  if (is_fused_chebyshev_jacobi(smoother)) WARPFEM_PETSC_CHECK(PCSetType(pc, PCNONE));
+  WARPFEM_PETSC_CHECK(PCSetType(pc, PCSHELL));
+  auto* context = new FusedChebyshev;
+  context->options = options;
+  const PetscErrorCode ierr = PCShellSetContext(pc, context);
+  if (ierr) delete context;
+  WARPFEM_PETSC_CHECK(ierr);
+  WARPFEM_PETSC_CHECK(PCShellSetDestroy(pc, destroy_callback));
+  WARPFEM_PETSC_CHECK(PCShellSetSetUp(pc, set_up_callback));
+  WARPFEM_PETSC_CHECK(PCShellSetApplyRichardson(pc, apply_richardson_callback));
+  WARPFEM_PETSC_CHECK(PCShellSetApply(pc, apply_callback));
+  WARPFEM_PETSC_CHECK(PCShellSetView(pc, view_callback));
+  WARPFEM_PETSC_CHECK(PCShellSetName(pc, kShellName));
+}
+
+FusedChebyshevState fused_chebyshev_state(KSP smoother) {
+  require(is_fused_chebyshev_jacobi(smoother), "fused_chebyshev_state: the smoother is not fused");
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
+  const FusedChebyshev& c = *context_of(pc);
+  return {.emin = c.emin, .emax = c.emax, .single_precision = c.use_single};
+}
+
+bool is_fused_chebyshev_jacobi(KSP smoother) {
+  PC pc = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
+  PetscBool shell = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCSHELL, &shell));
+  if (!shell) return false;
+  const char* name = nullptr;
+  WARPFEM_PETSC_CHECK(PCShellGetName(pc, &name));
+  return name && std::string(name) == kShellName;
+}
+
+}  // namespace warpfem::multigrid

@@ -1,0 +1,204 @@
+// The fused Chebyshev–Jacobi smoother runs PETSc's Chebyshev–Jacobi iteration:
+// the same iterates from zero and nonzero initial guesses, on one rank and
+// (built again as test_mpi_fused_chebyshev) on two, where the off-rank
+// columns go through the ghost gather. In single precision it differs only
+// by float rounding of the matrix values. It is what P1 multigrid levels run
+// by default, with the iteration counts of PETSc's smoother.
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/petsc/check.hpp"
+#include "core/petsc/handles.hpp"
+#include "fem/structured_mesher.hpp"
+#include "fem/uniform_refinement.hpp"
+#include "mapping/make_map.hpp"
+#include "multigrid/chebyshev_bounds.hpp"
+#include "multigrid/fused_chebyshev_jacobi.hpp"
+#include "multigrid/poisson_multigrid.hpp"
+#include "multigrid_fixtures.hpp"
+
+using namespace warpfem;
+
+namespace {
+
+mapping::MapPtr<2> bent_pentagon_map() {
+  mapping::MapSpec spec;
+  spec.type = "composite_mean_value";
+  spec.source = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0.5, 1}, {0, 1}}, "pentagon");
+  spec.target = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0.5, 0.75}, {0, 1}}, "bent pentagon");
+  return mapping::make_map(spec);
+}
+
+/// A warped P1 stiffness matrix (variable coefficients, Dirichlet rows) on `comm`.
+std::unique_ptr<fem::PoissonProblem> warped_problem(MPI_Comm comm) {
+  const mapping::MapPtr<2> map = bent_pentagon_map();
+  const Polygon pentagon = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0.5, 1}, {0, 1}}, "pentagon");
+  const fem::Mesh<2> mesh =
+      fem::refine_uniformly(fem::structured_mesh(pentagon, 8, 8, fem::CellType::triangle)).mesh;
+  auto p =
+      std::make_unique<fem::PoissonProblem>(comm, mesh, map, 1, 4, multigrid::test::mixed_problem(pentagon));
+  p->assemble();
+  return p;
+}
+
+petsc::LinearSolver smoother_ksp(Mat A, int steps, bool zero_guess) {
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  petsc::LinearSolver ksp;
+  WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp.out()));
+  WARPFEM_PETSC_CHECK(KSPSetOperators(ksp.get(), A, A));
+  WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp.get(), 0.0, 0.0, PETSC_DEFAULT, steps));
+  WARPFEM_PETSC_CHECK(KSPSetNormType(ksp.get(), KSP_NORM_NONE));
+  WARPFEM_PETSC_CHECK(KSPSetConvergenceTest(ksp.get(), KSPConvergedSkip, nullptr, nullptr));
+  WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp.get(), zero_guess ? PETSC_FALSE : PETSC_TRUE));
+  return ksp;
+}
+
+/// x after `steps` smoothing steps on A x = b from x0 (or zero).
+VectorX smooth(KSP ksp, const fem::PoissonProblem& p, Vec b, Vec x0) {
+  petsc::Vector x;
+  WARPFEM_PETSC_CHECK(VecDuplicate(x0, x.out()));
+  WARPFEM_PETSC_CHECK(VecCopy(x0, x.get()));
+  WARPFEM_PETSC_CHECK(KSPSolve(ksp, b, x.get()));
+  return p.distribution().gather_all(x.get());
+}
+
+petsc::Vector random_vector(Vec like, unsigned seed) {
+  petsc::Vector v;
+  WARPFEM_PETSC_CHECK(VecDuplicate(like, v.out()));
+  PetscRandom rnd = nullptr;
+  WARPFEM_PETSC_CHECK(PetscRandomCreate(PETSC_COMM_WORLD, &rnd));
+  WARPFEM_PETSC_CHECK(PetscRandomSetSeed(rnd, seed));
+  WARPFEM_PETSC_CHECK(PetscRandomSeed(rnd));
+  WARPFEM_PETSC_CHECK(VecSetRandom(v.get(), rnd));
+  WARPFEM_PETSC_CHECK(PetscRandomDestroy(&rnd));
+  return v;
+}
+
+}  // namespace
+
+TEST(FusedChebyshev, RunsPetscsChebyshevJacobiIteration) {
+  const auto p = warped_problem(MPI_COMM_WORLD);
+  Mat A = p->matrix();
+  const double g = multigrid::jacobi_gershgorin_bound(A);
+  const petsc::Vector b = random_vector(p->rhs(), 3), x0 = random_vector(p->rhs(), 7);
+  for (const bool zero_guess : {true, false})
+    for (const int steps : {1, 2, 3}) {
+      SCOPED_TRACE("steps " + std::to_string(steps) + (zero_guess ? ", zero guess" : ", nonzero guess"));
+      petsc::LinearSolver reference = smoother_ksp(A, steps, zero_guess);
+      WARPFEM_PETSC_CHECK(KSPSetType(reference.get(), KSPCHEBYSHEV));
+      WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(reference.get(), 0.0, 0.0, 0.0, 0.0));
+      WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(reference.get(), g, 0.1 * g));
+      PC pc = nullptr;
+      WARPFEM_PETSC_CHECK(KSPGetPC(reference.get(), &pc));
+      WARPFEM_PETSC_CHECK(PCSetType(pc, PCJACOBI));
+      const VectorX expected = smooth(reference.get(), *p, b.get(), x0.get());
+      const VectorX start = p->distribution().gather_all(x0.get());
+      // The smoother moved the iterate, so the comparison below is not trivial.
+      ASSERT_GT((expected - (zero_guess ? VectorX::Zero(start.size()) : start)).norm(),
+                1e-2 * expected.norm());
+
+      for (const auto precision :
+           {multigrid::SmootherPrecision::double_precision, multigrid::SmootherPrecision::single}) {
+        const bool single = precision == multigrid::SmootherPrecision::single;
+        petsc::LinearSolver fused = smoother_ksp(A, steps, zero_guess);
+        multigrid::set_fused_chebyshev_jacobi(fused.get(),
+                                              {.lower = 0.1, .upper = 1.0, .precision = precision});
+        const VectorX got = smooth(fused.get(), *p, b.get(), x0.get());
+        ASSERT_TRUE(multigrid::is_fused_chebyshev_jacobi(fused.get()));
+        const auto state = multigrid::fused_chebyshev_state(fused.get());
+        EXPECT_NEAR(state.emax, g, 1e-12 * g);
+        EXPECT_NEAR(state.emin, 0.1 * g, 1e-12 * g);
+        EXPECT_EQ(state.single_precision, single);
+        const double diff = (got - expected).lpNorm<Eigen::Infinity>();
+        EXPECT_LE(diff, (single ? 1e-6 : 1e-13) * expected.lpNorm<Eigen::Infinity>())
+            << (single ? "single" : "double") << " precision, max difference " << diff;
+      }
+    }
+}
+
+TEST(FusedChebyshev, RefusesBadIntervalsAndNonPositiveDiagonals) {
+  petsc::LinearSolver ksp;
+  WARPFEM_PETSC_CHECK(KSPCreate(PETSC_COMM_WORLD, ksp.out()));
+  EXPECT_THROW(multigrid::set_fused_chebyshev_jacobi(ksp.get(), {.lower = 0.0, .upper = 1.0}), Error);
+  EXPECT_THROW(multigrid::set_fused_chebyshev_jacobi(ksp.get(), {.lower = 0.5, .upper = 0.5}), Error);
+
+  // Every rank owns one row; the last row has a zero diagonal entry.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  petsc::Matrix A;
+  WARPFEM_PETSC_CHECK(MatCreateAIJ(PETSC_COMM_WORLD, 2, 2, PETSC_DETERMINE, PETSC_DETERMINE, 2, nullptr, 1,
+                                   nullptr, A.out()));
+  const PetscInt first = 2 * rank, n = 2 * size;
+  WARPFEM_PETSC_CHECK(MatSetValue(A.get(), first, first, 2.0, INSERT_VALUES));
+  WARPFEM_PETSC_CHECK(MatSetValue(A.get(), first, first + 1, -1.0, INSERT_VALUES));
+  WARPFEM_PETSC_CHECK(MatSetValue(A.get(), first + 1, first, -1.0, INSERT_VALUES));
+  WARPFEM_PETSC_CHECK(
+      MatSetValue(A.get(), first + 1, first + 1, first + 1 == n - 1 ? 0.0 : 2.0, INSERT_VALUES));
+  WARPFEM_PETSC_CHECK(MatAssemblyBegin(A.get(), MAT_FINAL_ASSEMBLY));
+  WARPFEM_PETSC_CHECK(MatAssemblyEnd(A.get(), MAT_FINAL_ASSEMBLY));
+  petsc::LinearSolver smoother = smoother_ksp(A.get(), 2, true);
+  multigrid::set_fused_chebyshev_jacobi(smoother.get());
+  // Every rank fails (the check is reduced over the communicator), none waits.
+  try {
+    WARPFEM_PETSC_CHECK(KSPSetUp(smoother.get()));
+    ADD_FAILURE() << "a zero diagonal entry was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("positive diagonal"), std::string::npos) << e.what();
+  }
+}
+
+// P1 levels with Gershgorin bounds are fused by default and take the iterations
+// of PETSc's smoother; the options database can still replace the smoother.
+TEST(FusedChebyshev, FirstOrderMultigridLevelsAreFusedWithPetscsIterations) {
+  using Kernel = multigrid::MultigridSettings::ChebyshevKernel;
+  VectorX reference;
+  int reference_iterations = 0;
+  for (const Kernel kernel : {Kernel::petsc, Kernel::fused_double, Kernel::fused_single}) {
+    multigrid::PoissonMultigridOptions o;
+    o.multigrid.chebyshev_kernel = kernel;
+    o.linear.rtol = 1e-10;
+    multigrid::PoissonMultigridSolver mg(
+        PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 3,
+        std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
+    PC pc = nullptr;
+    WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
+    for (PetscInt l = 1; l <= 3; ++l) {
+      KSP smoother = nullptr;
+      WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, l, &smoother));
+      EXPECT_EQ(multigrid::is_fused_chebyshev_jacobi(smoother), kernel != Kernel::petsc) << "level " << l;
+    }
+    const auto report = mg.solve();
+    const VectorX u = mg.finest().distribution().gather_all(mg.finest().solution());
+    if (kernel == Kernel::petsc) {
+      reference = u;
+      reference_iterations = report.linear.iterations;
+      EXPECT_LE(reference_iterations, 16);
+      continue;
+    }
+    EXPECT_EQ(report.linear.iterations, reference_iterations) << "kernel " << static_cast<int>(kernel);
+    EXPECT_LE((u - reference).lpNorm<Eigen::Infinity>(), 1e-8 * reference.lpNorm<Eigen::Infinity>());
+  }
+
+  // A per-step monitor needs PETSc's smoother: such levels are not fused.
+  multigrid::PoissonMultigridOptions o;
+  o.linear.prefix = "fused_monitor_test_";
+  WARPFEM_PETSC_CHECK(
+      PetscOptionsSetValue(nullptr, "-fused_monitor_test_mg_levels_ksp_monitor", "ascii:/dev/null"));
+  multigrid::PoissonMultigridSolver mg(
+      PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 1,
+      std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
+  WARPFEM_PETSC_CHECK(PetscOptionsClearValue(nullptr, "-fused_monitor_test_mg_levels_ksp_monitor"));
+  PC pc = nullptr;
+  KSP smoother = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
+  WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, 1, &smoother));
+  EXPECT_FALSE(multigrid::is_fused_chebyshev_jacobi(smoother));
+  EXPECT_LE(mg.solve().linear.iterations, 12);
+}
