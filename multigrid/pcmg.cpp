@@ -139,8 +139,12 @@ void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings) {
     WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.0, 0.0, 0.0));
     if (jacobi && plain_jacobi(spc)) {
       using Kernel = MultigridSettings::ChebyshevKernel;
-      // Per-step monitors need PETSc's iteration (the fused one runs all steps in one call).
-      if (settings.chebyshev_kernel == Kernel::petsc || has_option(smoother, "-ksp_monitor")) {
+      // PETSc's smoother stays where options name it (PCMG's set-up reads them again, so a
+      // fused level would be turned back into KSPCHEBYSHEV or PCJACOBI alone) or monitor its
+      // steps (the fused smoother runs all steps in one call).
+      const bool named = has_option(smoother, "-ksp_type") || has_option(smoother, "-pc_type") ||
+                         has_option(smoother, "-ksp_monitor");
+      if (settings.chebyshev_kernel == Kernel::petsc || named) {
         Mat A = nullptr;
         WARPFEM_PETSC_CHECK(KSPGetOperators(smoother, &A, nullptr));
         const double g = jacobi_gershgorin_bound(A);
