@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,11 @@ struct FusedChebyshev {
   Vec ghosts = nullptr;
   VecScatter gather = nullptr;
 
+  FusedChebyshev() = default;
+  FusedChebyshev(const FusedChebyshev&) = delete;
+  FusedChebyshev& operator=(const FusedChebyshev&) = delete;
+  ~FusedChebyshev() { reset(); }
+
   void reset() {
     diag.release();
     off.release();
@@ -62,10 +68,13 @@ struct FusedChebyshev {
 
 constexpr const char* kShellName = "warpfem fused Chebyshev-Jacobi";
 
+// The smoother's PC and the residual matrix of its level share the context.
+using SharedContext = std::shared_ptr<FusedChebyshev>;
+
 FusedChebyshev* context_of(PC pc) {
   void* ctx = nullptr;
   PCShellGetContext(pc, &ctx);
-  return static_cast<FusedChebyshev*>(ctx);
+  return ctx ? static_cast<SharedContext*>(ctx)->get() : nullptr;
 }
 
 PetscErrorCode fail(const std::exception& e) {
@@ -79,6 +88,17 @@ PetscLogEvent log_event() {
     PetscLogEvent e = 0;
     PetscClassIdRegister("warpfem multigrid", &id);
     PetscLogEventRegister("MGFusedChebJac", id, &e);
+    return e;
+  }();
+  return event;
+}
+
+PetscLogEvent residual_log_event() {
+  static const PetscLogEvent event = [] {
+    PetscClassId id = 0;
+    PetscLogEvent e = 0;
+    PetscClassIdRegister("warpfem multigrid", &id);
+    PetscLogEventRegister("MGFusedResidual", id, &e);
     return e;
   }();
   return event;
@@ -301,6 +321,90 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
   if (buffers[1 - write] != x) WARPFEM_PETSC_CHECK(VecCopy(buffers[1 - write], x));
 }
 
+/// r = b − A·x over the owned rows (b == nullptr: r = −A·x).
+template <class Value, bool with_off_block>
+void residual_rows(const Block& diag, const Value* __restrict a_diag, const Block& off,
+                   const Value* __restrict a_off, const PetscScalar* __restrict b,
+                   const PetscScalar* __restrict x, const PetscScalar* __restrict ghost,
+                   PetscScalar* __restrict r) {
+  for (PetscInt i = 0; i < diag.rows; ++i) {
+    double v = (b ? b[i] : 0.0) - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
+    if constexpr (with_off_block) v -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], ghost);
+    r[i] = v;
+  }
+}
+
+template <class Value>
+void residual_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const PetscScalar* b,
+                   const PetscScalar* x, const PetscScalar* ghost, PetscScalar* r) {
+  if (c.off.mat)
+    residual_rows<Value, true>(c.diag, a_diag, c.off, a_off, b, x, ghost, r);
+  else
+    residual_rows<Value, false>(c.diag, a_diag, c.off, a_off, b, x, ghost, r);
+}
+
+/// r = b − A·x with the smoother's matrix values (the float copy in single precision).
+void residual(FusedChebyshev& c, Vec b, Vec x, Vec r) {
+  require(c.diag.mat != nullptr,
+          "fused Chebyshev–Jacobi: the level residual is needed before the smoother's set-up");
+  const PetscScalar *bv = nullptr, *xv = nullptr, *ghost = nullptr, *a_diag = nullptr, *a_off = nullptr;
+  PetscScalar* rv = nullptr;
+  if (c.gather) {
+    WARPFEM_PETSC_CHECK(VecScatterBegin(c.gather, x, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
+    WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, x, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
+    WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &ghost));
+  }
+  if (b) WARPFEM_PETSC_CHECK(VecGetArrayRead(b, &bv));
+  WARPFEM_PETSC_CHECK(VecGetArrayRead(x, &xv));
+  WARPFEM_PETSC_CHECK(VecGetArrayWrite(r, &rv));
+  if (c.use_single) {
+    residual_rows(c, c.diag.single.data(), c.off.single.data(), bv, xv, ghost, rv);
+  } else {
+    WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.diag.mat, &a_diag));
+    if (c.off.mat) WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.off.mat, &a_off));
+    residual_rows(c, a_diag, a_off, bv, xv, ghost, rv);
+    if (a_off) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.off.mat, &a_off));
+    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.diag.mat, &a_diag));
+  }
+  WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(r, &rv));
+  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(x, &xv));
+  if (b) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(b, &bv));
+  if (ghost) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
+}
+
+// A level matrix whose residual the fused smoother computes carries a weak
+// reference to the smoother's context (PCMG passes the matrix, not the PC, to
+// the residual routine). Without a live context the routine falls back to
+// MatResidual on the double matrix.
+constexpr const char* kResidualKey = "warpfem_fused_chebyshev_residual";
+using WeakContext = std::weak_ptr<FusedChebyshev>;
+
+PetscErrorCode destroy_weak_context(void* p) {
+  delete static_cast<WeakContext*>(p);
+  return 0;
+}
+
+PetscErrorCode residual_callback(Mat A, Vec b, Vec x, Vec r) {
+  try {
+    PetscObject container = nullptr;
+    WARPFEM_PETSC_CHECK(PetscObjectQuery(reinterpret_cast<PetscObject>(A), kResidualKey, &container));
+    void* p = nullptr;
+    if (container)
+      WARPFEM_PETSC_CHECK(PetscContainerGetPointer(reinterpret_cast<PetscContainer>(container), &p));
+    const SharedContext c = p ? static_cast<WeakContext*>(p)->lock() : nullptr;
+    if (!c || !c->diag.mat) {
+      WARPFEM_PETSC_CHECK(MatResidual(A, b, x, r));
+      return 0;
+    }
+    PetscLogEventBegin(residual_log_event(), A, b, x, r);
+    residual(*c, b, x, r);
+    PetscLogEventEnd(residual_log_event(), A, b, x, r);
+    return 0;
+  } catch (const std::exception& e) {
+    return fail(e);
+  }
+}
+
 PetscErrorCode set_up_callback(PC pc) {
   try {
     set_up(pc, *context_of(pc));
@@ -311,9 +415,9 @@ PetscErrorCode set_up_callback(PC pc) {
 }
 
 PetscErrorCode destroy_callback(PC pc) {
-  FusedChebyshev* c = context_of(pc);
-  if (c) c->reset();
-  delete c;
+  void* ctx = nullptr;
+  PCShellGetContext(pc, &ctx);
+  delete static_cast<SharedContext*>(ctx);
   return 0;
 }
 
@@ -372,8 +476,8 @@ void set_fused_chebyshev_jacobi(KSP smoother, const FusedChebyshevOptions& optio
   // PCSetType keeps a PC that already is a shell; drop an earlier context first.
   if (is_fused_chebyshev_jacobi(smoother)) WARPFEM_PETSC_CHECK(PCSetType(pc, PCNONE));
   WARPFEM_PETSC_CHECK(PCSetType(pc, PCSHELL));
-  auto* context = new FusedChebyshev;
-  context->options = options;
+  auto* context = new SharedContext(std::make_shared<FusedChebyshev>());
+  (*context)->options = options;
   const PetscErrorCode ierr = PCShellSetContext(pc, context);
   if (ierr) delete context;
   WARPFEM_PETSC_CHECK(ierr);
@@ -383,6 +487,31 @@ void set_fused_chebyshev_jacobi(KSP smoother, const FusedChebyshevOptions& optio
   WARPFEM_PETSC_CHECK(PCShellSetApply(pc, apply_callback));
   WARPFEM_PETSC_CHECK(PCShellSetView(pc, view_callback));
   WARPFEM_PETSC_CHECK(PCShellSetName(pc, kShellName));
+}
+
+void use_fused_residual(PC mg, PetscInt level) {
+  KSP smoother = nullptr;
+  WARPFEM_PETSC_CHECK(PCMGGetSmoother(mg, level, &smoother));
+  require(is_fused_chebyshev_jacobi(smoother),
+          "use_fused_residual: the smoother of level " + std::to_string(level) + " is not fused");
+  PC pc = nullptr;
+  void* ctx = nullptr;
+  Mat A = nullptr;
+  WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
+  WARPFEM_PETSC_CHECK(PCShellGetContext(pc, &ctx));
+  WARPFEM_PETSC_CHECK(KSPGetOperators(smoother, &A, nullptr));
+  PetscContainer container = nullptr;
+  WARPFEM_PETSC_CHECK(PetscContainerCreate(PetscObjectComm(reinterpret_cast<PetscObject>(A)), &container));
+  auto* weak = new WeakContext(*static_cast<SharedContext*>(ctx));
+  PetscErrorCode ierr = PetscContainerSetPointer(container, weak);
+  if (!ierr) ierr = PetscContainerSetUserDestroy(container, destroy_weak_context);
+  if (ierr) delete weak;
+  if (!ierr)
+    ierr = PetscObjectCompose(reinterpret_cast<PetscObject>(A), kResidualKey,
+                              reinterpret_cast<PetscObject>(container));
+  PetscContainerDestroy(&container);  // the matrix holds it now
+  WARPFEM_PETSC_CHECK(ierr);
+  WARPFEM_PETSC_CHECK(PCMGSetResidual(mg, level, residual_callback, A));
 }
 
 FusedChebyshevState fused_chebyshev_state(KSP smoother) {

@@ -50,6 +50,13 @@ struct FusedChebyshevOptions {
 /// is not positive.
 void set_fused_chebyshev_jacobi(KSP smoother, const FusedChebyshevOptions& options = {});
 
+/// Makes PCMG compute the residual b − A_l x of `level`, whose smoother must be
+/// fused, with that smoother's matrix values in one pass (the float copy in
+/// single precision) instead of MatResidual on the double matrix. The V-cycle
+/// then smooths and restricts residuals of the same (rounded) operator; the
+/// outer Krylov method keeps the double matrix.
+void use_fused_residual(PC mg, PetscInt level);
+
 /// True if `smoother` was made fused by set_fused_chebyshev_jacobi (and nothing
 /// has replaced its PC since).
 bool is_fused_chebyshev_jacobi(KSP smoother);

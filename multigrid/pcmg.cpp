@@ -155,6 +155,7 @@ void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings) {
                                               .precision = settings.chebyshev_kernel == Kernel::fused_single
                                                                ? SmootherPrecision::single
                                                                : SmootherPrecision::double_precision});
+        use_fused_residual(pc, l);
       }
       continue;
     }
