@@ -46,7 +46,7 @@ struct FusedChebyshev {
   double emin = 0, emax = 0;  // [lower, upper]·g from the last set-up
   bool use_single = false;    // precision single and every value fits a float
   Block diag, off;            // off: MPI only; its columns index `ghosts`
-  Vec inv_diag = nullptr, direction = nullptr, spare = nullptr;
+  Vec inv_diag = nullptr, spare = nullptr;
   Vec ghosts = nullptr;
   VecScatter gather = nullptr;
 
@@ -59,7 +59,6 @@ struct FusedChebyshev {
     diag.release();
     off.release();
     VecDestroy(&inv_diag);
-    VecDestroy(&direction);
     VecDestroy(&spare);
     VecDestroy(&ghosts);
     VecScatterDestroy(&gather);
@@ -141,7 +140,6 @@ void set_up(PC pc, FusedChebyshev& c) {
     WARPFEM_PETSC_CHECK(ierr);
   }
   WARPFEM_PETSC_CHECK(MatCreateVecs(A, &c.inv_diag, nullptr));
-  WARPFEM_PETSC_CHECK(VecDuplicate(c.inv_diag, &c.direction));
 
   // One pass over the values: the diagonal, Gershgorin's row sums Σ_j |a_ij|
   // and (single precision) the float copy.
@@ -222,37 +220,48 @@ inline double row_dot(const Value* __restrict a, const PetscInt* __restrict col,
 struct StepData {
   const PetscScalar* b;
   const PetscScalar* inv;    // 1 / a_ii
-  const PetscScalar* x;      // current iterate (owned rows); nullptr: zero
-  const PetscScalar* ghost;  // current iterate at the off-diagonal block's columns
-  PetscScalar* d;            // Chebyshev direction, updated in place
-  PetscScalar* x_next;
+  const PetscScalar* x;      // current iterate x_k (owned rows)
+  const PetscScalar* ghost;  // x_k at the off-diagonal block's columns
+  PetscScalar* out;          // x_{k+1}; with a previous iterate, it holds x_{k-1} on entry
   double c1, c2;
 };
 
-/// One Chebyshev step over the owned rows: r = b − A·x, d ← c1·d + c2·D⁻¹r, x_next = x + d.
-template <class Value, bool with_off_block>
+/// One Chebyshev step over the owned rows, in the form that needs no direction
+/// vector (d_k = x_{k+1} − x_k):
+///   x_{k+1} = x_k + c1·(x_k − x_{k−1}) + c2·D⁻¹(b − A x_k),
+/// where x_{k−1} is read from `out` (with_previous) or zero (c1 = 0 in the
+/// first step; a zero initial guess in the second).
+template <class Value, bool with_off_block, bool with_previous>
 void step_rows(const Block& diag, const Value* __restrict a_diag, const Block& off,
                const Value* __restrict a_off, const StepData& s) {
   const PetscScalar* __restrict b = s.b;
   const PetscScalar* __restrict inv = s.inv;
   const PetscScalar* __restrict x = s.x;
-  PetscScalar* __restrict d = s.d;
-  PetscScalar* __restrict x_next = s.x_next;
+  PetscScalar* __restrict out = s.out;
   for (PetscInt i = 0; i < diag.rows; ++i) {
     double r = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
     if constexpr (with_off_block) r -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], s.ghost);
-    const double di = s.c1 * d[i] + s.c2 * inv[i] * r;
-    d[i] = di;
-    x_next[i] = x[i] + di;
+    const double previous = with_previous ? out[i] : 0.0;
+    out[i] = x[i] + s.c1 * (x[i] - previous) + s.c2 * inv[i] * r;
   }
 }
 
-template <class Value>
-void step_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const StepData& s) {
-  if (c.off.mat)
-    step_rows<Value, true>(c.diag, a_diag, c.off, a_off, s);
+template <class Value, bool with_off_block>
+void step_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const StepData& s,
+               bool with_previous) {
+  if (with_previous)
+    step_rows<Value, with_off_block, true>(c.diag, a_diag, c.off, a_off, s);
   else
-    step_rows<Value, false>(c.diag, a_diag, c.off, a_off, s);
+    step_rows<Value, with_off_block, false>(c.diag, a_diag, c.off, a_off, s);
+}
+
+template <class Value>
+void step_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const StepData& s,
+               bool with_previous) {
+  if (c.off.mat)
+    step_rows<Value, true>(c, a_diag, a_off, s, with_previous);
+  else
+    step_rows<Value, false>(c, a_diag, a_off, s, with_previous);
 }
 
 void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_guess) {
@@ -265,15 +274,15 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
     if (!c.spare) WARPFEM_PETSC_CHECK(VecDuplicate(x, &c.spare));
     work = c.spare;
   }
-  // Steps alternate between x and `work`. With a zero guess the first step
-  // reads no iterate, so it writes where the last step then lands in x.
+  // Steps alternate between x and `work`: step k reads x_k from one and
+  // overwrites x_{k−1} in the other with x_{k+1}. With a zero guess the first
+  // step reads no iterate, so it writes where the last step then lands in x.
   Vec buffers[2] = {x, work};
   int write = zero_guess ? static_cast<int>((steps - 1) % 2) : 1;
   const PetscScalar *a_diag = nullptr, *a_off = nullptr;
   StepData s{};
   WARPFEM_PETSC_CHECK(VecGetArrayRead(b, &s.b));
   WARPFEM_PETSC_CHECK(VecGetArrayRead(c.inv_diag, &s.inv));
-  WARPFEM_PETSC_CHECK(VecGetArray(c.direction, &s.d));
   if (!c.use_single) {
     WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.diag.mat, &a_diag));
     if (c.off.mat) WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.off.mat, &a_off));
@@ -289,33 +298,38 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
       rho = rho_next;
     }
     Vec in = buffers[1 - write], out = buffers[write];
-    WARPFEM_PETSC_CHECK(VecGetArrayWrite(out, &s.x_next));
     if (k == 0 && zero_guess) {
-      for (PetscInt i = 0; i < c.diag.rows; ++i) {
-        const double di = s.c2 * s.inv[i] * s.b[i];
-        s.d[i] = di;
-        s.x_next[i] = di;
-      }
+      WARPFEM_PETSC_CHECK(VecGetArrayWrite(out, &s.out));
+      for (PetscInt i = 0; i < c.diag.rows; ++i) s.out[i] = s.c2 * s.inv[i] * s.b[i];
+      WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(out, &s.out));
     } else {
+      // x_{k−1} is in `out` from the second step on, unless it was the zero guess.
+      const bool with_previous = k > 1 || (k == 1 && !zero_guess);
       if (c.gather) {
         WARPFEM_PETSC_CHECK(VecScatterBegin(c.gather, in, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
         WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, in, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
         WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &s.ghost));
       }
       WARPFEM_PETSC_CHECK(VecGetArrayRead(in, &s.x));
-      if (c.use_single)
-        step_rows(c, c.diag.single.data(), c.off.single.data(), s);
+      if (with_previous)
+        WARPFEM_PETSC_CHECK(VecGetArray(out, &s.out));
       else
-        step_rows(c, a_diag, a_off, s);
+        WARPFEM_PETSC_CHECK(VecGetArrayWrite(out, &s.out));
+      if (c.use_single)
+        step_rows(c, c.diag.single.data(), c.off.single.data(), s, with_previous);
+      else
+        step_rows(c, a_diag, a_off, s, with_previous);
+      if (with_previous)
+        WARPFEM_PETSC_CHECK(VecRestoreArray(out, &s.out));
+      else
+        WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(out, &s.out));
       WARPFEM_PETSC_CHECK(VecRestoreArrayRead(in, &s.x));
       if (c.gather) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &s.ghost));
     }
-    WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(out, &s.x_next));
     write = 1 - write;
   }
   if (a_off) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.off.mat, &a_off));
   if (a_diag) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.diag.mat, &a_diag));
-  WARPFEM_PETSC_CHECK(VecRestoreArray(c.direction, &s.d));
   WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.inv_diag, &s.inv));
   WARPFEM_PETSC_CHECK(VecRestoreArrayRead(b, &s.b));
   if (buffers[1 - write] != x) WARPFEM_PETSC_CHECK(VecCopy(buffers[1 - write], x));
