@@ -37,8 +37,8 @@ struct MultigridSettings {
   /// `fused_double`: the same iteration in one pass over the matrix per step
   /// (fused_chebyshev_jacobi.hpp), the bound found in the pass that takes the
   /// diagonal. `fused_single` (default): that pass over a float copy of the
-  /// level matrices' values; the Krylov method and PCMG's residuals keep the
-  /// double matrices.
+  /// level matrices' values. Both fused kernels also compute PCMG's level
+  /// residuals; the Krylov method keeps the double matrix.
   enum class ChebyshevKernel { petsc, fused_double, fused_single };
   ChebyshevKernel chebyshev_kernel = ChebyshevKernel::fused_single;
 };
