@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <exception>
 #include <limits>
 #include <memory>
@@ -24,33 +23,6 @@ struct Block {
   const PetscInt* ia = nullptr;
   const PetscInt* ja = nullptr;
   std::vector<float> single;
-  // Columns as 16-bit offsets ja[k] − i for the rows where every offset fits
-  // ("near" rows, in runs [begin, end)); the other rows read ja. With float
-  // values a nonzero then costs 6 bytes instead of 8 (12 for PETSc's AIJ).
-  std::vector<std::int16_t> offset;
-  std::vector<PetscInt> near_runs;
-  std::vector<PetscInt> far_rows;
-
-  void index_columns() {
-    offset.assign(static_cast<std::size_t>(ia[rows]), 0);
-    near_runs.clear();
-    far_rows.clear();
-    constexpr PetscInt limit = std::numeric_limits<std::int16_t>::max();
-    for (PetscInt i = 0; i < rows; ++i) {
-      bool near = true;
-      for (PetscInt k = ia[i]; k < ia[i + 1] && near; ++k) near = ja[k] - i <= limit && i - ja[k] <= limit;
-      if (!near) {
-        far_rows.push_back(i);
-        continue;
-      }
-      for (PetscInt k = ia[i]; k < ia[i + 1]; ++k)
-        offset[static_cast<std::size_t>(k)] = static_cast<std::int16_t>(ja[k] - i);
-      if (!near_runs.empty() && near_runs.back() == i)
-        near_runs.back() = i + 1;
-      else
-        near_runs.insert(near_runs.end(), {i, i + 1});
-    }
-  }
 
   void take(Mat m) {
     release();
@@ -66,9 +38,6 @@ struct Block {
     }
     mat = nullptr;
     std::vector<float>().swap(single);
-    std::vector<std::int16_t>().swap(offset);
-    std::vector<PetscInt>().swap(near_runs);
-    std::vector<PetscInt>().swap(far_rows);
   }
 };
 
@@ -152,13 +121,11 @@ void set_up(PC pc, FusedChebyshev& c) {
   c.reset();
   if (seq) {
     c.diag.take(A);
-    c.diag.index_columns();
   } else {
     Mat Ad = nullptr, Ao = nullptr;
     const PetscInt* garray = nullptr;
     WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &garray));
     c.diag.take(Ad);
-    c.diag.index_columns();
     c.off.take(Ao);
     PetscInt ghost_count = 0;
     WARPFEM_PETSC_CHECK(MatGetSize(Ao, nullptr, &ghost_count));
@@ -259,31 +226,6 @@ struct StepData {
   double c1, c2;
 };
 
-/// Σ_k a[k]·x_i[offset[k]] over a near row i, x_i = x + i.
-template <class Value>
-inline double near_dot(const Value* __restrict a, const std::int16_t* __restrict offset, PetscInt begin,
-                       PetscInt end, const PetscScalar* __restrict x_i) {
-  double sum = 0;
-  PetscInt k = begin;
-  for (; k + 1 < end; k += 2)
-    sum += static_cast<double>(a[k]) * x_i[offset[k]] + static_cast<double>(a[k + 1]) * x_i[offset[k + 1]];
-  if (k < end) sum += static_cast<double>(a[k]) * x_i[offset[k]];
-  return sum;
-}
-
-/// Calls row(i, Σ_j a_ij x_j) for every row of the diagonal block: the near
-/// rows' runs first, then the far rows (rows are independent here).
-template <class Value, class Row>
-inline void visit_rows(const Block& diag, const Value* __restrict a, const PetscScalar* __restrict x,
-                       Row&& row) {
-  const PetscInt* __restrict ia = diag.ia;
-  const std::int16_t* __restrict offset = diag.offset.data();
-  for (std::size_t r = 0; r < diag.near_runs.size(); r += 2)
-    for (PetscInt i = diag.near_runs[r]; i < diag.near_runs[r + 1]; ++i)
-      row(i, near_dot(a, offset, ia[i], ia[i + 1], x + i));
-  for (const PetscInt i : diag.far_rows) row(i, row_dot(a, diag.ja, ia[i], ia[i + 1], x));
-}
-
 /// One Chebyshev step over the owned rows, in the form that needs no direction
 /// vector (d_k = x_{k+1} − x_k):
 ///   x_{k+1} = x_k + c1·(x_k − x_{k−1}) + c2·D⁻¹(b − A x_k),
@@ -295,15 +237,13 @@ void step_rows(const Block& diag, const Value* __restrict a_diag, const Block& o
   const PetscScalar* __restrict b = s.b;
   const PetscScalar* __restrict inv = s.inv;
   const PetscScalar* __restrict x = s.x;
-  const PetscScalar* __restrict ghost = s.ghost;
   PetscScalar* __restrict out = s.out;
-  const double c1 = s.c1, c2 = s.c2;
-  visit_rows(diag, a_diag, x, [&](PetscInt i, double dot) {
-    double r = b[i] - dot;
-    if constexpr (with_off_block) r -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], ghost);
+  for (PetscInt i = 0; i < diag.rows; ++i) {
+    double r = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
+    if constexpr (with_off_block) r -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], s.ghost);
     const double previous = with_previous ? out[i] : 0.0;
-    out[i] = x[i] + c1 * (x[i] - previous) + c2 * inv[i] * r;
-  });
+    out[i] = x[i] + s.c1 * (x[i] - previous) + s.c2 * inv[i] * r;
+  }
 }
 
 template <class Value, bool with_off_block>
@@ -401,11 +341,11 @@ void residual_rows(const Block& diag, const Value* __restrict a_diag, const Bloc
                    const Value* __restrict a_off, const PetscScalar* __restrict b,
                    const PetscScalar* __restrict x, const PetscScalar* __restrict ghost,
                    PetscScalar* __restrict r) {
-  visit_rows(diag, a_diag, x, [&](PetscInt i, double dot) {
-    double v = (b ? b[i] : 0.0) - dot;
+  for (PetscInt i = 0; i < diag.rows; ++i) {
+    double v = (b ? b[i] : 0.0) - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
     if constexpr (with_off_block) v -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], ghost);
     r[i] = v;
-  });
+  }
 }
 
 template <class Value>
@@ -593,10 +533,7 @@ FusedChebyshevState fused_chebyshev_state(KSP smoother) {
   PC pc = nullptr;
   WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
   const FusedChebyshev& c = *context_of(pc);
-  return {.emin = c.emin,
-          .emax = c.emax,
-          .single_precision = c.use_single,
-          .far_rows = static_cast<long>(c.diag.far_rows.size())};
+  return {.emin = c.emin, .emax = c.emax, .single_precision = c.use_single};
 }
 
 bool is_fused_chebyshev_jacobi(KSP smoother) {

@@ -11,14 +11,12 @@
 //
 // reading each row, b_i, 1/a_ii and x_{k−1,i} once and writing x_{k+1,i}
 // over x_{k−1,i}; a zero initial guess costs no product in the first step.
-// Columns are read as 16-bit offsets from the row where they all fit (most
-// rows of a refined mesh numbered by first use), 32-bit otherwise. With
-// `single` precision the values come from a float copy (vectors and sums stay
-// double): 6 instead of 12 bytes per nonzero. A smoother needs about one
-// correct digit, and the outer Krylov method keeps the double matrix, so the
-// solution's accuracy is unchanged (the same split as deal.II's
-// single-precision multigrid under a double CG). use_fused_residual() lets
-// PCMG's level residual use the same data.
+// With `single` precision the values come from a float copy (vectors and
+// sums stay double): 8 instead of 12 bytes per nonzero. A smoother needs
+// about one correct digit, and the outer Krylov method keeps the double
+// matrix, so the solution's accuracy is unchanged (the same split as
+// deal.II's single-precision multigrid under a double CG).
+// use_fused_residual() lets PCMG's level residual use the same data.
 //
 // It is a PCSHELL under KSPRICHARDSON that implements PETSc's "Richardson
 // application" hook (as PCSOR does), which is how PCMG runs its smoothers:
@@ -68,7 +66,6 @@ bool is_fused_chebyshev_jacobi(KSP smoother);
 struct FusedChebyshevState {
   double emin = 0, emax = 0;
   bool single_precision = false;
-  long far_rows = 0;  ///< this rank's rows with a column more than 2^15 away (32-bit column path)
 };
 FusedChebyshevState fused_chebyshev_state(KSP smoother);
 
