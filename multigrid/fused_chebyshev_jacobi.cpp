@@ -103,6 +103,51 @@ PetscLogEvent residual_log_event() {
   return event;
 }
 
+constexpr PetscInt kEstimateSteps = 10;
+
+/// λmax(D⁻¹A) from `steps` Jacobi-preconditioned CG steps on a random right-hand
+/// side with a fixed seed (the largest Ritz value; it approaches λmax from below).
+double estimate_lambda_max(Mat A, PetscInt steps) {
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  KSP ksp = nullptr;
+  Vec b = nullptr, x = nullptr;
+  PetscRandom random = nullptr;
+  double emax = 0, emin = 0;
+  const auto run = [&]() -> PetscErrorCode {
+    PetscCall(KSPCreate(comm, &ksp));
+    PetscCall(KSPSetOperators(ksp, A, A));
+    PetscCall(KSPSetType(ksp, KSPCG));
+    PC pc = nullptr;
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCSetType(pc, PCJACOBI));
+    PetscCall(KSPSetComputeSingularValues(ksp, PETSC_TRUE));
+    PetscCall(KSPSetTolerances(ksp, 1e-12, 1e-50, PETSC_DEFAULT, steps));
+    PetscCall(KSPSetConvergenceTest(ksp, KSPConvergedSkip, nullptr, nullptr));
+    PetscCall(KSPSetNormType(ksp, KSP_NORM_NONE));
+    PetscCall(MatCreateVecs(A, &x, &b));
+    PetscCall(PetscRandomCreate(comm, &random));
+    PetscCall(PetscRandomSetSeed(random, 0x5eed));
+    PetscCall(PetscRandomSeed(random));
+    PetscCall(VecSetRandom(b, random));
+    PetscCall(KSPSolve(ksp, b, x));
+    PetscCall(KSPComputeExtremeSingularValues(ksp, &emax, &emin));
+    return 0;
+  };
+  const PetscErrorCode ierr = run();
+  KSPDestroy(&ksp);
+  VecDestroy(&b);
+  VecDestroy(&x);
+  PetscRandomDestroy(&random);
+  WARPFEM_PETSC_CHECK(ierr);
+  if (!(emax > 0) || !std::isfinite(emax))
+    throw Error("fused Chebyshev–Jacobi: the CG estimate of λmax(D⁻¹A) is " + std::to_string(emax),
+                {.file = "",
+                 .key_path = "/solver/multigrid/chebyshev_bounds",
+                 .hint = "the level operator is not SPD; check the boundary conditions"});
+  return emax;
+}
+
 void set_up(PC pc, FusedChebyshev& c) {
   Mat A = nullptr;
   WARPFEM_PETSC_CHECK(PCGetOperators(pc, &A, nullptr));
@@ -195,8 +240,10 @@ void set_up(PC pc, FusedChebyshev& c) {
                 {.file = "",
                  .key_path = "/solver/multigrid/smoother",
                  .hint = "Jacobi smoothing needs SPD level operators; check the boundary conditions"});
-  c.emax = c.options.upper * global[0];
-  c.emin = c.options.lower * global[0];
+  const double scale =
+      c.options.bound == ChebyshevBound::gershgorin ? global[0] : estimate_lambda_max(A, kEstimateSteps);
+  c.emax = c.options.upper * scale;
+  c.emin = c.options.lower * scale;
   // A value beyond float's range keeps the double values (each rank decides for its rows).
   c.use_single = want_single && fits;
   if (!c.use_single) {
@@ -468,11 +515,13 @@ PetscErrorCode view_callback(PC pc, PetscViewer viewer) {
   PetscBool ascii = PETSC_FALSE;
   PetscObjectTypeCompare(reinterpret_cast<PetscObject>(viewer), PETSCVIEWERASCII, &ascii);
   if (!c || !ascii) return 0;
-  return PetscViewerASCIIPrintf(viewer,
-                                "  fused Chebyshev-Jacobi smoother (warpfem): interval [%g, %g] = [%g, %g] x "
-                                "Gershgorin bound, %s-precision matrix values\n",
-                                c->emin, c->emax, c->options.lower, c->options.upper,
-                                c->use_single ? "single" : "double");
+  return PetscViewerASCIIPrintf(
+      viewer,
+      "  fused Chebyshev-Jacobi smoother (warpfem): interval [%g, %g] = [%g, %g] x "
+      "%s, %s-precision matrix values\n",
+      c->emin, c->emax, c->options.lower, c->options.upper,
+      c->options.bound == ChebyshevBound::gershgorin ? "Gershgorin bound" : "CG estimate of lambda_max",
+      c->use_single ? "single" : "double");
 }
 
 }  // namespace

@@ -30,12 +30,18 @@ namespace warpfem::multigrid {
 
 enum class SmootherPrecision { double_precision, single };
 
+/// Where the scale g of the Chebyshev interval comes from, at set-up.
+/// `gershgorin`: max_i Σ_j |a_ij| / a_ii ≥ λmax(D⁻¹A), found in the pass that
+/// takes the diagonal (chebyshev_bounds.hpp says why it suits first-order
+/// stiffness matrices). `cg_estimate`: λmax(D⁻¹A) estimated by 10 steps of
+/// Jacobi-preconditioned CG from a fixed random right-hand side, as PETSc's
+/// Chebyshev does (for P2/Q2, where Gershgorin overshoots by 30–130 %).
+enum class ChebyshevBound { gershgorin, cg_estimate };
+
 struct FusedChebyshevOptions {
-  /// Target interval [lower, upper]·g of D⁻¹A's spectrum, where g is
-  /// Gershgorin's bound max_i Σ_j |a_ij| / a_ii (≥ λmax), found at set-up in
-  /// the same pass that takes the diagonal (chebyshev_bounds.hpp says why it
-  /// suits first-order stiffness matrices).
+  /// Target interval [lower, upper]·g of D⁻¹A's spectrum.
   double lower = 0.1, upper = 1.0;
+  ChebyshevBound bound = ChebyshevBound::gershgorin;
   SmootherPrecision precision = SmootherPrecision::single;
 };
 

@@ -113,12 +113,13 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
 }
 
 void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings) {
-  if (settings.chebyshev_bounds != MultigridSettings::ChebyshevBounds::gershgorin) return;
   PC pc = nullptr;
   WARPFEM_PETSC_CHECK(KSPGetPC(ksp, &pc));
   PetscBool is_mg = PETSC_FALSE;
   WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCMG, &is_mg));
   if (!is_mg) return;
+  using Kernel = MultigridSettings::ChebyshevKernel;
+  const bool gershgorin = settings.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin;
   PetscInt levels = 0;
   WARPFEM_PETSC_CHECK(PCMGGetLevels(pc, &levels));
   for (PetscInt l = 1; l < levels; ++l) {
@@ -135,28 +136,33 @@ void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings) {
     WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(spc), PCJACOBI, &jacobi));
     if (has_option(smoother, "-ksp_chebyshev_esteig") || has_option(smoother, "-ksp_chebyshev_eigenvalues"))
       continue;
+    const bool plain = jacobi && plain_jacobi(spc);
+    // PETSc's smoother stays where options name it (PCMG's set-up reads them again, so a
+    // fused level would be turned back into KSPCHEBYSHEV or PCJACOBI alone) or monitor its
+    // steps (the fused smoother runs all steps in one call).
+    const bool named = has_option(smoother, "-ksp_type") || has_option(smoother, "-pc_type") ||
+                       has_option(smoother, "-ksp_monitor");
+    if (plain && !named && settings.chebyshev_kernel != Kernel::petsc) {
+      FusedChebyshevOptions fused{.lower = 0.1, .upper = 1.0, .bound = ChebyshevBound::gershgorin};
+      if (!gershgorin) fused = {.lower = 0.1, .upper = 1.1, .bound = ChebyshevBound::cg_estimate};
+      fused.precision = settings.chebyshev_kernel == Kernel::fused_single
+                            ? SmootherPrecision::single
+                            : SmootherPrecision::double_precision;
+      set_fused_chebyshev_jacobi(smoother, fused);
+      // Galerkin levels get their operators only in PCMG's set-up; they keep MatResidual.
+      PetscBool has_operator = PETSC_FALSE;
+      WARPFEM_PETSC_CHECK(KSPGetOperatorsSet(smoother, &has_operator, nullptr));
+      if (has_operator) use_fused_residual(pc, l);
+      continue;
+    }
+    if (!gershgorin) continue;  // configure_pcmg's estimate stands
     // Chebyshev estimates by default when it has no eigenvalues; they come below.
     WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.0, 0.0, 0.0));
-    if (jacobi && plain_jacobi(spc)) {
-      using Kernel = MultigridSettings::ChebyshevKernel;
-      // PETSc's smoother stays where options name it (PCMG's set-up reads them again, so a
-      // fused level would be turned back into KSPCHEBYSHEV or PCJACOBI alone) or monitor its
-      // steps (the fused smoother runs all steps in one call).
-      const bool named = has_option(smoother, "-ksp_type") || has_option(smoother, "-pc_type") ||
-                         has_option(smoother, "-ksp_monitor");
-      if (settings.chebyshev_kernel == Kernel::petsc || named) {
-        Mat A = nullptr;
-        WARPFEM_PETSC_CHECK(KSPGetOperators(smoother, &A, nullptr));
-        const double g = jacobi_gershgorin_bound(A);
-        WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(smoother, g, 0.1 * g));
-      } else {
-        set_fused_chebyshev_jacobi(smoother, {.lower = 0.1,
-                                              .upper = 1.0,
-                                              .precision = settings.chebyshev_kernel == Kernel::fused_single
-                                                               ? SmootherPrecision::single
-                                                               : SmootherPrecision::double_precision});
-        use_fused_residual(pc, l);
-      }
+    if (plain) {
+      Mat A = nullptr;
+      WARPFEM_PETSC_CHECK(KSPGetOperators(smoother, &A, nullptr));
+      const double g = jacobi_gershgorin_bound(A);
+      WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(smoother, g, 0.1 * g));
       continue;
     }
     WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.1, 0.0, 1.1));

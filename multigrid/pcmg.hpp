@@ -32,13 +32,14 @@ struct MultigridSettings {
   /// chebyshev_jacobi, else estimate); configure_pcmg itself treats it as estimate.
   enum class ChebyshevBounds { automatic, estimate, gershgorin };
   ChebyshevBounds chebyshev_bounds = ChebyshevBounds::automatic;
-  /// How levels that keep Chebyshev–Jacobi with Gershgorin bounds (after the
-  /// options database has been read) run it. `petsc`: KSPCHEBYSHEV + PCJACOBI.
-  /// `fused_double`: the same iteration in one pass over the matrix per step
-  /// (fused_chebyshev_jacobi.hpp), the bound found in the pass that takes the
-  /// diagonal. `fused_single` (default): that pass over a float copy of the
-  /// level matrices' values. Both fused kernels also compute PCMG's level
-  /// residuals; the Krylov method keeps the double matrix.
+  /// How levels that keep Chebyshev–Jacobi (after the options database has
+  /// been read) run it. `petsc`: KSPCHEBYSHEV + PCJACOBI. `fused_double`: the
+  /// same iteration in one pass over the matrix per step
+  /// (fused_chebyshev_jacobi.hpp), its interval found at the smoother's set-up
+  /// (Gershgorin's bound in the pass that takes the diagonal, or the same
+  /// 10-step CG estimate PETSc makes). `fused_single` (default): that pass
+  /// over a float copy of the level matrices' values. Both fused kernels also
+  /// compute PCMG's level residuals; the Krylov method keeps the double matrix.
   enum class ChebyshevKernel { petsc, fused_double, fused_single };
   ChebyshevKernel chebyshev_kernel = ChebyshevKernel::fused_single;
 };
@@ -55,13 +56,16 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
                     const MultigridSettings& settings = {});
 
 /// Call after KSPSetFromOptions; required with Gershgorin bounds, which it
-/// supplies. A level that keeps Chebyshev–Jacobi gets [0.1, 1]·g, g =
-/// jacobi_gershgorin_bound(A_l), or becomes a fused smoother that finds g at
-/// its set-up (settings.chebyshev_kernel). A level whose preconditioner the
-/// options database changed from Jacobi (e.g. -mg_levels_pc_type sor) gets
-/// PETSc's eigenvalue estimate back, since the bound is one for D⁻¹A only.
-/// Levels where the options asked for an estimate or for eigenvalues
-/// themselves are left alone.
+/// supplies. A level that keeps Chebyshev–Jacobi becomes a fused smoother
+/// that finds its interval at set-up ([0.1, 1]·g with Gershgorin bounds,
+/// [0.1, 1.1]·λmax estimated otherwise), unless settings.chebyshev_kernel is
+/// `petsc` or options name or monitor its KSP or PC; PETSc's smoother then
+/// gets [0.1, 1]·jacobi_gershgorin_bound(A_l) with Gershgorin bounds and keeps
+/// configure_pcmg's estimate otherwise. With Gershgorin bounds, a level whose
+/// preconditioner the options database changed from Jacobi (e.g.
+/// -mg_levels_pc_type sor) gets PETSc's eigenvalue estimate back, since the
+/// bound is one for D⁻¹A only. Levels where the options asked for an
+/// estimate or for eigenvalues themselves are left alone.
 void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings);
 
 }  // namespace warpfem::multigrid
