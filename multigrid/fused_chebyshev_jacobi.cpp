@@ -81,25 +81,22 @@ PetscErrorCode fail(const std::exception& e) {
                     PETSC_ERROR_INITIAL, "%s", e.what());
 }
 
+/// A -log_view event of the "warpfem multigrid" class.
+PetscLogEvent register_event(const char* name) {
+  PetscClassId id = 0;
+  PetscLogEvent event = 0;
+  PetscClassIdRegister("warpfem multigrid", &id);
+  PetscLogEventRegister(name, id, &event);
+  return event;
+}
+
 PetscLogEvent log_event() {
-  static const PetscLogEvent event = [] {
-    PetscClassId id = 0;
-    PetscLogEvent e = 0;
-    PetscClassIdRegister("warpfem multigrid", &id);
-    PetscLogEventRegister("MGFusedChebJac", id, &e);
-    return e;
-  }();
+  static const PetscLogEvent event = register_event("MGFusedChebJac");
   return event;
 }
 
 PetscLogEvent residual_log_event() {
-  static const PetscLogEvent event = [] {
-    PetscClassId id = 0;
-    PetscLogEvent e = 0;
-    PetscClassIdRegister("warpfem multigrid", &id);
-    PetscLogEventRegister("MGFusedResidual", id, &e);
-    return e;
-  }();
+  static const PetscLogEvent event = register_event("MGFusedResidual");
   return event;
 }
 

@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cstring>
 #include <memory>
