@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include "core/error.hpp"
 #include "io/run_config.hpp"
