@@ -16,7 +16,10 @@ namespace {
 
 /// One sequential AIJ block: its compressed-row structure, held from set-up
 /// on, and (single precision) a float copy of its values. The double values
-/// are fetched for every application, so a re-assembled matrix is seen.
+/// are fetched for every application, so a re-assembled matrix is seen. The
+/// block holds a reference, so its rows stay valid until release() even if
+/// the PC that owned the matrix has already let it go (PCDestroy resets
+/// the PC's matrices before the shell's destroy callback runs).
 struct Block {
   Mat mat = nullptr;
   PetscInt rows = 0;
@@ -29,12 +32,14 @@ struct Block {
     PetscBool done = PETSC_FALSE;
     WARPFEM_PETSC_CHECK(MatGetRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done));
     require(done == PETSC_TRUE, "fused Chebyshev–Jacobi: cannot read the rows of a level matrix");
+    WARPFEM_PETSC_CHECK(PetscObjectReference(reinterpret_cast<PetscObject>(m)));
     mat = m;
   }
   void release() {
     if (mat) {
       PetscBool done = PETSC_FALSE;
       MatRestoreRowIJ(mat, 0, PETSC_FALSE, PETSC_FALSE, &rows, &ia, &ja, &done);
+      MatDestroy(&mat);
     }
     mat = nullptr;
     std::vector<float>().swap(single);

@@ -163,6 +163,56 @@ TEST(FusedChebyshev, RunsPetscsChebyshevJacobiIteration) {
   expect_petscs_iteration(A.get());
 }
 
+/// References to `A` held by a smoother on it after one smoothing step.
+PetscInt references_while_smoothing(Mat A, bool fused) {
+  petsc::LinearSolver smoother = smoother_ksp(A, 2, false);
+  if (fused) {
+    multigrid::set_fused_chebyshev_jacobi(smoother.get());
+  } else {
+    WARPFEM_PETSC_CHECK(KSPSetType(smoother.get(), KSPCHEBYSHEV));
+    WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother.get(), 0.0, 0.0, 0.0, 0.0));
+    WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(smoother.get(), 2.0, 0.2));
+    PC pc = nullptr;
+    WARPFEM_PETSC_CHECK(KSPGetPC(smoother.get(), &pc));
+    WARPFEM_PETSC_CHECK(PCSetType(pc, PCJACOBI));
+  }
+  petsc::Vector b, x;
+  WARPFEM_PETSC_CHECK(MatCreateVecs(A, x.out(), b.out()));
+  WARPFEM_PETSC_CHECK(VecSet(b.get(), 1.0));
+  WARPFEM_PETSC_CHECK(VecSet(x.get(), 0.0));
+  WARPFEM_PETSC_CHECK(KSPSolve(smoother.get(), b.get(), x.get()));
+  PetscInt count = 0;
+  WARPFEM_PETSC_CHECK(PetscObjectGetReference(reinterpret_cast<PetscObject>(A), &count));
+  return count;
+}
+
+// The fused smoother reads the rows of a sequential level matrix from set-up
+// on, so it holds a reference of its own (PCDestroy drops the PC's references
+// before the shell's destroy callback restores the rows), and gives it back.
+TEST(FusedChebyshev, HoldsItsMatrixWhileItReadsItsRows) {
+  petsc::Matrix A;
+  WARPFEM_PETSC_CHECK(MatCreateSeqAIJ(PETSC_COMM_SELF, 3, 3, 3, nullptr, A.out()));
+  for (PetscInt r = 0; r < 3; ++r) {
+    WARPFEM_PETSC_CHECK(MatSetValue(A.get(), r, r, 2.0, INSERT_VALUES));
+    if (r > 0) WARPFEM_PETSC_CHECK(MatSetValue(A.get(), r, r - 1, -1.0, INSERT_VALUES));
+    if (r < 2) WARPFEM_PETSC_CHECK(MatSetValue(A.get(), r, r + 1, -1.0, INSERT_VALUES));
+  }
+  WARPFEM_PETSC_CHECK(MatAssemblyBegin(A.get(), MAT_FINAL_ASSEMBLY));
+  WARPFEM_PETSC_CHECK(MatAssemblyEnd(A.get(), MAT_FINAL_ASSEMBLY));
+  PetscInt before = 0, after = 0;
+  WARPFEM_PETSC_CHECK(PetscObjectGetReference(reinterpret_cast<PetscObject>(A.get()), &before));
+  EXPECT_EQ(references_while_smoothing(A.get(), true), references_while_smoothing(A.get(), false) + 1);
+  WARPFEM_PETSC_CHECK(PetscObjectGetReference(reinterpret_cast<PetscObject>(A.get()), &after));
+  EXPECT_EQ(after, before) << "a reference is left behind";
+
+  // The caller lets go of the matrix before the smoother: nothing reads freed rows
+  // (run under valgrind to see it).
+  petsc::LinearSolver smoother = smoother_ksp(A.get(), 2, false);
+  multigrid::set_fused_chebyshev_jacobi(smoother.get());
+  WARPFEM_PETSC_CHECK(KSPSetUp(smoother.get()));
+  A.reset();
+}
+
 TEST(FusedChebyshev, RefusesBadIntervalsAndNonPositiveDiagonals) {
   petsc::LinearSolver ksp;
   WARPFEM_PETSC_CHECK(KSPCreate(PETSC_COMM_WORLD, ksp.out()));
