@@ -213,6 +213,29 @@ TEST(FusedChebyshev, HoldsItsMatrixWhileItReadsItsRows) {
   A.reset();
 }
 
+// New values in the level matrices (a re-assembly) reach the fused smoothers
+// and residuals at the next solve: with every level scaled by 2 the same
+// iterations give half the solution.
+TEST(FusedChebyshev, NewMatrixValuesReachTheSmoothers) {
+  multigrid::PoissonMultigridOptions o;
+  o.linear.rtol = 1e-10;
+  multigrid::PoissonMultigridSolver mg(
+      PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 3,
+      std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
+  petsc::Vector start;
+  WARPFEM_PETSC_CHECK(VecDuplicate(mg.finest().solution(), start.out()));
+  WARPFEM_PETSC_CHECK(VecCopy(mg.finest().solution(), start.get()));
+  const auto first = mg.solve();
+  const VectorX u = mg.finest().distribution().gather_all(mg.finest().solution());
+  for (int l = 0; l < mg.hierarchy().num_levels(); ++l)
+    WARPFEM_PETSC_CHECK(MatScale(mg.level(l).matrix(), 2.0));
+  WARPFEM_PETSC_CHECK(VecCopy(start.get(), mg.finest().solution()));
+  const auto second = mg.solve();
+  const VectorX half = mg.finest().distribution().gather_all(mg.finest().solution());
+  EXPECT_EQ(second.linear.iterations, first.linear.iterations);
+  EXPECT_LE((2.0 * half - u).lpNorm<Eigen::Infinity>(), 1e-8 * u.lpNorm<Eigen::Infinity>());
+}
+
 TEST(FusedChebyshev, RefusesBadIntervalsAndNonPositiveDiagonals) {
   petsc::LinearSolver ksp;
   WARPFEM_PETSC_CHECK(KSPCreate(PETSC_COMM_WORLD, ksp.out()));
