@@ -384,14 +384,14 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
   if (buffers[1 - write] != x) WARPFEM_PETSC_CHECK(VecCopy(buffers[1 - write], x));
 }
 
-/// r = b − A·x over the owned rows (b == nullptr: r = −A·x).
+/// r = b − A·x over the owned rows.
 template <class Value, bool with_off_block>
 void residual_rows(const Block& diag, const Value* __restrict a_diag, const Block& off,
                    const Value* __restrict a_off, const PetscScalar* __restrict b,
                    const PetscScalar* __restrict x, const PetscScalar* __restrict ghost,
                    PetscScalar* __restrict r) {
   for (PetscInt i = 0; i < diag.rows; ++i) {
-    double v = (b ? b[i] : 0.0) - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
+    double v = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
     if constexpr (with_off_block) v -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], ghost);
     r[i] = v;
   }
@@ -417,7 +417,7 @@ void residual(FusedChebyshev& c, Vec b, Vec x, Vec r) {
     WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, x, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
     WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &ghost));
   }
-  if (b) WARPFEM_PETSC_CHECK(VecGetArrayRead(b, &bv));
+  WARPFEM_PETSC_CHECK(VecGetArrayRead(b, &bv));
   WARPFEM_PETSC_CHECK(VecGetArrayRead(x, &xv));
   WARPFEM_PETSC_CHECK(VecGetArrayWrite(r, &rv));
   if (c.use_single) {
@@ -431,7 +431,7 @@ void residual(FusedChebyshev& c, Vec b, Vec x, Vec r) {
   }
   WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(r, &rv));
   WARPFEM_PETSC_CHECK(VecRestoreArrayRead(x, &xv));
-  if (b) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(b, &bv));
+  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(b, &bv));
   if (ghost) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
 }
 
