@@ -61,22 +61,32 @@ double jacobi_gershgorin_bound(Mat A) {
       WARPFEM_PETSC_CHECK(MatRestoreRow(A, r, &n, &cols, &vals));
     }
   }
-  double bound = 0;
+  // local[0]: the bound over this rank's rows; local[1]: whether one of them has
+  // no positive diagonal. Reduced together before anyone throws, so a rank
+  // with a bad row cannot leave the others waiting in the reduction.
+  double local[2] = {0.0, 0.0};
+  std::size_t bad = rows;
   for (std::size_t r = 0; r < rows; ++r) {
-    if (!(diagonal[r] > 0))
-      throw Error("Chebyshev–Jacobi smoothing needs a positive diagonal; row " +
-                      std::to_string(begin + static_cast<PetscInt>(r)) + " has " +
-                      std::to_string(diagonal[r]),
-                  {.file = "",
-                   .key_path = "/solver/multigrid/chebyshev_bounds",
-                   .hint = "the operator is not symmetric positive definite; check the boundary conditions"});
-    bound = std::max(bound, sum[r] / diagonal[r]);
+    if (!(diagonal[r] > 0)) {
+      bad = std::min(bad, r);
+      continue;
+    }
+    local[0] = std::max(local[0], sum[r] / diagonal[r]);
   }
-  double global = bound;
+  local[1] = bad < rows ? 1.0 : 0.0;
+  double global[2] = {0.0, 0.0};
   MPI_Comm comm = MPI_COMM_NULL;
   WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
-  MPI_Allreduce(&bound, &global, 1, MPI_DOUBLE, MPI_MAX, comm);
-  return global;
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm);
+  if (global[1] > 0)
+    throw Error("Chebyshev–Jacobi smoothing needs a positive diagonal; " +
+                    (bad < rows ? "row " + std::to_string(begin + static_cast<PetscInt>(bad)) + " has " +
+                                      std::to_string(diagonal[bad])
+                                : std::string("a row on another rank has none")),
+                {.file = "",
+                 .key_path = "/solver/multigrid/chebyshev_bounds",
+                 .hint = "the operator is not symmetric positive definite; check the boundary conditions"});
+  return global[0];
 }
 
 }  // namespace warpfem::multigrid

@@ -257,9 +257,12 @@ TEST(FusedChebyshev, RefusesBadIntervalsAndNonPositiveDiagonals) {
       MatSetValue(A.get(), first + 1, first + 1, first + 1 == n - 1 ? 0.0 : 2.0, INSERT_VALUES));
   WARPFEM_PETSC_CHECK(MatAssemblyBegin(A.get(), MAT_FINAL_ASSEMBLY));
   WARPFEM_PETSC_CHECK(MatAssemblyEnd(A.get(), MAT_FINAL_ASSEMBLY));
+  // Every rank fails (the checks are reduced over the communicator), none waits:
+  // PETSc's kernel takes Gershgorin's bound from jacobi_gershgorin_bound, ...
+  EXPECT_THROW(multigrid::jacobi_gershgorin_bound(A.get()), Error);
+  // ... the fused smoother finds it in its own set-up.
   petsc::LinearSolver smoother = smoother_ksp(A.get(), 2, true);
   multigrid::set_fused_chebyshev_jacobi(smoother.get());
-  // Every rank fails (the check is reduced over the communicator), none waits.
   try {
     WARPFEM_PETSC_CHECK(KSPSetUp(smoother.get()));
     ADD_FAILURE() << "a zero diagonal entry was accepted";
