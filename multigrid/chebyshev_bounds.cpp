@@ -61,31 +61,36 @@ double jacobi_gershgorin_bound(Mat A) {
       WARPFEM_PETSC_CHECK(MatRestoreRow(A, r, &n, &cols, &vals));
     }
   }
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  return jacobi_gershgorin_bound(comm, diagonal.data(), sum.data(), static_cast<PetscInt>(rows), begin);
+}
+
+double jacobi_gershgorin_bound(MPI_Comm comm, const double* diagonal, const double* row_abs_sum,
+                               PetscInt rows, PetscInt first_row) {
   // local[0]: the bound over this rank's rows; local[1]: whether one of them has
   // no positive diagonal. Reduced together before anyone throws, so a rank
   // with a bad row cannot leave the others waiting in the reduction.
   double local[2] = {0.0, 0.0};
-  std::size_t bad = rows;
-  for (std::size_t r = 0; r < rows; ++r) {
-    if (!(diagonal[r] > 0)) {
+  PetscInt bad = rows;
+  for (PetscInt r = 0; r < rows; ++r) {
+    if (!(diagonal[r] > 0) || !std::isfinite(diagonal[r])) {
       bad = std::min(bad, r);
       continue;
     }
-    local[0] = std::max(local[0], sum[r] / diagonal[r]);
+    local[0] = std::max(local[0], row_abs_sum[r] / diagonal[r]);
   }
   local[1] = bad < rows ? 1.0 : 0.0;
   double global[2] = {0.0, 0.0};
-  MPI_Comm comm = MPI_COMM_NULL;
-  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm);
   if (global[1] > 0)
-    throw Error("Chebyshev–Jacobi smoothing needs a positive diagonal; " +
-                    (bad < rows ? "row " + std::to_string(begin + static_cast<PetscInt>(bad)) + " has " +
-                                      std::to_string(diagonal[bad])
-                                : std::string("a row on another rank has none")),
-                {.file = "",
-                 .key_path = "/solver/multigrid/chebyshev_bounds",
-                 .hint = "the operator is not symmetric positive definite; check the boundary conditions"});
+    throw Error(
+        "Chebyshev–Jacobi smoothing needs a positive diagonal; " +
+            (bad < rows ? "row " + std::to_string(first_row + bad) + " has " + std::to_string(diagonal[bad])
+                        : std::string("a row on another rank has none")),
+        {.file = "",
+         .key_path = "/solver/multigrid/chebyshev_bounds",
+         .hint = "the operator is not symmetric positive definite; check the boundary conditions"});
   return global[0];
 }
 

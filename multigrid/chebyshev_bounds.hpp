@@ -23,4 +23,11 @@ namespace warpfem::multigrid {
 /// first row whose diagonal is not positive.
 double jacobi_gershgorin_bound(Mat A);
 
+/// The same bound from this rank's rows given as their diagonal entries and
+/// Σ_j |a_ij| (`rows` of them, the first with global index `first_row`):
+/// collective over `comm`; every rank throws warpfem::Error if any rank has a
+/// diagonal entry that is not positive.
+double jacobi_gershgorin_bound(MPI_Comm comm, const double* diagonal, const double* row_abs_sum,
+                               PetscInt rows, PetscInt first_row);
+
 }  // namespace warpfem::multigrid

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
+#include "multigrid/chebyshev_bounds.hpp"
 
 namespace warpfem::multigrid {
 namespace {
@@ -217,33 +218,21 @@ void set_up(PC pc, FusedChebyshev& c) {
     }
     WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(block->mat, &a));
   }
-  PetscInt begin = 0, bad = -1;
-  double local[2] = {0.0, 0.0};  // max_i Σ_j |a_ij| / a_ii, and whether some a_ii is not positive
+  PetscInt begin = 0;
   WARPFEM_PETSC_CHECK(VecGetOwnershipRange(c.inv_diag, &begin, nullptr));
-  for (PetscInt i = 0; i < c.diag.rows; ++i) {
-    if (!(inv[i] > 0) || !std::isfinite(inv[i])) {
-      if (bad < 0) bad = begin + i;
-      continue;
-    }
-    local[0] = std::max(local[0], abs_sum[static_cast<std::size_t>(i)] / inv[i]);
-    inv[i] = 1.0 / inv[i];
-  }
-  local[1] = bad >= 0 ? 1.0 : 0.0;
-  WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(c.inv_diag, &inv));
-  // Reduced together, so a rank with a bad row cannot leave the others waiting.
-  double global[2] = {0.0, 0.0};
   MPI_Comm comm = MPI_COMM_NULL;
   WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
-  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, comm);
-  if (global[1] > 0)
-    throw Error("Chebyshev–Jacobi smoothing needs a positive diagonal; " +
-                    (bad >= 0 ? "row " + std::to_string(bad) + " of a level matrix has none"
-                              : std::string("a level matrix has a row without one on another rank")),
-                {.file = "",
-                 .key_path = "/solver/multigrid/smoother",
-                 .hint = "Jacobi smoothing needs SPD level operators; check the boundary conditions"});
+  double g = 0;
+  try {  // collective: every rank throws if any has a diagonal entry that is not positive
+    g = jacobi_gershgorin_bound(comm, inv, abs_sum.data(), c.diag.rows, begin);
+  } catch (...) {
+    VecRestoreArrayWrite(c.inv_diag, &inv);
+    throw;
+  }
+  for (PetscInt i = 0; i < c.diag.rows; ++i) inv[i] = 1.0 / inv[i];
+  WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(c.inv_diag, &inv));
   const double scale =
-      c.options.bound == ChebyshevBound::gershgorin ? global[0] : estimate_lambda_max(A, kEstimateSteps);
+      c.options.bound == ChebyshevBound::gershgorin ? g : estimate_lambda_max(A, kEstimateSteps);
   c.emax = c.options.upper * scale;
   c.emin = c.options.lower * scale;
   // A value beyond float's range keeps the double values (each rank decides for its rows).
