@@ -98,7 +98,7 @@ void PoissonProblem::create_matrix() {
   MPI_Comm_size(comm_, &size);
   serial_ = size == 1;
   A_ = petsc::adopt_owned_rows(comm_, std::move(rows), dist_.num_owned(), dist_.owned_begin(),
-                               dist_.num_global(), dist_.num_global());
+                               dist_.num_global(), dist_.num_global(), {.inodes = false});
   WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   b_ = dist_.create_vector();
   u_ = dist_.create_vector();

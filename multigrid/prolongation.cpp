@@ -128,7 +128,7 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
                    });
   }
   return petsc::adopt_owned_rows(fdist.comm(), std::move(csr), cdist.num_owned(), cdist.owned_begin(),
-                                 fdist.num_global(), cdist.num_global());
+                                 fdist.num_global(), cdist.num_global(), {.inodes = false});
 }
 
 }  // namespace warpfem::multigrid

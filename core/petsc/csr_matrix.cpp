@@ -32,10 +32,36 @@ void attach(Mat A, std::unique_ptr<Storage> storage) {
   WARPFEM_PETSC_CHECK(PetscContainerDestroy(&container));  // the matrix keeps its reference
 }
 
+/// PETSc fixes whether a SeqAIJ matrix searches for inodes when the matrix is
+/// created, from the options database (`-mat_no_inode`), and the
+/// MatCreate*WithArrays calls assemble at once, before MatSetOption could
+/// switch the search off. So the option is set for the duration of the
+/// creation, unless the user's options already name it.
+class InodeSearchOff {
+ public:
+  explicit InodeSearchOff(bool active) {
+    if (!active) return;
+    PetscBool named = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, kOption, &named));
+    if (named) return;
+    WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, kOption, "true"));
+    set_ = true;
+  }
+  ~InodeSearchOff() {
+    if (set_) PetscOptionsClearValue(nullptr, kOption);
+  }
+  InodeSearchOff(const InodeSearchOff&) = delete;
+  InodeSearchOff& operator=(const InodeSearchOff&) = delete;
+
+ private:
+  static constexpr const char* kOption = "-mat_no_inode";
+  bool set_ = false;
+};
+
 }  // namespace
 
 Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, PetscInt first_col,
-                        PetscInt global_rows, PetscInt global_cols) {
+                        PetscInt global_rows, PetscInt global_cols, const AdoptOptions& options) {
   int size = 1;
   MPI_Comm_size(comm, &size);
   const PetscInt local_rows = static_cast<PetscInt>(rows.row_ptr.size()) - 1;
@@ -72,21 +98,25 @@ Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, Pets
     }
     rows.cols.resize(static_cast<std::size_t>(kept));
     if (!zeros) rows.vals.resize(static_cast<std::size_t>(kept));
-    return adopt_split_rows(comm, std::move(rows), std::move(off), local_cols, global_rows, global_cols);
+    return adopt_split_rows(comm, std::move(rows), std::move(off), local_cols, global_rows, global_cols,
+                            options);
   }
   if (rows.vals.empty()) rows.vals.assign(rows.cols.size(), 0.0);
   auto storage = std::make_unique<Storage>();
   storage->diagonal = std::move(rows);
   OwnedRows& d = storage->diagonal;
   Matrix A;
-  WARPFEM_PETSC_CHECK(MatCreateSeqAIJWithArrays(comm, local_rows, local_cols, d.row_ptr.data(), d.cols.data(),
-                                                d.vals.data(), A.out()));
+  {
+    const InodeSearchOff no_inodes(!options.inodes);
+    WARPFEM_PETSC_CHECK(MatCreateSeqAIJWithArrays(comm, local_rows, local_cols, d.row_ptr.data(),
+                                                  d.cols.data(), d.vals.data(), A.out()));
+  }
   attach(A.get(), std::move(storage));
   return A;
 }
 
 Matrix adopt_split_rows(MPI_Comm comm, OwnedRows diagonal, OwnedRows off_diagonal, PetscInt local_cols,
-                        PetscInt global_rows, PetscInt global_cols) {
+                        PetscInt global_rows, PetscInt global_cols, const AdoptOptions& options) {
   const PetscInt local_rows = static_cast<PetscInt>(diagonal.row_ptr.size()) - 1;
   require(local_rows >= 0 && off_diagonal.row_ptr.size() == diagonal.row_ptr.size(),
           "adopt_split_rows: the diagonal and off-diagonal blocks have different row counts");
@@ -102,9 +132,12 @@ Matrix adopt_split_rows(MPI_Comm comm, OwnedRows diagonal, OwnedRows off_diagona
   OwnedRows& d = storage->diagonal;
   OwnedRows& o = storage->off_diagonal;
   Matrix A;
-  WARPFEM_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(
-      comm, local_rows, local_cols, global_rows, global_cols, d.row_ptr.data(), d.cols.data(), d.vals.data(),
-      o.row_ptr.data(), o.cols.data(), o.vals.data(), A.out()));
+  {
+    const InodeSearchOff no_inodes(!options.inodes);
+    WARPFEM_PETSC_CHECK(MatCreateMPIAIJWithSplitArrays(
+        comm, local_rows, local_cols, global_rows, global_cols, d.row_ptr.data(), d.cols.data(),
+        d.vals.data(), o.row_ptr.data(), o.cols.data(), o.vals.data(), A.out()));
+  }
   attach(A.get(), std::move(storage));
   return A;
 }

@@ -159,3 +159,44 @@ TEST(CsrMatrix, SplitRowsAreAdoptedAsTheyAreGiven) {
   EXPECT_THROW(petsc::adopt_split_rows(PETSC_COMM_WORLD, std::move(one), std::move(two), 0, kRows, kRows),
                Error);
 }
+
+// Inodes (runs of rows with the same columns) are searched for by default and
+// skipped on request, and the request leaves PETSc's options as they were:
+// 2 x 2 diagonal blocks give kRows / 2 inodes of two rows each, or none.
+TEST(CsrMatrix, InodeSearchIsSkippedOnlyWhenAsked) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const PetscInt r0 = 2 * ((kRows / 2) * rank / size), r1 = 2 * ((kRows / 2) * (rank + 1) / size);
+  const auto pairs = [&] {
+    petsc::OwnedRows rows;
+    rows.row_ptr.push_back(0);
+    for (PetscInt i = r0; i < r1; ++i) {
+      const PetscInt first = i - i % 2;
+      rows.cols.insert(rows.cols.end(), {first, first + 1});
+      rows.vals.insert(rows.vals.end(), {2.0 + i, -1.0});
+      rows.row_ptr.push_back(static_cast<PetscInt>(rows.cols.size()));
+    }
+    return rows;
+  };
+  const auto inodes = [&](const petsc::Matrix& A) {
+    Mat block = A.get();
+    if (size > 1) WARPFEM_PETSC_CHECK(MatMPIAIJGetSeqAIJ(A.get(), &block, nullptr, nullptr));
+    PetscInt count = 0, limit = 0;
+    PetscInt* sizes = nullptr;
+    WARPFEM_PETSC_CHECK(MatInodeGetInodeSizes(block, &count, &sizes, &limit));
+    return count;
+  };
+  const PetscInt local = r1 - r0;
+  const petsc::Matrix searched = petsc::adopt_owned_rows(PETSC_COMM_WORLD, pairs(), local, r0, kRows, kRows);
+  EXPECT_EQ(inodes(searched), local / 2);
+  const petsc::Matrix skipped =
+      petsc::adopt_owned_rows(PETSC_COMM_WORLD, pairs(), local, r0, kRows, kRows, {.inodes = false});
+  EXPECT_EQ(inodes(skipped), 0);
+  PetscBool left = PETSC_TRUE;
+  WARPFEM_PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, "-mat_no_inode", &left));
+  EXPECT_FALSE(left) << "the temporary -mat_no_inode stayed in the options database";
+  const petsc::Matrix searched_again =
+      petsc::adopt_owned_rows(PETSC_COMM_WORLD, pairs(), local, r0, kRows, kRows);
+  EXPECT_EQ(inodes(searched_again), local / 2);
+}
