@@ -138,6 +138,7 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   std::vector<PetscInt> slot(static_cast<std::size_t>(rows) + 1, 1);
   slot[0] = 0;
   std::vector<Index> touching;
+  if (size_ > 1) touching.reserve(static_cast<std::size_t>(nc));  // address space only: no regrowth copies
   const bool all_cells = size_ == 1;
   for (Index c = 0; c < nc; ++c) {
     bool touches = false;
