@@ -281,8 +281,17 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
     m.chebyshev_kernel = kernel == "petsc"          ? S::ChebyshevKernel::petsc
                          : kernel == "fused_double" ? S::ChebyshevKernel::fused_double
                                                     : S::ChebyshevKernel::fused_single;
+    m.prolongation = mg.get_choice("prolongation", "geometric", {"geometric", "smoothed"}) == "smoothed"
+                         ? S::Prolongation::smoothed
+                         : S::Prolongation::geometric;
+    if (m.prolongation == S::Prolongation::smoothed && mg.has("coarse_operators") &&
+        m.coarse_operators == S::CoarseOperators::rediscretization)
+      throw mg.error("coarse_operators",
+                     "smoothed prolongations come with Galerkin operators, not rediscretized ones",
+                     "remove \"coarse_operators\", or use \"prolongation\": \"geometric\"");
     if (m.chebyshev_bounds == S::ChebyshevBounds::gershgorin &&
-        (m.smoother != S::Smoother::chebyshev_jacobi || m.coarse_operators == S::CoarseOperators::galerkin))
+        (m.smoother != S::Smoother::chebyshev_jacobi || m.coarse_operators == S::CoarseOperators::galerkin ||
+         m.prolongation == S::Prolongation::smoothed))
       throw mg.error("chebyshev_bounds",
                      "\"gershgorin\" bounds the Jacobi-preconditioned operator of rediscretized levels only",
                      "use \"auto\" or \"estimate\", or the smoother \"chebyshev_jacobi\" with "

@@ -101,6 +101,11 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
     throw Error("ElasticityMultigrid: the vector space does not live on the hierarchy's finest mesh",
                 {.file = "", .key_path = "", .hint = "build the operator on hierarchy.finest()"});
   require(finest.components() == 2, "ElasticityMultigrid: needs a 2-component vector space");
+  if (settings.prolongation == MultigridSettings::Prolongation::smoothed)
+    throw Error("smoothed prolongations are implemented for the Poisson solver only",
+                {.file = "",
+                 .key_path = "/solver/multigrid/prolongation",
+                 .hint = "use \"geometric\" prolongations for elasticity"});
   const int levels = hierarchy.num_levels();
   const fem::LagrangeElement& element = finest.dofs().element();
   // The coarse levels are partitioned like PoissonMultigridSolver's: nested, so

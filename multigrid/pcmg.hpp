@@ -42,6 +42,14 @@ struct MultigridSettings {
   /// compute PCMG's level residuals; the Krylov method keeps the double matrix.
   enum class ChebyshevKernel { petsc, fused_double, fused_single };
   ChebyshevKernel chebyshev_kernel = ChebyshevKernel::fused_single;
+  /// `geometric` (default): the nested spaces' interpolation, exact in Ω0.
+  /// `smoothed`: that interpolation after one damped-Jacobi step on the finer
+  /// operator, with Galerkin level operators built from the finest down
+  /// (smoothed_prolongation.hpp); `coarse_operators` is then not used. For
+  /// strongly warped maps, together with the chebyshev_sor smoother: the
+  /// gear's P1 iteration counts stay flat over the levels. Poisson only.
+  enum class Prolongation { geometric, smoothed };
+  Prolongation prolongation = Prolongation::geometric;
 };
 
 /// Makes the preconditioner of `ksp` a PCMG with interpolations.size() + 1

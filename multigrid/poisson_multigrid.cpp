@@ -5,6 +5,7 @@
 #include "core/timer.hpp"
 #include "multigrid/dirichlet_dofs.hpp"
 #include "multigrid/prolongation.hpp"
+#include "multigrid/smoothed_prolongation.hpp"
 
 namespace warpfem::multigrid {
 namespace {
@@ -26,7 +27,15 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   Stopwatch watch;
   MultigridTimings& t = timings_;
   const int levels = hierarchy_.num_levels();
-  const bool galerkin = options.multigrid.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
+  const bool smoothed = options.multigrid.prolongation == MultigridSettings::Prolongation::smoothed;
+  // Smoothed prolongations bring their own Galerkin operators: only the finest level is assembled.
+  const bool galerkin =
+      smoothed || options.multigrid.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
+  if (smoothed && options.multigrid.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin)
+    throw Error("Gershgorin bounds for the Chebyshev smoothers need rediscretized level operators",
+                {.file = "",
+                 .key_path = "/solver/multigrid/chebyshev_bounds",
+                 .hint = "use \"auto\" or \"estimate\" with smoothed prolongations"});
   report_.levels = levels;
 
   // 1. One PoissonProblem (DOF map, distribution, warped geometry) per level, on a
@@ -73,13 +82,23 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   }
   for (int l = 1; l < levels; ++l)
     prolongations_.push_back(assemble_prolongation(hierarchy_, l, spaces[l - 1], spaces[l]));
+  if (smoothed) {
+    std::vector<Mat> geometric;
+    for (const auto& P : prolongations_) geometric.push_back(P.get());
+    smoothed_ = smooth_prolongations(problems_.back()->matrix(), geometric);
+  }
   t.transfers = watch.seconds();
 
   // 4. KSP + PCMG; the options database overrides every default.
   watch.reset();
   std::vector<Mat> interpolations, operators;
-  for (const auto& P : prolongations_) interpolations.push_back(P.get());
-  for (int l = galerkin ? levels - 1 : 0; l < levels; ++l) operators.push_back(problems_[l]->matrix());
+  for (int l = 1; l < levels; ++l) interpolations.push_back(interpolation(l));
+  if (smoothed) {  // every level's operator is given: PCMG computes no Galerkin product itself
+    for (const auto& A : smoothed_.operators) operators.push_back(A.get());
+    operators.push_back(problems_.back()->matrix());
+  } else {
+    for (int l = galerkin ? levels - 1 : 0; l < levels; ++l) operators.push_back(problems_[l]->matrix());
+  }
   const petsc::LinearSolveOptions& lin = options.linear;
   WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp_.out()));
   if (!lin.prefix.empty()) WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp_.get(), lin.prefix.c_str()));
@@ -90,6 +109,7 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   // Automatic Chebyshev bounds: Gershgorin's is tight for first-order stiffness
   // matrices (no eigenvalue estimates at set-up), loose for higher orders.
   MultigridSettings settings = options.multigrid;
+  if (smoothed) settings.coarse_operators = MultigridSettings::CoarseOperators::rediscretization;
   using Bounds = MultigridSettings::ChebyshevBounds;
   if (settings.chebyshev_bounds == Bounds::automatic)
     settings.chebyshev_bounds =

@@ -15,6 +15,7 @@
 #include "fem/mesh_factory.hpp"
 #include "fem/poisson.hpp"
 #include "multigrid/pcmg.hpp"
+#include "multigrid/smoothed_prolongation.hpp"
 
 namespace warpfem::multigrid {
 
@@ -45,7 +46,7 @@ struct MultigridTimings {
   double finest_problem = 0;               ///< the finest level's share of `problems`
   double assembly = 0;         ///< assembling every level (finest included; Galerkin: finest only)
   double finest_assembly = 0;  ///< the finest level's share of `assembly`
-  double transfers = 0;        ///< prolongation matrices
+  double transfers = 0;        ///< prolongation matrices (smoothed: also their Galerkin operators)
   double pc_setup = 0;         ///< KSPSetUp: smoother eigenvalue estimates, coarse LU (and PtAP if Galerkin)
   double setup() const { return hierarchy + problems + assembly + transfers + pc_setup; }
 };
@@ -79,10 +80,18 @@ class PoissonMultigridSolver {
   /// The finest level's problem: matrix, rhs, solution, errors, output.
   fem::PoissonProblem& finest() { return *problems_.back(); }
   const fem::PoissonProblem& finest() const { return *problems_.back(); }
-  /// Problem of a level (only the finest is assembled with Galerkin coarse operators).
+  /// Problem of a level (only the finest is assembled with Galerkin coarse
+  /// operators or smoothed prolongations).
   const fem::PoissonProblem& level(int l) const { return *problems_.at(static_cast<std::size_t>(l)); }
+  /// The geometric prolongation from level fine_level − 1 to fine_level.
   Mat prolongation(int fine_level) const {
     return prolongations_.at(static_cast<std::size_t>(fine_level - 1)).get();
+  }
+  /// What PCMG interpolates with: prolongation(), or its smoothed version.
+  Mat interpolation(int fine_level) const {
+    const std::size_t i = static_cast<std::size_t>(fine_level - 1);
+    return smoothed_.interpolations.empty() ? prolongations_.at(i).get()
+                                            : smoothed_.interpolations.at(i).get();
   }
   KSP ksp() const { return ksp_.get(); }
 
@@ -91,6 +100,7 @@ class PoissonMultigridSolver {
   fem::MeshHierarchy hierarchy_;
   std::vector<std::unique_ptr<fem::PoissonProblem>> problems_;
   std::vector<petsc::Matrix> prolongations_;
+  SmoothedLevels smoothed_;  // with smoothed prolongations: PCMG's interpolations and coarse operators
   petsc::LinearSolver ksp_;
   MultigridSolveReport report_;
 };

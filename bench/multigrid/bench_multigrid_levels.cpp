@@ -9,7 +9,8 @@
 // coarse mesh of a rectangular source instead of the Delaunay one), -min_refinements/-max_refinements,
 // -map identity|composite (L-shape to an L-shape with a pulled re-entrant corner; -target x0,y0,...,x5,y5
 // gives another target hexagon), -map_config <file.json> (the map of a config file instead, e.g.
-// examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1, -smoother
+// examples/study_gear64.json: Ω0 is its source polygon), -amg 0|1, -galerkin 0|1, -prolongation
+// geometric|smoothed (smoothed_prolongation.hpp; Galerkin operators come with it), -smoother
 // chebyshev_jacobi|chebyshev_sor|sor, -smoothing_steps k and -chebyshev_kernel
 // petsc|fused_double|fused_single (solver.multigrid of a run config), -quadrature_degree <q> (default
 // fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest level's geometry streamed instead of
@@ -102,6 +103,10 @@ int main(int argc, char** argv) {
   const int rmax = static_cast<int>(int_option("-max_refinements", 5));
   const bool amg = int_option("-amg", 1) != 0;
   const bool galerkin = int_option("-galerkin", 0) != 0;
+  // solver.multigrid.prolongation: geometric (default) | smoothed
+  const std::string prolongation = string_option("-prolongation", "geometric");
+  if (prolongation != "geometric" && prolongation != "smoothed")
+    throw Error("-prolongation " + prolongation + ": expected geometric or smoothed");
   // The config's solver.multigrid.smoother / smoothing_steps (defaults: chebyshev_jacobi, 2).
   const std::string smoother = string_option("-smoother", "chebyshev_jacobi");
   const int smoothing_steps = static_cast<int>(int_option("-smoothing_steps", 2));
@@ -177,6 +182,8 @@ int main(int argc, char** argv) {
     if (stream_finest) options.finest_geometry = fem::GeometryStorage::streamed;
     if (galerkin)
       options.multigrid.coarse_operators = multigrid::MultigridSettings::CoarseOperators::galerkin;
+    if (prolongation == "smoothed")
+      options.multigrid.prolongation = multigrid::MultigridSettings::Prolongation::smoothed;
     using Smoother = multigrid::MultigridSettings::Smoother;
     options.multigrid.smoother = smoother == "sor"             ? Smoother::sor
                                  : smoother == "chebyshev_sor" ? Smoother::chebyshev_sor

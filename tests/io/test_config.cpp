@@ -150,6 +150,19 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   }
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_kernel": "fast"})");
   expect_contains(error_of(j), "/solver/multigrid/chebyshev_kernel");
+  EXPECT_EQ(defaults.solver.multigrid.prolongation, S::Prolongation::geometric);
+  j["solver"]["multigrid"] = json::parse(R"({"prolongation": "smoothed", "smoother": "chebyshev_sor"})");
+  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.prolongation, S::Prolongation::smoothed);
+  j["solver"]["multigrid"] = json::parse(R"({"prolongation": "smooth"})");
+  expect_contains(error_of(j), "/solver/multigrid/prolongation: unknown value \"smooth\"");
+  // Smoothed prolongations bring Galerkin operators: asking for rediscretized ones, or for
+  // Gershgorin bounds (which hold for rediscretized P1 levels only), is refused.
+  j["solver"]["multigrid"] =
+      json::parse(R"({"prolongation": "smoothed", "coarse_operators": "rediscretization"})");
+  expect_contains(error_of(j),
+                  "/solver/multigrid/coarse_operators: smoothed prolongations come with Galerkin");
+  j["solver"]["multigrid"] = json::parse(R"({"prolongation": "smoothed", "chebyshev_bounds": "gershgorin"})");
+  expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"gershgorin\" bounds");
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "gershgorin", "smoother": "sor"})");
   expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"gershgorin\" bounds");
   j["solver"]["multigrid"] = json::parse(

@@ -18,8 +18,9 @@ struct Result {
   int iterations;
 };
 
-Result run(MPI_Comm comm, int order) {
+Result run(MPI_Comm comm, int order, multigrid::MultigridSettings settings = {}) {
   multigrid::PoissonMultigridOptions o;
+  o.multigrid = settings;
   o.linear.rtol = 1e-11;
   multigrid::PoissonMultigridSolver mg(comm, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 3,
                                        std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1,
@@ -46,6 +47,19 @@ TEST_P(MpiMultigrid, TwoRanksEqualSerial) {
   if (GetParam() == 1) {
     EXPECT_EQ(parallel.iterations, serial.iterations);
   }
+}
+
+// Smoothed prolongations with their Galerkin operators (PETSc's parallel
+// products) give the serial solution too.
+TEST_P(MpiMultigrid, SmoothedProlongationTwoRanksEqualSerial) {
+  const multigrid::MultigridSettings smoothed{.prolongation =
+                                                  multigrid::MultigridSettings::Prolongation::smoothed};
+  const Result parallel = run(MPI_COMM_WORLD, GetParam(), smoothed);
+  const Result serial = run(MPI_COMM_SELF, GetParam(), smoothed);
+  ASSERT_EQ(parallel.u.size(), serial.u.size());
+  const double diff = (parallel.u - serial.u).lpNorm<Eigen::Infinity>();
+  EXPECT_LT(diff, 1e-8 * serial.u.lpNorm<Eigen::Infinity>()) << "max difference " << diff;
+  EXPECT_LE(std::abs(parallel.iterations - serial.iterations), 3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Orders, MpiMultigrid, ::testing::Values(1, 2));
