@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/scatter.hpp"
+#include "core/prefault.hpp"
 #include "core/threads.hpp"
 #include "fem/cell_partition.hpp"
 
@@ -156,6 +157,7 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   // the rows of a cell lie close together (DOFs are numbered by first use), so
   // the candidates are written to nearby buckets.
   const auto candidates = std::make_unique_for_overwrite<PetscInt[]>(static_cast<std::size_t>(slot[rows]));
+  prefault(candidates.get(), static_cast<std::size_t>(slot[rows]) * sizeof(PetscInt));
   std::vector<PetscInt> fill(static_cast<std::size_t>(rows));
   for (PetscInt r = 0; r < rows; ++r) {
     candidates[static_cast<std::size_t>(slot[r])] = owned_begin_ + r;
@@ -224,7 +226,7 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
       }
   });
   for (PetscInt r = 0; r < rows; ++r) row_ptr[r + 1] += row_ptr[r];
-  cols.resize(static_cast<std::size_t>(row_ptr[rows]));
+  resize_prefaulted(cols, static_cast<std::size_t>(row_ptr[rows]));
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
     for (Index blk = first_block; blk < last_block; ++blk)
       for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r)

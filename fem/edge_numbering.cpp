@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/prefault.hpp"
 
 namespace warpfem::fem {
 
@@ -19,6 +20,7 @@ EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
   require(nv < std::numeric_limits<std::int32_t>::max() && nc * ne < std::numeric_limits<std::int32_t>::max(),
           "EdgeNumbering: more than 2^31 vertices or cell edges");
   cell_edge_.resize(nc, ne);
+  prefault(cell_edge_.data(), static_cast<std::size_t>(cell_edge_.size()) * sizeof(cell_edge_(0, 0)));
   // 1. Every cell edge (a, b), a < b, reserves a slot with its smaller vertex a:
   // an upper bound on the number of distinct edges (a, ·).
   slot_start_.assign(static_cast<std::size_t>(nv) + 1, 0);
@@ -32,6 +34,8 @@ EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
   const std::size_t slots = static_cast<std::size_t>(slot_start_[nv]);
   slot_other_ = std::make_unique_for_overwrite<std::int32_t[]>(slots);
   slot_id_ = std::make_unique_for_overwrite<std::int32_t[]>(slots);
+  prefault(slot_other_.get(), slots * sizeof(std::int32_t));
+  prefault(slot_id_.get(), slots * sizeof(std::int32_t));
   slot_end_.assign(slot_start_.begin(), slot_start_.end() - 1);
   edge_vertices_.reserve(slots);  // untouched capacity costs no memory traffic
   for (Index c = 0; c < nc; ++c)

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/prefault.hpp"
 #include "fem/edge_numbering.hpp"
 
 namespace warpfem::fem {
@@ -25,6 +26,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   // 1. Fine cells over the fine *nodes*: coarse vertex v, midpoint of coarse
   // edge e at nv + e, centre of quadrilateral c at nv + ne + c.
   fine.cells.resize(4 * nc, quads ? 4 : 3);
+  prefault(fine.cells.data(), static_cast<std::size_t>(fine.cells.size()) * sizeof(TableIndex));
   for (Index c = 0; c < nc; ++c) {
     const TableIndex* v = &coarse.cells(c, 0);
     if (!quads) {  // layouts: child_reference_vertices()
@@ -66,6 +68,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
 
   // 3. Positions, written once at the final numbers.
   fine.vertices.resize(nf_vertices, 2);
+  prefault(fine.vertices.data(), static_cast<std::size_t>(fine.vertices.size()) * sizeof(double));
   for (Index v = 0; v < nv; ++v)
     fine.vertices.row(vertex_of[static_cast<std::size_t>(v)]) = coarse.vertices.row(v);
   for (Index e = 0; e < ne; ++e) {

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
+#include "core/prefault.hpp"
 #include "multigrid/chebyshev_bounds.hpp"
 
 namespace warpfem::multigrid {
@@ -201,7 +202,7 @@ void set_up(PC pc, FusedChebyshev& c) {
     if (!block->mat) continue;
     const PetscScalar* a = nullptr;
     WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(block->mat, &a));
-    if (want_single) block->single.resize(static_cast<std::size_t>(block->ia[block->rows]));
+    if (want_single) resize_prefaulted(block->single, static_cast<std::size_t>(block->ia[block->rows]));
     const bool diagonal_block = block == &c.diag;
     for (PetscInt i = 0; i < block->rows; ++i) {
       double sum = 0;

@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/csr_matrix.hpp"
+#include "core/prefault.hpp"
 
 namespace warpfem::multigrid {
 namespace {
@@ -114,8 +115,8 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
     csr.row_ptr[r + 1] += csr.row_ptr[r];
   }
   // A row has at most n entries: each is sorted in place by insertion.
-  csr.cols.resize(static_cast<std::size_t>(csr.row_ptr[static_cast<std::size_t>(rows)]));
-  csr.vals.resize(csr.cols.size());
+  resize_prefaulted(csr.cols, static_cast<std::size_t>(csr.row_ptr[static_cast<std::size_t>(rows)]));
+  resize_prefaulted(csr.vals, csr.cols.size());
   for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
     PetscInt* oc = csr.cols.data() + csr.row_ptr[r];
     PetscScalar* ov = csr.vals.data() + csr.row_ptr[r];

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
+#include "core/prefault.hpp"
 
 namespace warpfem::petsc {
 namespace {
@@ -101,7 +102,7 @@ Matrix adopt_owned_rows(MPI_Comm comm, OwnedRows rows, PetscInt local_cols, Pets
     return adopt_split_rows(comm, std::move(rows), std::move(off), local_cols, global_rows, global_cols,
                             options);
   }
-  if (rows.vals.empty()) rows.vals.assign(rows.cols.size(), 0.0);
+  if (rows.vals.empty()) resize_prefaulted(rows.vals, rows.cols.size());  // zeros
   auto storage = std::make_unique<Storage>();
   storage->diagonal = std::move(rows);
   OwnedRows& d = storage->diagonal;
@@ -121,7 +122,7 @@ Matrix adopt_split_rows(MPI_Comm comm, OwnedRows diagonal, OwnedRows off_diagona
   require(local_rows >= 0 && off_diagonal.row_ptr.size() == diagonal.row_ptr.size(),
           "adopt_split_rows: the diagonal and off-diagonal blocks have different row counts");
   for (OwnedRows* block : {&diagonal, &off_diagonal}) {
-    if (block->vals.empty()) block->vals.assign(block->cols.size(), 0.0);
+    if (block->vals.empty()) resize_prefaulted(block->vals, block->cols.size());  // zeros
     require(block->vals.size() == block->cols.size(),
             "adopt_split_rows: " + std::to_string(block->vals.size()) + " values for " +
                 std::to_string(block->cols.size()) + " columns");
