@@ -2,8 +2,8 @@
 // interpolation is one damped-Jacobi step on the geometric one, with the
 // eliminated Dirichlet rows kept; the coarser operators are Galerkin products;
 // and on the pulled-back gear the Chebyshev–SSOR V-cycle then stays flat where
-// the geometric interpolation's count grows. The first two tests also run on
-// two ranks (test_mpi_smoothed_prolongation).
+// the geometric interpolation's count grows. The L-shape tests also run on
+// two ranks (test_mpi_smoothed_prolongation); the gear study is serial.
 
 #include <gtest/gtest.h>
 
