@@ -109,6 +109,8 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   // Automatic Chebyshev bounds: Gershgorin's is tight for first-order stiffness
   // matrices (no eigenvalue estimates at set-up), loose for higher orders.
   MultigridSettings settings = options.multigrid;
+  // Smoothed: the Galerkin operators were formed above and are handed to PCMG
+  // level by level, which is configure_pcmg's "one operator per level" mode.
   if (smoothed) settings.coarse_operators = MultigridSettings::CoarseOperators::rediscretization;
   using Bounds = MultigridSettings::ChebyshevBounds;
   if (settings.chebyshev_bounds == Bounds::automatic)

@@ -13,8 +13,8 @@
 // cell to cell, and P, exact in Ω0, interpolates across the weak direction as
 // readily as along it. The smoothing step bends each interpolating function
 // along the operator, so the coarse spaces follow the coefficient; with
-// symmetric-SOR smoothing the V-cycle's iteration count then stays flat over
-// the levels (docs/multigrid.md, BENCHMARKS.md).
+// symmetric-SOR smoothing the P1 V-cycle's iteration count then stays flat
+// over the levels (P2's does not; docs/multigrid.md, BENCHMARKS.md).
 //
 // Rows without off-diagonal coupling (Dirichlet rows eliminated to the
 // identity) keep their interpolation, so the eliminated block stays an
