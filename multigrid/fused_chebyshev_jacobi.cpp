@@ -56,6 +56,7 @@ struct FusedChebyshev {
   Vec inv_diag = nullptr, spare = nullptr;
   Vec ghosts = nullptr;
   VecScatter gather = nullptr;
+  std::vector<PetscInt> interface_rows;  // MPI: the rows with off-rank columns
 
   FusedChebyshev() = default;
   FusedChebyshev(const FusedChebyshev&) = delete;
@@ -69,6 +70,7 @@ struct FusedChebyshev {
     VecDestroy(&spare);
     VecDestroy(&ghosts);
     VecScatterDestroy(&gather);
+    std::vector<PetscInt>().swap(interface_rows);
   }
 };
 
@@ -187,6 +189,8 @@ void set_up(PC pc, FusedChebyshev& c) {
     VecDestroy(&layout);
     ISDestroy(&from);
     WARPFEM_PETSC_CHECK(ierr);
+    for (PetscInt i = 0; i < c.off.rows; ++i)
+      if (c.off.ia[i + 1] > c.off.ia[i]) c.interface_rows.push_back(i);
   }
   WARPFEM_PETSC_CHECK(MatCreateVecs(A, &c.inv_diag, nullptr));
 
@@ -258,10 +262,9 @@ inline double row_dot(const Value* __restrict a, const PetscInt* __restrict col,
 
 struct StepData {
   const PetscScalar* b;
-  const PetscScalar* inv;    // 1 / a_ii
-  const PetscScalar* x;      // current iterate x_k (owned rows)
-  const PetscScalar* ghost;  // x_k at the off-diagonal block's columns
-  PetscScalar* out;          // x_{k+1}; with a previous iterate, it holds x_{k-1} on entry
+  const PetscScalar* inv;  // 1 / a_ii
+  const PetscScalar* x;    // current iterate x_k (owned rows)
+  PetscScalar* out;        // x_{k+1}; with a previous iterate, it holds x_{k-1} on entry
   double c1, c2;
 };
 
@@ -269,38 +272,52 @@ struct StepData {
 /// vector (d_k = x_{k+1} − x_k):
 ///   x_{k+1} = x_k + c1·(x_k − x_{k−1}) + c2·D⁻¹(b − A x_k),
 /// where x_{k−1} is read from `out` (with_previous) or zero (c1 = 0 in the
-/// first step; a zero initial guess in the second).
-template <class Value, bool with_off_block, bool with_previous>
-void step_rows(const Block& diag, const Value* __restrict a_diag, const Block& off,
-               const Value* __restrict a_off, const StepData& s) {
+/// first step; a zero initial guess in the second). Only the diagonal block:
+/// on several ranks, subtract_off_block() adds the off-rank columns after.
+template <class Value, bool with_previous>
+void step_rows(const Block& diag, const Value* __restrict a_diag, const StepData& s) {
   const PetscScalar* __restrict b = s.b;
   const PetscScalar* __restrict inv = s.inv;
   const PetscScalar* __restrict x = s.x;
   PetscScalar* __restrict out = s.out;
   for (PetscInt i = 0; i < diag.rows; ++i) {
-    double r = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
-    if constexpr (with_off_block) r -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], s.ghost);
+    const double r = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
     const double previous = with_previous ? out[i] : 0.0;
     out[i] = x[i] + s.c1 * (x[i] - previous) + s.c2 * inv[i] * r;
   }
 }
 
-template <class Value, bool with_off_block>
-void step_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const StepData& s,
-               bool with_previous) {
+template <class Value>
+void step_rows(const FusedChebyshev& c, const Value* a_diag, const StepData& s, bool with_previous) {
   if (with_previous)
-    step_rows<Value, with_off_block, true>(c.diag, a_diag, c.off, a_off, s);
+    step_rows<Value, true>(c.diag, a_diag, s);
   else
-    step_rows<Value, with_off_block, false>(c.diag, a_diag, c.off, a_off, s);
+    step_rows<Value, false>(c.diag, a_diag, s);
 }
 
+/// The off-diagonal block's share of a step, on the rows that have off-rank
+/// columns: out_i −= c2·(A_off g)_i / a_ii, with g the gathered ghost values.
+/// Every other row is done by step_rows alone, so the gather overlaps with it.
 template <class Value>
-void step_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const StepData& s,
-               bool with_previous) {
-  if (c.off.mat)
-    step_rows<Value, true>(c, a_diag, a_off, s, with_previous);
-  else
-    step_rows<Value, false>(c, a_diag, a_off, s, with_previous);
+void subtract_off_block(const FusedChebyshev& c, const Value* __restrict a_off, const PetscScalar* ghost,
+                        const StepData& s) {
+  for (const PetscInt i : c.interface_rows)
+    s.out[i] -= s.c2 * s.inv[i] * row_dot(a_off, c.off.ja, c.off.ia[i], c.off.ia[i + 1], ghost);
+}
+
+/// Starts gathering `v` at the off-diagonal block's columns (MPI only).
+void begin_ghosts(FusedChebyshev& c, Vec v) {
+  if (c.gather) WARPFEM_PETSC_CHECK(VecScatterBegin(c.gather, v, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
+}
+
+/// Finishes the gather begun by begin_ghosts and returns the ghost values (to be
+/// given back with VecRestoreArrayRead on c.ghosts), or null on one rank.
+const PetscScalar* end_ghosts(FusedChebyshev& c, Vec v) {
+  if (!c.gather) return nullptr;
+  WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, v, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar* ghost = nullptr;
+  WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &ghost));
+  return ghost;
 }
 
 void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_guess) {
@@ -344,26 +361,28 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
     } else {
       // x_{k−1} is in `out` from the second step on, unless it was the zero guess.
       const bool with_previous = k > 1 || (k == 1 && !zero_guess);
-      if (c.gather) {
-        WARPFEM_PETSC_CHECK(VecScatterBegin(c.gather, in, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
-        WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, in, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
-        WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &s.ghost));
-      }
+      begin_ghosts(c, in);  // gathered while the diagonal block is swept
       WARPFEM_PETSC_CHECK(VecGetArrayRead(in, &s.x));
       if (with_previous)
         WARPFEM_PETSC_CHECK(VecGetArray(out, &s.out));
       else
         WARPFEM_PETSC_CHECK(VecGetArrayWrite(out, &s.out));
       if (c.use_single)
-        step_rows(c, c.diag.single.data(), c.off.single.data(), s, with_previous);
+        step_rows(c, c.diag.single.data(), s, with_previous);
       else
-        step_rows(c, a_diag, a_off, s, with_previous);
+        step_rows(c, a_diag, s, with_previous);
+      if (const PetscScalar* ghost = end_ghosts(c, in)) {
+        if (c.use_single)
+          subtract_off_block(c, c.off.single.data(), ghost, s);
+        else
+          subtract_off_block(c, a_off, ghost, s);
+        WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
+      }
       if (with_previous)
         WARPFEM_PETSC_CHECK(VecRestoreArray(out, &s.out));
       else
         WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(out, &s.out));
       WARPFEM_PETSC_CHECK(VecRestoreArrayRead(in, &s.x));
-      if (c.gather) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &s.ghost));
     }
     write = 1 - write;
   }
@@ -374,55 +393,52 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
   if (buffers[1 - write] != x) WARPFEM_PETSC_CHECK(VecCopy(buffers[1 - write], x));
 }
 
-/// r = b − A·x over the owned rows.
-template <class Value, bool with_off_block>
-void residual_rows(const Block& diag, const Value* __restrict a_diag, const Block& off,
-                   const Value* __restrict a_off, const PetscScalar* __restrict b,
-                   const PetscScalar* __restrict x, const PetscScalar* __restrict ghost,
-                   PetscScalar* __restrict r) {
-  for (PetscInt i = 0; i < diag.rows; ++i) {
-    double v = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
-    if constexpr (with_off_block) v -= row_dot(a_off, off.ja, off.ia[i], off.ia[i + 1], ghost);
-    r[i] = v;
-  }
+/// r = b − A_diag·x over the owned rows (the diagonal block only).
+template <class Value>
+void residual_rows(const Block& diag, const Value* __restrict a_diag, const PetscScalar* __restrict b,
+                   const PetscScalar* __restrict x, PetscScalar* __restrict r) {
+  for (PetscInt i = 0; i < diag.rows; ++i)
+    r[i] = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
 }
 
+/// r_i −= (A_off g)_i on the rows with off-rank columns.
 template <class Value>
-void residual_rows(const FusedChebyshev& c, const Value* a_diag, const Value* a_off, const PetscScalar* b,
-                   const PetscScalar* x, const PetscScalar* ghost, PetscScalar* r) {
-  if (c.off.mat)
-    residual_rows<Value, true>(c.diag, a_diag, c.off, a_off, b, x, ghost, r);
-  else
-    residual_rows<Value, false>(c.diag, a_diag, c.off, a_off, b, x, ghost, r);
+void subtract_off_block(const FusedChebyshev& c, const Value* __restrict a_off, const PetscScalar* ghost,
+                        PetscScalar* r) {
+  for (const PetscInt i : c.interface_rows)
+    r[i] -= row_dot(a_off, c.off.ja, c.off.ia[i], c.off.ia[i + 1], ghost);
 }
 
 /// r = b − A·x with the smoother's matrix values (the float copy in single precision).
 void residual(FusedChebyshev& c, Vec b, Vec x, Vec r) {
   require(c.diag.mat != nullptr,
           "fused Chebyshev–Jacobi: the level residual is needed before the smoother's set-up");
-  const PetscScalar *bv = nullptr, *xv = nullptr, *ghost = nullptr, *a_diag = nullptr, *a_off = nullptr;
+  const PetscScalar *bv = nullptr, *xv = nullptr, *a_diag = nullptr, *a_off = nullptr;
   PetscScalar* rv = nullptr;
-  if (c.gather) {
-    WARPFEM_PETSC_CHECK(VecScatterBegin(c.gather, x, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
-    WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, x, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
-    WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &ghost));
-  }
+  begin_ghosts(c, x);  // gathered while the diagonal block is swept
   WARPFEM_PETSC_CHECK(VecGetArrayRead(b, &bv));
   WARPFEM_PETSC_CHECK(VecGetArrayRead(x, &xv));
   WARPFEM_PETSC_CHECK(VecGetArrayWrite(r, &rv));
-  if (c.use_single) {
-    residual_rows(c, c.diag.single.data(), c.off.single.data(), bv, xv, ghost, rv);
-  } else {
+  if (!c.use_single) {
     WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.diag.mat, &a_diag));
     if (c.off.mat) WARPFEM_PETSC_CHECK(MatSeqAIJGetArrayRead(c.off.mat, &a_off));
-    residual_rows(c, a_diag, a_off, bv, xv, ghost, rv);
-    if (a_off) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.off.mat, &a_off));
-    WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.diag.mat, &a_diag));
   }
+  if (c.use_single)
+    residual_rows(c.diag, c.diag.single.data(), bv, xv, rv);
+  else
+    residual_rows(c.diag, a_diag, bv, xv, rv);
+  if (const PetscScalar* ghost = end_ghosts(c, x)) {
+    if (c.use_single)
+      subtract_off_block(c, c.off.single.data(), ghost, rv);
+    else
+      subtract_off_block(c, a_off, ghost, rv);
+    WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
+  }
+  if (a_off) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.off.mat, &a_off));
+  if (a_diag) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.diag.mat, &a_diag));
   WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(r, &rv));
   WARPFEM_PETSC_CHECK(VecRestoreArrayRead(x, &xv));
   WARPFEM_PETSC_CHECK(VecRestoreArrayRead(b, &bv));
-  if (ghost) WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
 }
 
 // A level matrix whose residual the fused smoother computes carries a weak
