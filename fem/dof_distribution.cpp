@@ -41,11 +41,18 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
                 " is not a rank of a communicator of size " + std::to_string(size_));
   const IndexTable& cd = dofs.cell_dofs();
   const Index nd = dofs.num_dofs();
-  owner_.assign(static_cast<std::size_t>(nd), size_);
-  local_cells_.reserve(static_cast<std::size_t>(std::count(cell_owner.begin(), cell_owner.end(), rank_)));
-  for (Index c = 0; c < mesh.num_cells(); ++c) {
-    if (cell_owner[c] == rank_) local_cells_.push_back(c);
-    for (Index k = 0; k < cd.cols(); ++k) owner_[cd(c, k)] = std::min(owner_[cd(c, k)], cell_owner[c]);
+  if (size_ == 1) {
+    // Everything is rank 0's: no pass over the cells to find owners.
+    owner_.assign(static_cast<std::size_t>(nd), 0);
+    local_cells_.resize(static_cast<std::size_t>(mesh.num_cells()));
+    std::iota(local_cells_.begin(), local_cells_.end(), Index{0});
+  } else {
+    owner_.assign(static_cast<std::size_t>(nd), size_);
+    local_cells_.reserve(static_cast<std::size_t>(std::count(cell_owner.begin(), cell_owner.end(), rank_)));
+    for (Index c = 0; c < mesh.num_cells(); ++c) {
+      if (cell_owner[c] == rank_) local_cells_.push_back(c);
+      for (Index k = 0; k < cd.cols(); ++k) owner_[cd(c, k)] = std::min(owner_[cd(c, k)], cell_owner[c]);
+    }
   }
   std::vector<PetscInt> count(static_cast<std::size_t>(size_) + 1, 0);
   for (Index d = 0; d < nd; ++d) ++count[owner_[d] + 1];
@@ -57,7 +64,10 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
   if (dofs.dofs_are_vertices()) {
     // P1/Q1: in vertex order (refine_uniformly numbers vertices by first use).
     global_.resize(static_cast<std::size_t>(nd));
-    for (Index d = 0; d < nd; ++d) global_[d] = next[owner_[d]]++;
+    if (size_ == 1)
+      std::iota(global_.begin(), global_.end(), PetscInt{0});
+    else
+      for (Index d = 0; d < nd; ++d) global_[d] = next[owner_[d]]++;
     return;
   }
   // Higher orders: by first use in the cells (in cell order), so that a cell's
