@@ -310,14 +310,15 @@ void begin_ghosts(FusedChebyshev& c, Vec v) {
   if (c.gather) WARPFEM_PETSC_CHECK(VecScatterBegin(c.gather, v, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
 }
 
-/// Finishes the gather begun by begin_ghosts and returns the ghost values (to be
-/// given back with VecRestoreArrayRead on c.ghosts), or null on one rank.
-const PetscScalar* end_ghosts(FusedChebyshev& c, Vec v) {
-  if (!c.gather) return nullptr;
+/// Finishes the gather begun by begin_ghosts. False on one rank; true on
+/// several, with the ghost values in `ghost` (possibly null if there are none),
+/// to be given back with VecRestoreArrayRead on c.ghosts.
+bool end_ghosts(FusedChebyshev& c, Vec v, const PetscScalar*& ghost) {
+  ghost = nullptr;
+  if (!c.gather) return false;
   WARPFEM_PETSC_CHECK(VecScatterEnd(c.gather, v, c.ghosts, INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* ghost = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArrayRead(c.ghosts, &ghost));
-  return ghost;
+  return true;
 }
 
 void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_guess) {
@@ -371,7 +372,7 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
         step_rows(c, c.diag.single.data(), s, with_previous);
       else
         step_rows(c, a_diag, s, with_previous);
-      if (const PetscScalar* ghost = end_ghosts(c, in)) {
+      if (const PetscScalar* ghost = nullptr; end_ghosts(c, in, ghost)) {
         if (c.use_single)
           subtract_off_block(c, c.off.single.data(), ghost, s);
         else
@@ -427,7 +428,7 @@ void residual(FusedChebyshev& c, Vec b, Vec x, Vec r) {
     residual_rows(c.diag, c.diag.single.data(), bv, xv, rv);
   else
     residual_rows(c.diag, a_diag, bv, xv, rv);
-  if (const PetscScalar* ghost = end_ghosts(c, x)) {
+  if (const PetscScalar* ghost = nullptr; end_ghosts(c, x, ghost)) {
     if (c.use_single)
       subtract_off_block(c, c.off.single.data(), ghost, rv);
     else

@@ -155,12 +155,35 @@ void expect_petscs_iteration(Mat A) {
     }
 }
 
+/// Two 1D Laplacians (2, −1) of n/2 rows each, side by side and not coupled:
+/// on two ranks each rank owns one of them, so no rank has a ghost column.
+petsc::Matrix two_chains(PetscInt n) {
+  petsc::Matrix A;
+  WARPFEM_PETSC_CHECK(
+      MatCreateAIJ(PETSC_COMM_WORLD, PETSC_DECIDE, PETSC_DECIDE, n, n, 3, nullptr, 2, nullptr, A.out()));
+  PetscInt begin = 0, end = 0;
+  WARPFEM_PETSC_CHECK(MatGetOwnershipRange(A.get(), &begin, &end));
+  const PetscInt half = n / 2;
+  for (PetscInt row = begin; row < end; ++row) {
+    const PetscInt first = row < half ? 0 : half, last = row < half ? half : n;
+    WARPFEM_PETSC_CHECK(MatSetValue(A.get(), row, row, 2.0, INSERT_VALUES));
+    if (row > first) WARPFEM_PETSC_CHECK(MatSetValue(A.get(), row, row - 1, -1.0, INSERT_VALUES));
+    if (row + 1 < last) WARPFEM_PETSC_CHECK(MatSetValue(A.get(), row, row + 1, -1.0, INSERT_VALUES));
+  }
+  WARPFEM_PETSC_CHECK(MatAssemblyBegin(A.get(), MAT_FINAL_ASSEMBLY));
+  WARPFEM_PETSC_CHECK(MatAssemblyEnd(A.get(), MAT_FINAL_ASSEMBLY));
+  return A;
+}
+
 TEST(FusedChebyshev, RunsPetscsChebyshevJacobiIteration) {
   const auto p = warped_problem(MPI_COMM_WORLD);
   expect_petscs_iteration(p->matrix());
   // No locality at all: scattered columns, and on two ranks many ghost columns.
   const petsc::Matrix A = permuted_laplacian(20000);
   expect_petscs_iteration(A.get());
+  // On two ranks: an off-diagonal block without columns, so nothing to gather.
+  const petsc::Matrix B = two_chains(2000);
+  expect_petscs_iteration(B.get());
 }
 
 /// References to `A` held by a smoother on it after one smoothing step.
