@@ -321,6 +321,29 @@ bool end_ghosts(FusedChebyshev& c, Vec v, const PetscScalar*& ghost) {
   return true;
 }
 
+/// r_i −= (A_off g)_i on the rows with off-rank columns.
+template <class Value>
+void subtract_off_block(const FusedChebyshev& c, const Value* __restrict a_off, const PetscScalar* ghost,
+                        PetscScalar* r) {
+  for (const PetscInt i : c.interface_rows)
+    r[i] -= row_dot(a_off, c.off.ja, c.off.ia[i], c.off.ia[i + 1], ghost);
+}
+
+/// Finishes the gather of `v` begun by begin_ghosts and subtracts the
+/// off-diagonal block's part from `target` (a step's StepData or a residual);
+/// `a_off` holds the double values (the float copy is used in single precision).
+/// Nothing to do on one rank.
+template <class Target>
+void finish_off_block(FusedChebyshev& c, Vec v, const PetscScalar* a_off, const Target& target) {
+  const PetscScalar* ghost = nullptr;
+  if (!end_ghosts(c, v, ghost)) return;
+  if (c.use_single)
+    subtract_off_block(c, c.off.single.data(), ghost, target);
+  else
+    subtract_off_block(c, a_off, ghost, target);
+  WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
+}
+
 void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_guess) {
   if (steps <= 0) return;
   // Classical first-kind Chebyshev iteration on [emin, emax] (Saad, Iterative
@@ -372,13 +395,7 @@ void apply(FusedChebyshev& c, Vec b, Vec x, Vec work, PetscInt steps, bool zero_
         step_rows(c, c.diag.single.data(), s, with_previous);
       else
         step_rows(c, a_diag, s, with_previous);
-      if (const PetscScalar* ghost = nullptr; end_ghosts(c, in, ghost)) {
-        if (c.use_single)
-          subtract_off_block(c, c.off.single.data(), ghost, s);
-        else
-          subtract_off_block(c, a_off, ghost, s);
-        WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
-      }
+      finish_off_block(c, in, a_off, s);
       if (with_previous)
         WARPFEM_PETSC_CHECK(VecRestoreArray(out, &s.out));
       else
@@ -402,14 +419,6 @@ void residual_rows(const Block& diag, const Value* __restrict a_diag, const Pets
     r[i] = b[i] - row_dot(a_diag, diag.ja, diag.ia[i], diag.ia[i + 1], x);
 }
 
-/// r_i −= (A_off g)_i on the rows with off-rank columns.
-template <class Value>
-void subtract_off_block(const FusedChebyshev& c, const Value* __restrict a_off, const PetscScalar* ghost,
-                        PetscScalar* r) {
-  for (const PetscInt i : c.interface_rows)
-    r[i] -= row_dot(a_off, c.off.ja, c.off.ia[i], c.off.ia[i + 1], ghost);
-}
-
 /// r = b − A·x with the smoother's matrix values (the float copy in single precision).
 void residual(FusedChebyshev& c, Vec b, Vec x, Vec r) {
   require(c.diag.mat != nullptr,
@@ -428,13 +437,7 @@ void residual(FusedChebyshev& c, Vec b, Vec x, Vec r) {
     residual_rows(c.diag, c.diag.single.data(), bv, xv, rv);
   else
     residual_rows(c.diag, a_diag, bv, xv, rv);
-  if (const PetscScalar* ghost = nullptr; end_ghosts(c, x, ghost)) {
-    if (c.use_single)
-      subtract_off_block(c, c.off.single.data(), ghost, rv);
-    else
-      subtract_off_block(c, a_off, ghost, rv);
-    WARPFEM_PETSC_CHECK(VecRestoreArrayRead(c.ghosts, &ghost));
-  }
+  finish_off_block(c, x, a_off, rv);
   if (a_off) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.off.mat, &a_off));
   if (a_diag) WARPFEM_PETSC_CHECK(MatSeqAIJRestoreArrayRead(c.diag.mat, &a_diag));
   WARPFEM_PETSC_CHECK(VecRestoreArrayWrite(r, &rv));
