@@ -23,6 +23,7 @@
 // eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1 brings the estimate back.
 
 #include <cstdio>
+#include <exception>
 #include <string>
 
 #include "core/environment.hpp"
@@ -95,7 +96,7 @@ std::string string_option(const char* name, const char* fallback) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   Environment env(argc, argv);
   log::set_level(log::Level::warning);
   const int order = static_cast<int>(int_option("-order", 1));
@@ -226,4 +227,13 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_multigrid_levels: %s\n", e.what());
+    return 1;
+  }
 }
