@@ -58,7 +58,35 @@ EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
     }
 }
 
+EdgeNumbering::EdgeNumbering(IndexTable cell_edge, std::vector<std::array<Index, 2>> edge_vertices,
+                             std::vector<TableIndex> boundary_facet_edge)
+    : edge_vertices_(std::move(edge_vertices)),
+      cell_edge_(std::move(cell_edge)),
+      boundary_facet_edge_(std::move(boundary_facet_edge)),
+      derived_(true) {
+  require(static_cast<Index>(edge_vertices_.size()) < std::numeric_limits<std::int32_t>::max(),
+          "EdgeNumbering: more than 2^31 edges");
+}
+
+void EdgeNumbering::build_slots_from_edges() const {
+  // Edges grouped by their smaller vertex, in id order (one counting pass).
+  Index nv = 0;
+  for (const auto& ev : edge_vertices_) nv = std::max(nv, ev[1] + 1);
+  slot_start_.assign(static_cast<std::size_t>(nv) + 1, 0);
+  for (const auto& ev : edge_vertices_) ++slot_start_[ev[0] + 1];
+  for (Index v = 0; v < nv; ++v) slot_start_[v + 1] += slot_start_[v];
+  slot_end_.assign(slot_start_.begin(), slot_start_.end() - 1);
+  slot_other_ = std::make_unique_for_overwrite<std::int32_t[]>(edge_vertices_.size());
+  slot_id_ = std::make_unique_for_overwrite<std::int32_t[]>(edge_vertices_.size());
+  for (std::size_t e = 0; e < edge_vertices_.size(); ++e) {
+    const Index a = edge_vertices_[e][0];
+    slot_other_[slot_end_[a]] = static_cast<std::int32_t>(edge_vertices_[e][1]);
+    slot_id_[slot_end_[a]++] = static_cast<std::int32_t>(e);
+  }
+}
+
 Index EdgeNumbering::find(Index a, Index b) const {
+  if (derived_) std::call_once(*slots_built_, [this] { build_slots_from_edges(); });
   if (a > b) std::swap(a, b);
   if (a < 0 || a >= static_cast<Index>(slot_end_.size())) return -1;
   for (Index m = slot_start_[a]; m < slot_end_[a]; ++m)

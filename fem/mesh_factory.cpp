@@ -1,5 +1,7 @@
 #include "fem/mesh_factory.hpp"
 
+#include <optional>
+
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "fem/cell_partition.hpp"
@@ -50,8 +52,13 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const map
 
 MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements) {
   levels.push_back(std::move(coarse));
+  // Each refinement numbers the next level's edges from its own (no search),
+  // except the last, whose edges nobody refines.
+  std::optional<EdgeNumbering> edges;
   for (int r = 0; r < refinements; ++r) {
-    transfers.push_back(refine_uniformly(levels.back()));
+    transfers.push_back(refine_uniformly(levels.back(), edges ? &*edges : nullptr, r + 1 < refinements));
+    edges = std::move(transfers.back().fine_edges);
+    transfers.back().fine_edges.reset();
     levels.push_back(std::move(transfers.back().mesh));  // the parent maps stay in `transfers`
   }
 }

@@ -1,7 +1,10 @@
 #include "fem/uniform_refinement.hpp"
 
+#include <algorithm>
 #include <array>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -10,10 +13,66 @@
 
 namespace warpfem::fem {
 
-RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
+namespace {
+
+/// The fine mesh's EdgeNumbering without searching (triangles): fine edges are
+/// halves of coarse edges (key 2E + 0 at the coarse edge's smaller vertex,
+/// 2E + 1 at the other) or one of three edges inside a coarse cell (key
+/// 2ne + 3c + {0: m01–m12, 1: m12–m20, 2: m20–m01}); ids are then given in
+/// the order the fine cells first use the edges, as EdgeNumbering(fine) would.
+EdgeNumbering number_fine_edges(const Mesh<2>& coarse, const EdgeNumbering& edges, const Mesh<2>& fine) {
+  const Index nc = coarse.num_cells(), ne = edges.num_edges();
+  const Index keys = 2 * ne + 3 * nc;
+  checked_table_size(keys, "refine_uniformly: fine edges");
+  std::vector<TableIndex> id_of_key(static_cast<std::size_t>(keys), -1);
+  IndexTable cell_edge(fine.num_cells(), 3);
+  std::vector<std::array<Index, 2>> edge_vertices;
+  edge_vertices.reserve(static_cast<std::size_t>(keys));
+  const auto half = [&](Index E, Index x) { return 2 * E + (x == edges.vertices(E)[0] ? 0 : 1); };
+  for (Index c = 0; c < nc; ++c) {
+    const TableIndex* v = &coarse.cells(c, 0);
+    const Index E0 = edges.cell_edge(c, 0), E1 = edges.cell_edge(c, 1), E2 = edges.cell_edge(c, 2);
+    const Index ka = 2 * ne + 3 * c, kb = ka + 1, kc = ka + 2;
+    // Local edges (0,1), (1,2), (2,0) of the children in the layout of refine_uniformly.
+    const Index child_keys[4][3] = {{half(E0, v[0]), kc, half(E2, v[0])},
+                                    {half(E0, v[1]), half(E1, v[1]), ka},
+                                    {kb, half(E1, v[2]), half(E2, v[2])},
+                                    {ka, kb, kc}};
+    for (Index k = 0; k < 4; ++k) {
+      const Index f = 4 * c + k;
+      for (Index e = 0; e < 3; ++e) {
+        TableIndex& id = id_of_key[static_cast<std::size_t>(child_keys[k][e])];
+        if (id < 0) {
+          id = static_cast<TableIndex>(edge_vertices.size());
+          const Index a = fine.cells(f, e), b = fine.cells(f, (e + 1) % 3);
+          edge_vertices.push_back({std::min(a, b), std::max(a, b)});
+        }
+        cell_edge(f, e) = id;
+      }
+    }
+  }
+  // Fine boundary facets 2f, 2f + 1 are the halves of coarse facet f at its
+  // first and second vertex.
+  const Index nb = coarse.num_boundary_facets();
+  std::vector<TableIndex> facet_edge(static_cast<std::size_t>(2 * nb));
+  for (Index f = 0; f < nb; ++f) {
+    const Index a = coarse.boundary_facets(f, 0), b = coarse.boundary_facets(f, 1);
+    const Index E = edges.boundary_facet_edge(f, a, b);
+    facet_edge[static_cast<std::size_t>(2 * f)] = id_of_key[static_cast<std::size_t>(half(E, a))];
+    facet_edge[static_cast<std::size_t>(2 * f + 1)] = id_of_key[static_cast<std::size_t>(half(E, b))];
+  }
+  return EdgeNumbering(std::move(cell_edge), std::move(edge_vertices), std::move(facet_edge));
+}
+
+}  // namespace
+
+RefinedMesh refine_uniformly(const Mesh<2>& coarse, const EdgeNumbering* coarse_edges, bool number_fine) {
   const bool quads = coarse.cell_type == CellType::quadrilateral;
   require(coarse.cell_type == CellType::triangle || quads, "refine_uniformly: unsupported cell type");
-  const EdgeNumbering edges(coarse);
+  std::optional<EdgeNumbering> own_edges;
+  if (!coarse_edges) coarse_edges = &own_edges.emplace(coarse);
+  const EdgeNumbering& edges = *coarse_edges;
+  require(edges.num_cells() == coarse.num_cells(), "refine_uniformly: the edge numbering is not the mesh's");
   const Index nv = coarse.num_vertices(), ne = edges.num_edges(), nc = coarse.num_cells();
 
   RefinedMesh out;
@@ -89,7 +148,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
   fine.facet_tags.resize(static_cast<std::size_t>(2 * nb));
   for (Index f = 0; f < nb; ++f) {
     const Index a = coarse.boundary_facets(f, 0), b = coarse.boundary_facets(f, 1);
-    const Index e = edges.find(a, b);
+    const Index e = edges.boundary_facet_edge(f, a, b);
     require(e >= 0, "refine_uniformly: boundary facet is not an edge of the mesh");
     const Index fa = vertex_of[static_cast<std::size_t>(a)], fb = vertex_of[static_cast<std::size_t>(b)],
                 fm = vertex_of[static_cast<std::size_t>(nv + e)];
@@ -97,6 +156,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse) {
     fine.boundary_facets.row(2 * f + 1) << fm, fb;
     fine.facet_tags[2 * f] = fine.facet_tags[2 * f + 1] = coarse.facet_tags[f];
   }
+  if (number_fine && !quads) out.fine_edges.emplace(number_fine_edges(coarse, edges, fine));
   return out;
 }
 

@@ -3,8 +3,10 @@
 // refinement), every quadrilateral into 4. The refined mesh is nested in the
 // coarse one in Ω0, which is what makes warped hierarchies nested too.
 
+#include <optional>
 #include <vector>
 
+#include "fem/edge_numbering.hpp"
 #include "fem/mesh.hpp"
 
 namespace warpfem::fem {
@@ -22,9 +24,17 @@ struct RefinedMesh {
   /// nv + ne + c. Fine vertices are numbered by first use in the fine cells,
   /// so this is not the identity.
   std::vector<TableIndex> fine_vertex_of_node;
+  /// The fine mesh's edge numbering, if refine_uniformly was asked for it
+  /// (triangles): the same as EdgeNumbering(mesh), derived from the coarse
+  /// edges instead of searched, for the next refinement.
+  std::optional<EdgeNumbering> fine_edges;
 };
 
-RefinedMesh refine_uniformly(const Mesh<2>& coarse);
+/// `coarse_edges`: the coarse mesh's EdgeNumbering if the caller has it (else it
+/// is built here); `number_fine_edges`: also return the fine mesh's (triangles;
+/// MeshHierarchy passes it on to the next refinement).
+RefinedMesh refine_uniformly(const Mesh<2>& coarse, const EdgeNumbering* coarse_edges = nullptr,
+                             bool number_fine_edges = false);
 
 /// Where the vertices of child `child` (0..3) of a refined cell sit in the
 /// parent's reference cell (triangle (0,0), (1,0), (0,1); quadrilateral

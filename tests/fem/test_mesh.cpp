@@ -218,3 +218,40 @@ TEST(EdgeNumbering, NumbersEachEdgeOnceInFirstUseOrder) {
     EXPECT_EQ(edges.find(0, 0), -1);
   }
 }
+
+// refine_uniformly can number the fine mesh's edges from the coarse ones: the
+// result is exactly EdgeNumbering(fine) (ids, cell table, vertices, find()),
+// and its boundary facet table names each fine facet's edge. Two levels deep,
+// so the second refinement runs on a derived numbering.
+TEST(EdgeNumbering, DerivedFromTheRefinementEqualsTheSearchedOne) {
+  const Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.3});
+  RefinedMesh once = refine_uniformly(coarse, nullptr, true);
+  ASSERT_TRUE(once.fine_edges.has_value());
+  RefinedMesh twice = refine_uniformly(once.mesh, &*once.fine_edges, true);
+  const RefinedMesh twice_searched = refine_uniformly(once.mesh);
+  ASSERT_TRUE(twice.mesh.cells == twice_searched.mesh.cells);
+  ASSERT_TRUE(twice.mesh.vertices == twice_searched.mesh.vertices);
+  ASSERT_TRUE(twice.mesh.boundary_facets == twice_searched.mesh.boundary_facets);
+  EXPECT_EQ(twice.fine_vertex_of_node, twice_searched.fine_vertex_of_node);
+  for (const RefinedMesh* r : {&once, &twice}) {
+    const Mesh<2>& fine = r->mesh;
+    const EdgeNumbering& derived = *r->fine_edges;
+    const EdgeNumbering searched(fine);
+    ASSERT_EQ(derived.num_edges(), searched.num_edges());
+    ASSERT_EQ(derived.num_cells(), fine.num_cells());
+    for (Index c = 0; c < fine.num_cells(); ++c)
+      for (int e = 0; e < 3; ++e)
+        ASSERT_EQ(derived.cell_edge(c, e), searched.cell_edge(c, e)) << c << " " << e;
+    for (Index e = 0; e < derived.num_edges(); ++e) EXPECT_EQ(derived.vertices(e), searched.vertices(e));
+    for (Index f = 0; f < fine.num_boundary_facets(); ++f) {
+      const Index a = fine.boundary_facets(f, 0), b = fine.boundary_facets(f, 1);
+      EXPECT_EQ(derived.boundary_facet_edge(f, a, b), searched.find(a, b));
+      EXPECT_EQ(derived.find(b, a), searched.find(a, b));
+    }
+    EXPECT_EQ(derived.find(0, 0), -1);
+  }
+  // Quadrilaterals keep the searched numbering (none is derived).
+  EXPECT_FALSE(refine_uniformly(split_into_quadrilaterals(coarse), nullptr, true).fine_edges.has_value());
+  // A numbering of another mesh is refused.
+  EXPECT_THROW(refine_uniformly(coarse, &*twice.fine_edges), Error);
+}
