@@ -82,50 +82,49 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse, const EdgeNumbering* coarse_
   checked_table_size(nf_vertices, "refine_uniformly: fine vertices");
   checked_table_size(4 * nc, "refine_uniformly: fine cells");
 
-  // 1. Fine cells over the fine *nodes*: coarse vertex v, midpoint of coarse
-  // edge e at nv + e, centre of quadrilateral c at nv + ne + c.
+  // 1. The fine cells, with fine vertices numbered in the order the fine cells
+  // first use the coarse *nodes* (coarse vertex v, midpoint of coarse edge e
+  // at node nv + e, centre of quadrilateral c at nv + ne + c). Node order would
+  // put the three vertices of a cell up to a whole mesh apart in memory, and
+  // every vertex- or DOF-ordered loop over the level (sparsity pattern,
+  // assembly scatter, matrix rows, prolongation) would jump across the mesh;
+  // the cells are ordered hierarchically (children 4c … 4c+3 of c), so first
+  // use keeps a cell's vertices, and its matrix rows, together. The children
+  // of c first use its nodes in a fixed order (the layouts of
+  // child_reference_vertices(): v0 m01 m20 v1 m12 v2 for a triangle), so one
+  // pass numbers them and writes the cells at their final numbers.
   fine.cells.resize(4 * nc, quads ? 4 : 3);
   prefault(fine.cells.data(), static_cast<std::size_t>(fine.cells.size()) * sizeof(TableIndex));
-  for (Index c = 0; c < nc; ++c) {
-    const TableIndex* v = &coarse.cells(c, 0);
-    if (!quads) {  // layouts: child_reference_vertices()
-      const Index m01 = nv + edges.cell_edge(c, 0), m12 = nv + edges.cell_edge(c, 1),
-                  m20 = nv + edges.cell_edge(c, 2);
-      fine.cells.row(4 * c + 0) << v[0], m01, m20;
-      fine.cells.row(4 * c + 1) << m01, v[1], m12;
-      fine.cells.row(4 * c + 2) << m20, m12, v[2];
-      fine.cells.row(4 * c + 3) << m01, m12, m20;
-    } else {
-      const Index centre = nv + ne + c;  // layouts: child_reference_vertices()
-      Index m[4];
-      for (int k = 0; k < 4; ++k) m[k] = nv + edges.cell_edge(c, k);
-      fine.cells.row(4 * c + 0) << v[0], m[0], centre, m[3];
-      fine.cells.row(4 * c + 1) << m[0], v[1], m[1], centre;
-      fine.cells.row(4 * c + 2) << centre, m[1], v[2], m[2];
-      fine.cells.row(4 * c + 3) << m[3], centre, m[2], v[3];
-    }
-  }
-
-  // 2. Fine vertices are numbered in the order the fine cells first use the
-  // nodes. Node order would put the three vertices of a cell up to a whole
-  // mesh apart in memory, and every vertex- or DOF-ordered loop over the level
-  // (sparsity pattern, assembly scatter, matrix rows, prolongation) would jump
-  // across the mesh; the cells are ordered hierarchically (children 4c … 4c+3
-  // of c), so first use keeps a cell's vertices, and its matrix rows, together.
   std::vector<TableIndex>& vertex_of = out.fine_vertex_of_node;
   vertex_of.assign(static_cast<std::size_t>(nf_vertices), -1);
   TableIndex next = 0;
-  for (Index c = 0; c < fine.num_cells(); ++c)
-    for (Index k = 0; k < fine.cells.cols(); ++k) {
-      TableIndex& node = fine.cells(c, k);
-      TableIndex& v = vertex_of[static_cast<std::size_t>(node)];
-      if (v < 0) v = next++;
-      node = v;
+  const auto number = [&](Index node) {
+    TableIndex& v = vertex_of[static_cast<std::size_t>(node)];
+    if (v < 0) v = next++;
+    return v;
+  };
+  for (Index c = 0; c < nc; ++c) {
+    const TableIndex* v = &coarse.cells(c, 0);
+    TableIndex* out_cells = &fine.cells(4 * c, 0);
+    if (!quads) {
+      const TableIndex v0 = number(v[0]), m01 = number(nv + edges.cell_edge(c, 0)),
+                       m20 = number(nv + edges.cell_edge(c, 2)), v1 = number(v[1]),
+                       m12 = number(nv + edges.cell_edge(c, 1)), v2 = number(v[2]);
+      const TableIndex children[12] = {v0, m01, m20, m01, v1, m12, m20, m12, v2, m01, m12, m20};
+      std::copy(children, children + 12, out_cells);
+    } else {
+      const TableIndex v0 = number(v[0]), m0 = number(nv + edges.cell_edge(c, 0)), ce = number(nv + ne + c),
+                       m3 = number(nv + edges.cell_edge(c, 3)), v1 = number(v[1]),
+                       m1 = number(nv + edges.cell_edge(c, 1)), v2 = number(v[2]),
+                       m2 = number(nv + edges.cell_edge(c, 2)), v3 = number(v[3]);
+      const TableIndex children[16] = {v0, m0, ce, m3, m0, v1, m1, ce, ce, m1, v2, m2, m3, ce, m2, v3};
+      std::copy(children, children + 16, out_cells);
     }
+  }
   for (TableIndex& v : vertex_of)  // a coarse vertex in no cell keeps a place at the end
     if (v < 0) v = next++;
 
-  // 3. Positions, written once at the final numbers.
+  // 2. Positions, written once at the final numbers.
   fine.vertices.resize(nf_vertices, 2);
   prefault(fine.vertices.data(), static_cast<std::size_t>(fine.vertices.size()) * sizeof(double));
   for (Index v = 0; v < nv; ++v)
