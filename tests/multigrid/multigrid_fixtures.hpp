@@ -33,4 +33,12 @@ inline fem::PoissonData mixed_problem(std::optional<Polygon> polygon = l_shape()
   return data;
 }
 
+/// −Δu = 1, u = 0 on the whole boundary (the gear studies).
+inline fem::PoissonData unit_source_zero_dirichlet() {
+  fem::PoissonData data;
+  data.source = fem::ConstantFunction{1.0};
+  data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>&, double) { return 0.0; }});
+  return data;
+}
+
 }  // namespace warpfem::multigrid::test

@@ -19,6 +19,7 @@
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/poisson_multigrid.hpp"
+#include "multigrid_fixtures.hpp"
 
 using namespace warpfem;
 using S = multigrid::MultigridSettings;
@@ -41,9 +42,7 @@ CurvedGear load_curved_gear() {
 }
 
 std::vector<int> iteration_counts(const CurvedGear& g, int order, int min_refinements, int max_refinements) {
-  fem::PoissonData data;
-  data.source = fem::ConstantFunction{1.0};
-  data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>&, double) { return 0.0; }});
+  const fem::PoissonData data = multigrid::test::unit_source_zero_dirichlet();
   std::vector<int> counts;
   for (int r = min_refinements; r <= max_refinements; ++r) {
     multigrid::PoissonMultigridOptions o;

@@ -184,9 +184,7 @@ TEST(SmoothedProlongationOnTheGear, KeepsTheIterationCountFlat) {
   const mapping::MapPtr<2> map = mapping::make_map(spec);
   const fem::Mesh<2> coarse =
       fem::pull_back_target_mesh(*spec.source, *spec.target, *map, {.max_edge_length = 0.15});
-  fem::PoissonData data;
-  data.source = fem::ConstantFunction{1.0};
-  data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>&, double) { return 0.0; }});
+  const fem::PoissonData data = multigrid::test::unit_source_zero_dirichlet();
   const auto iterations = [&](int refinements, S::Prolongation prolongation) {
     multigrid::PoissonMultigridOptions o;
     o.multigrid.smoother = S::Smoother::chebyshev_sor;
