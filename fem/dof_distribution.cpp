@@ -32,34 +32,122 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
     : comm_(comm), dofs_(&dofs) {
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
-  require(static_cast<Index>(cell_owner.size()) == mesh.num_cells(),
-          "DofDistribution: " + std::to_string(cell_owner.size()) + " cell owners for " +
-              std::to_string(mesh.num_cells()) + " cells");
   const auto [lowest, highest] = std::minmax_element(cell_owner.begin(), cell_owner.end());
-  if (!cell_owner.empty() && (*lowest < 0 || *highest >= size_))
-    throw Error("DofDistribution: cell owner " + std::to_string(*lowest < 0 ? *lowest : *highest) +
-                " is not a rank of a communicator of size " + std::to_string(size_));
-  const IndexTable& cd = dofs.cell_dofs();
-  const Index nd = dofs.num_dofs();
+  check_owners(mesh.num_cells(), static_cast<Index>(cell_owner.size()), cell_owner.empty() ? 0 : *lowest,
+               cell_owner.empty() ? 0 : *highest);
   if (size_ == 1) {
-    // Everything is rank 0's: no pass over the cells to find owners.
-    owner_.assign(static_cast<std::size_t>(nd), 0);
     local_cells_.resize(static_cast<std::size_t>(mesh.num_cells()));
     std::iota(local_cells_.begin(), local_cells_.end(), Index{0});
   } else {
-    owner_.assign(static_cast<std::size_t>(nd), size_);
     local_cells_.reserve(static_cast<std::size_t>(std::count(cell_owner.begin(), cell_owner.end(), rank_)));
-    for (Index c = 0; c < mesh.num_cells(); ++c) {
-      if (cell_owner[c] == rank_) local_cells_.push_back(c);
-      for (Index k = 0; k < cd.cols(); ++k) owner_[cd(c, k)] = std::min(owner_[cd(c, k)], cell_owner[c]);
+    for (Index c = 0; c < mesh.num_cells(); ++c)
+      if (cell_owner[static_cast<std::size_t>(c)] == rank_) local_cells_.push_back(c);
+  }
+  own_by_cells(mesh, dofs, [&](Index c) { return cell_owner[static_cast<std::size_t>(c)]; });
+  number(mesh, dofs);
+}
+
+DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs,
+                                 const NestedBlocks& blocks)
+    : comm_(comm), dofs_(&dofs) {
+  MPI_Comm_rank(comm, &rank_);
+  MPI_Comm_size(comm, &size_);
+  require(blocks.num_cells() == mesh.num_cells(), "DofDistribution: " + std::to_string(blocks.num_blocks()) +
+                                                      " blocks of " + std::to_string(blocks.cells_per_block) +
+                                                      " cells for a mesh of " +
+                                                      std::to_string(mesh.num_cells()) + " cells");
+  const auto [lowest, highest] = std::minmax_element(blocks.owner.begin(), blocks.owner.end());
+  check_owners(mesh.num_cells(), mesh.num_cells(), blocks.owner.empty() ? 0 : *lowest,
+               blocks.owner.empty() ? 0 : *highest);
+  const Index nb = blocks.num_blocks(), per_block = blocks.cells_per_block;
+  const auto block_owner = [&](Index b) { return blocks.owner[static_cast<std::size_t>(b)]; };
+  // The rank's cells: whole blocks.
+  const auto mine = [&](Index b) { return size_ == 1 || block_owner(b) == rank_; };
+  Index num_local = 0;
+  for (Index b = 0; b < nb; ++b) num_local += mine(b) ? per_block : 0;
+  resize_prefaulted(local_cells_, static_cast<std::size_t>(num_local));
+  for (Index b = 0, i = 0; b < nb; ++b)
+    if (mine(b)) {
+      std::iota(local_cells_.begin() + i, local_cells_.begin() + i + per_block, b * per_block);
+      i += per_block;
+    }
+  if (size_ > 1 && dofs.dofs_are_vertices()) {
+    // P1/Q1: block b's cells use vertices [first_vertex[b], first_vertex[b + 1])
+    // first, so all cells containing such a vertex have b's owner unless the
+    // vertex lies on the boundary of a block next to another rank's. Only
+    // those blocks' cells are visited (for the lowest rank among them).
+    const std::vector<TableIndex>& first = blocks.first_vertex;
+    const Index nd = dofs.num_dofs();
+    bool ranges_ok = static_cast<Index>(first.size()) == nb + 1 && first[0] == 0 && first.back() <= nd;
+    for (Index b = 0; ranges_ok && b < nb; ++b)
+      ranges_ok = first[static_cast<std::size_t>(b)] <= first[static_cast<std::size_t>(b + 1)];
+    require(ranges_ok, "DofDistribution: the blocks' vertex ranges do not fit the mesh's " +
+                           std::to_string(nd) + " vertices (levels must come from refine_uniformly)");
+    resize_prefaulted(owner_, static_cast<std::size_t>(nd));
+    for (Index b = 0; b < nb; ++b)
+      std::fill(owner_.begin() + first[static_cast<std::size_t>(b)],
+                owner_.begin() + first[static_cast<std::size_t>(b + 1)], block_owner(b));
+    std::fill(owner_.begin() + first.back(), owner_.end(), size_ - 1);  // vertices in no cell
+    const IndexTable& cd = dofs.cell_dofs();
+    for (Index b : blocks.interface_blocks())
+      for (Index c = b * per_block; c < (b + 1) * per_block; ++c)
+        for (Index k = 0; k < cd.cols(); ++k) {
+          int& o = owner_[static_cast<std::size_t>(cd(c, k))];
+          o = std::min(o, block_owner(b));
+        }
+  } else {
+    own_by_cells(mesh, dofs, [&](Index c) { return blocks.cell_owner(c); });
+  }
+  number(mesh, dofs);
+  if (size_ > 1) {
+    // Cells that can hold an owned DOF: those of the blocks next to the rank's.
+    for (Index b : blocks.blocks_near(rank_)) {
+      if (!candidate_cells_.empty() && candidate_cells_.back()[1] == b * per_block)
+        candidate_cells_.back()[1] += per_block;
+      else
+        candidate_cells_.push_back({b * per_block, (b + 1) * per_block});
     }
   }
+}
+
+void DofDistribution::check_owners(Index num_cells, Index num_listed, int lowest, int highest) const {
+  require(num_listed == num_cells, "DofDistribution: " + std::to_string(num_listed) + " cell owners for " +
+                                       std::to_string(num_cells) + " cells");
+  if (num_cells > 0 && (lowest < 0 || highest >= size_))
+    throw Error("DofDistribution: cell owner " + std::to_string(lowest < 0 ? lowest : highest) +
+                " is not a rank of a communicator of size " + std::to_string(size_));
+}
+
+template <class CellOwner>
+void DofDistribution::own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, const CellOwner& cell_owner) {
+  const Index nd = dofs.num_dofs();
+  if (size_ == 1) {  // everything is rank 0's: no pass over the cells
+    owner_.assign(static_cast<std::size_t>(nd), 0);
+    return;
+  }
+  // The lowest rank among the cells containing a DOF; DOFs in no cell are the last rank's.
+  owner_.assign(static_cast<std::size_t>(nd), size_);
+  const IndexTable& cd = dofs.cell_dofs();
+  for (Index c = 0; c < mesh.num_cells(); ++c) {
+    const int r = cell_owner(c);
+    for (Index k = 0; k < cd.cols(); ++k) {
+      int& o = owner_[static_cast<std::size_t>(cd(c, k))];
+      o = std::min(o, r);
+    }
+  }
+  for (int& o : owner_)
+    if (o == size_) o = size_ - 1;
+}
+
+void DofDistribution::number(const Mesh<2>& mesh, const DofMap& dofs) {
+  const IndexTable& cd = dofs.cell_dofs();
+  const Index nd = dofs.num_dofs();
   std::vector<PetscInt> count(static_cast<std::size_t>(size_) + 1, 0);
-  for (Index d = 0; d < nd; ++d) ++count[owner_[d] + 1];
+  for (Index d = 0; d < nd; ++d) ++count[static_cast<std::size_t>(owner_[static_cast<std::size_t>(d)]) + 1];
   std::partial_sum(count.begin(), count.end(), count.begin());
-  owned_begin_ = count[rank_];
-  owned_end_ = count[rank_ + 1];
-  num_global_ = count[size_];
+  owned_begin_ = count[static_cast<std::size_t>(rank_)];
+  owned_end_ = count[static_cast<std::size_t>(rank_) + 1];
+  num_global_ = count[static_cast<std::size_t>(size_)];
   std::vector<PetscInt> next(count.begin(), count.end() - 1);
   if (dofs.dofs_are_vertices()) {
     // P1/Q1: in vertex order (refine_uniformly numbers vertices by first use).
@@ -145,21 +233,29 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
   // 1. Every row holds its diagonal, and every cell offers its other nloc - 1
   // global DOFs as candidate columns to each of its owned rows: count the
   // candidates per row. The cells with an owned row are remembered (all of them
-  // on one rank): step 2 then visits only those.
+  // on one rank): step 2 then visits only those. Nested levels name the cell
+  // ranges that can hold an owned DOF; otherwise every cell is looked at.
   std::vector<PetscInt> slot(static_cast<std::size_t>(rows) + 1, 1);
   slot[0] = 0;
   std::vector<Index> touching;
-  if (size_ > 1) touching.reserve(static_cast<std::size_t>(nc));  // address space only: no regrowth copies
   const bool all_cells = size_ == 1;
-  for (Index c = 0; c < nc; ++c) {
-    bool touches = false;
-    for (Index k = 0; k < nloc; ++k)
-      if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
-        slot[r + 1] += static_cast<PetscInt>(nloc - 1);
-        touches = true;
-      }
-    if (touches && !all_cells) touching.push_back(c);
+  const std::vector<std::array<Index, 2>> every_cell{{0, nc}};
+  const auto& scanned = candidate_cells_.empty() ? every_cell : candidate_cells_;
+  if (!all_cells) {  // address space only: no regrowth copies
+    Index n = 0;
+    for (const auto& [first, last] : scanned) n += last - first;
+    touching.reserve(static_cast<std::size_t>(n));
   }
+  for (const auto& [first, last] : scanned)
+    for (Index c = first; c < last; ++c) {
+      bool touches = false;
+      for (Index k = 0; k < nloc; ++k)
+        if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
+          slot[r + 1] += static_cast<PetscInt>(nloc - 1);
+          touches = true;
+        }
+      if (touches && !all_cells) touching.push_back(c);
+    }
   const Index ncells = all_cells ? nc : static_cast<Index>(touching.size());
   const auto cell = [&](Index i) { return all_cells ? i : touching[static_cast<std::size_t>(i)]; };
   for (PetscInt r = 0; r < rows; ++r) slot[r + 1] += slot[r];

@@ -13,12 +13,14 @@
 #include <mpi.h>
 #include <petscvec.h>
 
+#include <array>
 #include <memory>
 #include <mutex>
 #include <vector>
 
 #include "core/petsc/handles.hpp"
 #include "fem/dof_map.hpp"
+#include "fem/nested_blocks.hpp"
 
 namespace warpfem::fem {
 
@@ -29,6 +31,12 @@ class DofDistribution {
   /// Cells partitioned by `cell_owner` (one rank in [0, size) per cell, the same
   /// on every rank), e.g. a nested partition of a hierarchy (nested_partitions()).
   DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs, const std::vector<int>& cell_owner);
+  /// Cells partitioned by `blocks` (a level above the base of
+  /// nested_level_partitions()). The same distribution as with every cell's
+  /// owner listed, but P1/Q1 owners and numbers follow from the blocks' vertex
+  /// ranges (no pass over the cells), and on several ranks the sparsity
+  /// pattern visits only the cells of the blocks near the rank's.
+  DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs, const NestedBlocks& blocks);
 
   MPI_Comm comm() const { return comm_; }
   int rank() const { return rank_; }
@@ -76,6 +84,14 @@ class DofDistribution {
   std::vector<int> owner_;
   std::vector<PetscInt> global_;
   PetscInt owned_begin_ = 0, owned_end_ = 0, num_global_ = 0;
+  /// Cell ranges [first, last) that can contain an owned DOF (empty: all cells).
+  std::vector<std::array<Index, 2>> candidate_cells_;
+  void check_owners(Index num_cells, Index num_listed, int lowest, int highest) const;
+  /// Owners of the DOFs by a pass over the cells.
+  template <class CellOwner>
+  void own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, const CellOwner& cell_owner);
+  /// PETSc numbers from owner_: rank by rank (see the class comment).
+  void number(const Mesh<2>& mesh, const DofMap& dofs);
   void build_relevant() const;
   // relevant_dofs() and its inverse, built once on demand (the flag on the heap
   // keeps the class movable).

@@ -63,24 +63,49 @@ MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements) {
   }
 }
 
+namespace {
+/// The level nested_partitions() cuts along the Morton curve last (every
+/// coarser level is cut too, every finer one inherits): the coarsest with at
+/// least `min_cells_per_part` cells per part, else the finest.
+int partition_base_level(const MeshHierarchy& h, int num_parts, Index min_cells_per_part) {
+  require(num_parts >= 1, "nested_partitions: need at least one part");
+  for (int l = 0; l < h.num_levels(); ++l)
+    if (h.levels[static_cast<std::size_t>(l)].num_cells() >= min_cells_per_part * num_parts) return l;
+  return h.num_levels() - 1;
+}
+}  // namespace
+
 std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
                                                 Index min_cells_per_part) {
-  require(num_parts >= 1, "nested_partitions: need at least one part");
+  const int base = partition_base_level(h, num_parts, min_cells_per_part);
   std::vector<std::vector<int>> owners(static_cast<std::size_t>(h.num_levels()));
-  bool base_found = false;
   for (int l = 0; l < h.num_levels(); ++l) {
     const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];
     auto& owner = owners[static_cast<std::size_t>(l)];
-    if (num_parts == 1) {
+    if (num_parts == 1)
       owner.assign(static_cast<std::size_t>(mesh.num_cells()), 0);
-    } else if (!base_found) {
+    else if (l <= base)
       owner = partition_cells(mesh, num_parts);
-      base_found = mesh.num_cells() >= min_cells_per_part * num_parts;
-    } else {
+    else
       owner = inherit_partition(owners[static_cast<std::size_t>(l - 1)]);
-    }
   }
   return owners;
+}
+
+std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int num_parts,
+                                                    Index min_cells_per_part) {
+  const int base = num_parts == 1 ? 0 : partition_base_level(h, num_parts, min_cells_per_part);
+  std::vector<LevelPartition> levels(static_cast<std::size_t>(h.num_levels()));
+  for (int l = 0; l <= base; ++l) {
+    const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];
+    levels[static_cast<std::size_t>(l)].cell_owner =
+        num_parts == 1 ? std::vector<int>(static_cast<std::size_t>(mesh.num_cells()), 0)
+                       : partition_cells(mesh, num_parts);
+  }
+  for (int l = base + 1; l < h.num_levels(); ++l)
+    levels[static_cast<std::size_t>(l)].blocks =
+        nested_blocks(h, base, l, levels[static_cast<std::size_t>(base)].cell_owner);
+  return levels;
 }
 
 }  // namespace warpfem::fem

@@ -7,6 +7,7 @@
 
 #include "core/polygon.hpp"
 #include "fem/mesh.hpp"
+#include "fem/nested_blocks.hpp"
 #include "fem/uniform_refinement.hpp"
 #include "mapping/map.hpp"
 
@@ -56,5 +57,11 @@ struct MeshHierarchy {
 /// the large levels is skipped.
 std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
                                                 Index min_cells_per_part = 256);
+
+/// The same partition, with the levels above the base described as
+/// NestedBlocks (no per-cell owner lists for the large levels). One part: the
+/// base is level 0.
+std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int num_parts,
+                                                    Index min_cells_per_part = 256);
 
 }  // namespace warpfem::fem

@@ -27,17 +27,29 @@ bool BoundaryCondition::applies_to(int tag) const {
 PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
                                int quadrature_degree, PoissonData data, GeometryStorage storage,
                                const std::vector<int>& cell_owner)
+    : PoissonProblem(comm, mesh, std::move(map), order, quadrature_degree, std::move(data), storage,
+                     DistributionMaker([&](const DofMap& dofs) {
+                       return cell_owner.empty() ? DofDistribution(comm, mesh, dofs)
+                                                 : DofDistribution(comm, mesh, dofs, cell_owner);
+                     })) {}
+
+PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
+                               int quadrature_degree, PoissonData data, GeometryStorage storage,
+                               const NestedBlocks& blocks)
+    : PoissonProblem(
+          comm, mesh, std::move(map), order, quadrature_degree, std::move(data), storage,
+          DistributionMaker([&](const DofMap& dofs) { return DofDistribution(comm, mesh, dofs, blocks); })) {}
+
+PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
+                               int quadrature_degree, PoissonData data, GeometryStorage storage,
+                               const DistributionMaker& distribute)
     : comm_(comm),
       mesh_(mesh),
       map_(std::move(map)),
       data_(std::move(data)),
       dofs_(timed(setup_timings_.dof_map,
                   [&] { return DofMap(mesh, LagrangeElement(mesh.cell_type, order)); })),
-      dist_(timed(setup_timings_.distribution,
-                  [&] {
-                    return cell_owner.empty() ? DofDistribution(comm, mesh, dofs_)
-                                              : DofDistribution(comm, mesh, dofs_, cell_owner);
-                  })),
+      dist_(timed(setup_timings_.distribution, [&] { return distribute(dofs_); })),
       geometry_(timed(setup_timings_.geometry, [&] {
         return WarpedGeometry(mesh, dist_.local_cells(), WarpedGeometry::BorrowCells{},
                               cell_quadrature(mesh.cell_type, quadrature_degree), *map_, storage);

@@ -4,6 +4,7 @@
 // Lagrange P1/P2 (triangles) or Q1/Q2 (quadrilaterals) on the simple mesh;
 // geometry from WarpedGeometry; matrices and vectors are distributed PETSc objects.
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -53,6 +54,9 @@ class PoissonProblem {
   PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
                  PoissonData data, GeometryStorage storage = GeometryStorage::cached,
                  const std::vector<int>& cell_owner = {});
+  /// A level of a hierarchy above its partitioned base (nested_level_partitions()).
+  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
+                 PoissonData data, GeometryStorage storage, const NestedBlocks& blocks);
 
   /// Assembles the stiffness matrix and load vector and applies the boundary conditions.
   /// The sparsity pattern and the matrix itself are created once by the constructor;
@@ -87,6 +91,10 @@ class PoissonProblem {
   void create_matrix();
   /// Element stiffness matrix of local cell i of a geometry chunk (n x n, row-major).
   void element_stiffness(const GeometryChunk& g, Index i, double* ke) const;
+
+  using DistributionMaker = std::function<DofDistribution(const DofMap&)>;
+  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
+                 PoissonData data, GeometryStorage storage, const DistributionMaker& distribute);
 
   PoissonSetupTimings setup_timings_;  // first: the members below are timed into it
   MPI_Comm comm_;

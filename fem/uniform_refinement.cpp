@@ -103,7 +103,10 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse, const EdgeNumbering* coarse_
     if (v < 0) v = next++;
     return v;
   };
+  std::vector<TableIndex>& first_new = out.first_new_vertex;
+  first_new.resize(static_cast<std::size_t>(nc) + 1);
   for (Index c = 0; c < nc; ++c) {
+    first_new[static_cast<std::size_t>(c)] = next;
     const TableIndex* v = &coarse.cells(c, 0);
     TableIndex* out_cells = &fine.cells(4 * c, 0);
     if (!quads) {
@@ -121,6 +124,7 @@ RefinedMesh refine_uniformly(const Mesh<2>& coarse, const EdgeNumbering* coarse_
       std::copy(children, children + 16, out_cells);
     }
   }
+  first_new[static_cast<std::size_t>(nc)] = next;
   for (TableIndex& v : vertex_of)  // a coarse vertex in no cell keeps a place at the end
     if (v < 0) v = next++;
 

@@ -24,6 +24,11 @@ struct RefinedMesh {
   /// nv + ne + c. Fine vertices are numbered by first use in the fine cells,
   /// so this is not the identity.
   std::vector<TableIndex> fine_vertex_of_node;
+  /// first_new_vertex[c]: the first fine vertex the children of coarse cell c
+  /// number (coarse cells + 1 entries). The children of c use first exactly
+  /// the fine vertices [first_new_vertex[c], first_new_vertex[c + 1]); the
+  /// fine vertices from first_new_vertex.back() on lie in no cell.
+  std::vector<TableIndex> first_new_vertex;
   /// The fine mesh's edge numbering, if refine_uniformly was asked for it
   /// (triangles): the same as EdgeNumbering(mesh), derived from the coarse
   /// edges instead of searched, for the next refinement.

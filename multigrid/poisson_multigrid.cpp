@@ -44,13 +44,17 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   watch.reset();
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  const std::vector<std::vector<int>> owners = fem::nested_partitions(hierarchy_, ranks);
+  const std::vector<fem::LevelPartition> partitions = fem::nested_level_partitions(hierarchy_, ranks);
   for (int l = 0; l < levels; ++l) {
     const fem::GeometryStorage storage =
         l == levels - 1 ? options.finest_geometry : fem::GeometryStorage::streamed;
-    problems_.push_back(std::make_unique<fem::PoissonProblem>(
-        comm, hierarchy_.levels[static_cast<std::size_t>(l)], map, order, quadrature_degree, data, storage,
-        owners[static_cast<std::size_t>(l)]));
+    const fem::LevelPartition& part = partitions[static_cast<std::size_t>(l)];
+    const fem::Mesh<2>& mesh = hierarchy_.levels[static_cast<std::size_t>(l)];
+    problems_.push_back(part.blocks
+                            ? std::make_unique<fem::PoissonProblem>(comm, mesh, map, order, quadrature_degree,
+                                                                    data, storage, *part.blocks)
+                            : std::make_unique<fem::PoissonProblem>(comm, mesh, map, order, quadrature_degree,
+                                                                    data, storage, part.cell_owner));
     report_.level_dofs.push_back(problems_.back()->dofs().num_dofs());
     const fem::PoissonSetupTimings& p = problems_.back()->setup_timings();
     t.problem_parts.dof_map += p.dof_map;
