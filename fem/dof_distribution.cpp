@@ -224,6 +224,19 @@ void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std
 
 void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
                                std::vector<PetscInt>& cols) const {
+  pattern(mesh, dofs, row_ptr, cols, nullptr, nullptr);
+}
+
+void DofDistribution::sparsity_split(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+                                     std::vector<PetscInt>& cols, std::vector<PetscInt>& off_row_ptr,
+                                     std::vector<PetscInt>& off_cols) const {
+  pattern(mesh, dofs, row_ptr, cols, &off_row_ptr, &off_cols);
+}
+
+void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+                              std::vector<PetscInt>& cols, std::vector<PetscInt>* off_row_ptr,
+                              std::vector<PetscInt>* off_cols) const {
+  const bool split = off_row_ptr != nullptr;
   const IndexTable& cd = dofs.cell_dofs();
   const Index nc = mesh.num_cells(), nloc = cd.cols();
   const PetscInt rows = num_owned();
@@ -306,9 +319,15 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
     }
   }
   // 3. Sort and deduplicate every row's candidates in place (blocks of rows on
-  // the threads), then pack the rows.
+  // the threads), then pack the rows. Split: a sorted row's columns of other
+  // ranks are a prefix (below the own range) and a suffix (above it).
   const Index blocks = std::max<Index>(1, std::min<Index>(64, rows / 4096));
   row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
+  std::vector<PetscInt> below;  // split: per row, the columns below the own range
+  if (split) {
+    off_row_ptr->assign(static_cast<std::size_t>(rows) + 1, 0);
+    below.assign(static_cast<std::size_t>(rows), 0);
+  }
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
     for (Index blk = first_block; blk < last_block; ++blk)
       for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r) {
@@ -328,16 +347,43 @@ void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vec
           for (PetscInt carry = g; j <= kept; ++j) std::swap(carry, *j);
           ++kept;
         }
-        row_ptr[r + 1] = static_cast<PetscInt>(kept - begin);  // a length for now
+        PetscInt length = static_cast<PetscInt>(kept - begin);  // a length for now
+        if (split && (*begin < owned_begin_ || kept[-1] >= owned_end_)) {
+          const PetscInt lo = static_cast<PetscInt>(std::lower_bound(begin, kept, owned_begin_) - begin);
+          const PetscInt hi = static_cast<PetscInt>(kept - std::lower_bound(begin, kept, owned_end_));
+          below[static_cast<std::size_t>(r)] = lo;
+          (*off_row_ptr)[static_cast<std::size_t>(r) + 1] = lo + hi;
+          length -= lo + hi;
+        }
+        row_ptr[r + 1] = length;
       }
   });
   for (PetscInt r = 0; r < rows; ++r) row_ptr[r + 1] += row_ptr[r];
   resize_prefaulted(cols, static_cast<std::size_t>(row_ptr[rows]));
+  if (!split) {
+    parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
+      for (Index blk = first_block; blk < last_block; ++blk)
+        for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r)
+          std::copy(candidates.get() + slot[r], candidates.get() + slot[r] + (row_ptr[r + 1] - row_ptr[r]),
+                    cols.begin() + row_ptr[r]);
+    });
+    return;
+  }
+  std::vector<PetscInt>& orp = *off_row_ptr;
+  for (PetscInt r = 0; r < rows; ++r) orp[r + 1] += orp[r];
+  off_cols->resize(static_cast<std::size_t>(orp[rows]));
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
     for (Index blk = first_block; blk < last_block; ++blk)
-      for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r)
-        std::copy(candidates.get() + slot[r], candidates.get() + slot[r] + (row_ptr[r + 1] - row_ptr[r]),
-                  cols.begin() + row_ptr[r]);
+      for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r) {
+        const PetscInt* row = candidates.get() + slot[r];
+        const PetscInt lo = below[static_cast<std::size_t>(r)], off = orp[r + 1] - orp[r];
+        const PetscInt own = row_ptr[r + 1] - row_ptr[r];
+        PetscInt* out = cols.data() + row_ptr[r];
+        for (PetscInt k = 0; k < own; ++k) out[k] = row[lo + k] - owned_begin_;
+        PetscInt* out_off = off_cols->data() + orp[r];
+        std::copy(row, row + lo, out_off);
+        std::copy(row + lo + own, row + lo + own + (off - lo), out_off + lo);
+      }
   });
 }
 

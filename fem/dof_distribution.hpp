@@ -76,6 +76,13 @@ class DofDistribution {
   /// couples to the sorted global columns cols[row_ptr[r] .. row_ptr[r + 1]).
   void sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
                 std::vector<PetscInt>& cols) const;
+  /// The same pattern split the way PETSc's MATMPIAIJ stores it (for
+  /// petsc::adopt_split_rows): the columns in [owned_begin(), owned_end()) as
+  /// local indices in (row_ptr, cols), the others as global indices in
+  /// (off_row_ptr, off_cols). Saves adopting the unsplit rows a second pass.
+  void sparsity_split(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+                      std::vector<PetscInt>& cols, std::vector<PetscInt>& off_row_ptr,
+                      std::vector<PetscInt>& off_cols) const;
 
  private:
   MPI_Comm comm_;
@@ -87,6 +94,10 @@ class DofDistribution {
   /// Cell ranges [first, last) that can contain an owned DOF (empty: all cells).
   std::vector<std::array<Index, 2>> candidate_cells_;
   void check_owners(Index num_cells, Index num_listed, int lowest, int highest) const;
+  /// sparsity() and sparsity_split(): off_row_ptr / off_cols null for the unsplit pattern.
+  void pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+               std::vector<PetscInt>& cols, std::vector<PetscInt>* off_row_ptr,
+               std::vector<PetscInt>* off_cols) const;
   /// Owners of the DOFs by a pass over the cells.
   template <class CellOwner>
   void own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, const CellOwner& cell_owner);

@@ -101,16 +101,23 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
 }
 
 void PoissonProblem::create_matrix() {
-  // PETSc adopts the pattern without copying it (split in place into the
-  // diagonal and off-diagonal blocks under MPI); assembly then writes into the
-  // matrix's own arrays. rows.vals stays empty: the values start as zeros.
-  petsc::OwnedRows rows;
-  dist_.sparsity(mesh_, dofs_, rows.row_ptr, rows.cols);
+  // PETSc adopts the pattern without copying it (under MPI built already split
+  // into the diagonal and off-diagonal blocks); assembly then writes into the
+  // matrix's own arrays. The values start as zeros.
   int size = 1;
   MPI_Comm_size(comm_, &size);
   serial_ = size == 1;
-  A_ = petsc::adopt_owned_rows(comm_, std::move(rows), dist_.num_owned(), dist_.owned_begin(),
-                               dist_.num_global(), dist_.num_global(), {.inodes = false});
+  petsc::OwnedRows rows;
+  if (serial_) {
+    dist_.sparsity(mesh_, dofs_, rows.row_ptr, rows.cols);
+    A_ = petsc::adopt_owned_rows(comm_, std::move(rows), dist_.num_owned(), dist_.owned_begin(),
+                                 dist_.num_global(), dist_.num_global(), {.inodes = false});
+  } else {
+    petsc::OwnedRows off;
+    dist_.sparsity_split(mesh_, dofs_, rows.row_ptr, rows.cols, off.row_ptr, off.cols);
+    A_ = petsc::adopt_split_rows(comm_, std::move(rows), std::move(off), dist_.num_owned(),
+                                 dist_.num_global(), dist_.num_global(), {.inodes = false});
+  }
   WARPFEM_PETSC_CHECK(MatSetOption(A_.get(), MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   b_ = dist_.create_vector();
   u_ = dist_.create_vector();

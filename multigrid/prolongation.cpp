@@ -97,8 +97,16 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
       emit(cdist.global(cd), fixed ? 1.0 : v);
     }
   };
-  petsc::OwnedRows csr;
+  // Under MPI the rows are written split the way MATMPIAIJ stores them: coarse
+  // columns of this rank local (diagonal block), the others global.
+  int size = 1;
+  MPI_Comm_size(fdist.comm(), &size);
+  const bool split = size > 1;
+  const PetscInt cbegin = cdist.owned_begin(), cend = cdist.owned_end();
+  const auto is_own = [&](PetscInt col) { return !split || (col >= cbegin && col < cend); };
+  petsc::OwnedRows csr, off;
   csr.row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
+  if (split) off.row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
   for (Index f : fdist.local_cells())
     for (int k = 0; k < n; ++k) {
       const Index d = fdofs(f, k);
@@ -106,28 +114,43 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
       const std::size_t row = static_cast<std::size_t>(fdist.global(d) - fdist.owned_begin());
       if (source[row] != kUnset) continue;
       source[row] = static_cast<std::int64_t>(f) * n + k;
-      PetscInt m = 0;
-      for_each_entry(f, k, [&](PetscInt, double) { ++m; });
+      PetscInt m = 0, m_off = 0;
+      for_each_entry(f, k, [&](PetscInt col, double) { ++(is_own(col) ? m : m_off); });
       csr.row_ptr[row + 1] = m;
+      if (split) off.row_ptr[row + 1] = m_off;
     }
   for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
     if (source[r] == kUnset) throw Error("assemble_prolongation: an owned fine DOF lies in no local cell");
     csr.row_ptr[r + 1] += csr.row_ptr[r];
+    if (split) off.row_ptr[r + 1] += off.row_ptr[r];
   }
   // A row has at most n entries: each is sorted in place by insertion.
   resize_prefaulted(csr.cols, static_cast<std::size_t>(csr.row_ptr[static_cast<std::size_t>(rows)]));
   resize_prefaulted(csr.vals, csr.cols.size());
+  if (split) {
+    off.cols.resize(static_cast<std::size_t>(off.row_ptr[static_cast<std::size_t>(rows)]));
+    off.vals.resize(off.cols.size());
+  }
+  const auto insert = [](PetscInt* oc, PetscScalar* ov, PetscInt& m, PetscInt col, double val) {
+    PetscInt j = m++;
+    for (; j > 0 && oc[j - 1] > col; --j) oc[j] = oc[j - 1], ov[j] = ov[j - 1];
+    oc[j] = col, ov[j] = val;
+  };
   for (std::size_t r = 0; r < static_cast<std::size_t>(rows); ++r) {
     PetscInt* oc = csr.cols.data() + csr.row_ptr[r];
     PetscScalar* ov = csr.vals.data() + csr.row_ptr[r];
-    PetscInt m = 0;
-    for_each_entry(static_cast<Index>(source[r] / n), static_cast<int>(source[r] % n),
-                   [&](PetscInt col, double val) {
-                     PetscInt j = m++;
-                     for (; j > 0 && oc[j - 1] > col; --j) oc[j] = oc[j - 1], ov[j] = ov[j - 1];
-                     oc[j] = col, ov[j] = val;
-                   });
+    PetscInt m = 0, m_off = 0;
+    for_each_entry(
+        static_cast<Index>(source[r] / n), static_cast<int>(source[r] % n), [&](PetscInt col, double val) {
+          if (is_own(col))
+            insert(oc, ov, m, split ? col - cbegin : col, val);
+          else
+            insert(off.cols.data() + off.row_ptr[r], off.vals.data() + off.row_ptr[r], m_off, col, val);
+        });
   }
+  if (split)
+    return petsc::adopt_split_rows(fdist.comm(), std::move(csr), std::move(off), cdist.num_owned(),
+                                   fdist.num_global(), cdist.num_global(), {.inodes = false});
   return petsc::adopt_owned_rows(fdist.comm(), std::move(csr), cdist.num_owned(), cdist.owned_begin(),
                                  fdist.num_global(), cdist.num_global(), {.inodes = false});
 }

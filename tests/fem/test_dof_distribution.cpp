@@ -1,5 +1,6 @@
 // The matrix sparsity pattern: every owned row lists, sorted and without
-// duplicates, exactly the DOFs that share a cell with the row's DOF (on one
+// duplicates, exactly the DOFs that share a cell with the row's DOF, also when
+// split into PETSc's diagonal and off-diagonal blocks (on one
 // rank, and on two as test_mpi_dof_distribution: the other rank's columns on
 // both sides of the own range included).
 
@@ -45,6 +46,23 @@ void expect_sparsity_is_the_cell_coupling(const fem::Mesh<2>& mesh, int order) {
       foreign_below |= c < dist.owned_begin();
       foreign_above |= c >= dist.owned_end();
     }
+  }
+  // The split form: the same rows, own columns local, the others global.
+  std::vector<PetscInt> own_ptr, own_cols, off_ptr, off_cols;
+  dist.sparsity_split(mesh, dofs, own_ptr, own_cols, off_ptr, off_cols);
+  ASSERT_EQ(own_ptr.size(), row_ptr.size());
+  ASSERT_EQ(off_ptr.size(), row_ptr.size());
+  for (std::size_t r = 0; r + 1 < row_ptr.size(); ++r) {
+    std::vector<PetscInt> own, off;
+    for (PetscInt k = row_ptr[r]; k < row_ptr[r + 1]; ++k)
+      if (cols[k] >= dist.owned_begin() && cols[k] < dist.owned_end())
+        own.push_back(cols[k] - dist.owned_begin());
+      else
+        off.push_back(cols[k]);
+    ASSERT_EQ(std::vector<PetscInt>(own_cols.begin() + own_ptr[r], own_cols.begin() + own_ptr[r + 1]), own)
+        << "owned row " << r;
+    ASSERT_EQ(std::vector<PetscInt>(off_cols.begin() + off_ptr[r], off_cols.begin() + off_ptr[r + 1]), off)
+        << "owned row " << r;
   }
   // On two ranks the rows along the interface hold the other rank's columns.
   int rank = 0, size = 1;

@@ -1,5 +1,6 @@
-// Prolongation between nested levels: exact for polynomials of the space,
-// and consistent with the eliminated Dirichlet rows (PᵀAP = rediscretized A).
+// Prolongation between nested levels: exact for polynomials of the space (also
+// on two ranks, as test_mpi_prolongation), and consistent with the eliminated
+// Dirichlet rows (PᵀAP = rediscretized A).
 
 #include <gtest/gtest.h>
 
@@ -44,12 +45,20 @@ petsc::Vector interpolate(const fem::DofMap& dofs, const fem::DofDistribution& d
 /// max_i |(P g_coarse)_i − g(x_i)| over the finest level of a 3-level hierarchy (both prolongations).
 double prolongation_error(const Case& c, const Polynomial& g) {
   const fem::MeshHierarchy h(coarse_l_shape(c.type, 0.6), 2);
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  // On two ranks (test_mpi_prolongation) the levels above the base are nested blocks.
+  const auto parts = fem::nested_level_partitions(h, size, 4);
+  const auto distribute = [&](int l, const fem::DofMap& dofs) {
+    const fem::LevelPartition& p = parts[static_cast<std::size_t>(l)];
+    return p.blocks ? fem::DofDistribution(MPI_COMM_WORLD, h.levels[l], dofs, *p.blocks)
+                    : fem::DofDistribution(MPI_COMM_WORLD, h.levels[l], dofs, p.cell_owner);
+  };
   double worst = 0;
   for (int l = 1; l < h.num_levels(); ++l) {
     const fem::LagrangeElement element(c.type, c.order);
     const fem::DofMap cdofs(h.levels[l - 1], element), fdofs(h.levels[l], element);
-    const fem::DofDistribution cdist(MPI_COMM_SELF, h.levels[l - 1], cdofs),
-        fdist(MPI_COMM_SELF, h.levels[l], fdofs);
+    const fem::DofDistribution cdist = distribute(l - 1, cdofs), fdist = distribute(l, fdofs);
     const petsc::Matrix P = multigrid::assemble_prolongation(h, l, {.dofs = &cdofs, .distribution = &cdist},
                                                              {.dofs = &fdofs, .distribution = &fdist});
     const petsc::Vector uc = interpolate(cdofs, cdist, g), expected = interpolate(fdofs, fdist, g);
