@@ -63,6 +63,8 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   const fem::Mesh<2>& mesh = problem.mesh();
   result.num_cells = mesh.num_cells();
   result.h = mesh.max_edge_length();
+  if (mesh.partial)  // stored only around this rank's cells: the largest over the ranks
+    MPI_Allreduce(MPI_IN_PLACE, &result.h, 1, MPI_DOUBLE, MPI_MAX, comm);
   result.num_dofs = problem.dofs().num_dofs();
   log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
             " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements)");

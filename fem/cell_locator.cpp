@@ -7,6 +7,7 @@
 namespace warpfem::fem {
 
 CellLocator::CellLocator(const Mesh<2>& mesh) : mesh_(mesh) {
+  mesh.require_whole("CellLocator");
   const Index nc = mesh.num_cells();
   lo_ = mesh.vertices.colwise().minCoeff().transpose();
   const Point<2> hi = mesh.vertices.colwise().maxCoeff().transpose();

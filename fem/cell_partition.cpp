@@ -22,6 +22,7 @@ std::uint64_t spread_bits(std::uint32_t v) {
 }  // namespace
 
 std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts) {
+  mesh.require_whole("partition_cells");
   const Index nc = mesh.num_cells();
   std::vector<int> owner(static_cast<std::size_t>(nc), 0);
   if (num_parts <= 1 || nc == 0) return owner;

@@ -32,6 +32,7 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
     : comm_(comm), dofs_(&dofs) {
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
+  mesh.require_whole("DofDistribution from a list of cell owners");
   const auto [lowest, highest] = std::minmax_element(cell_owner.begin(), cell_owner.end());
   check_owners(mesh.num_cells(), static_cast<Index>(cell_owner.size()), cell_owner.empty() ? 0 : *lowest,
                cell_owner.empty() ? 0 : *highest);
@@ -72,10 +73,9 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
       i += per_block;
     }
   if (size_ > 1 && dofs.dofs_are_vertices()) {
-    // P1/Q1: block b's cells use vertices [first_vertex[b], first_vertex[b + 1])
-    // first, so all cells containing such a vertex have b's owner unless the
-    // vertex lies on the boundary of a block next to another rank's. Only
-    // those blocks' cells are visited (for the lowest rank among them).
+    // P1/Q1: the first cell containing a vertex in [first_vertex[b],
+    // first_vertex[b + 1]) is one of block b's, so b's owner owns it. No pass
+    // over the cells (on a partial mesh most of them are not stored).
     const std::vector<TableIndex>& first = blocks.first_vertex;
     const Index nd = dofs.num_dofs();
     bool ranges_ok = static_cast<Index>(first.size()) == nb + 1 && first[0] == 0 && first.back() <= nd;
@@ -88,14 +88,8 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
       std::fill(owner_.begin() + first[static_cast<std::size_t>(b)],
                 owner_.begin() + first[static_cast<std::size_t>(b + 1)], block_owner(b));
     std::fill(owner_.begin() + first.back(), owner_.end(), size_ - 1);  // vertices in no cell
-    const IndexTable& cd = dofs.cell_dofs();
-    for (Index b : blocks.interface_blocks())
-      for (Index c = b * per_block; c < (b + 1) * per_block; ++c)
-        for (Index k = 0; k < cd.cols(); ++k) {
-          int& o = owner_[static_cast<std::size_t>(cd(c, k))];
-          o = std::min(o, block_owner(b));
-        }
   } else {
+    mesh.require_whole("DofDistribution of a space with DOFs other than vertices");
     own_by_cells(mesh, dofs, [&](Index c) { return blocks.cell_owner(c); });
   }
   number(mesh, dofs);
@@ -125,18 +119,14 @@ void DofDistribution::own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, cons
     owner_.assign(static_cast<std::size_t>(nd), 0);
     return;
   }
-  // The lowest rank among the cells containing a DOF; DOFs in no cell are the last rank's.
-  owner_.assign(static_cast<std::size_t>(nd), size_);
+  // Cells in reverse order, every visit overwriting: the first cell containing
+  // a DOF writes last. DOFs in no cell stay the last rank's.
+  owner_.assign(static_cast<std::size_t>(nd), size_ - 1);
   const IndexTable& cd = dofs.cell_dofs();
-  for (Index c = 0; c < mesh.num_cells(); ++c) {
+  for (Index c = mesh.num_cells() - 1; c >= 0; --c) {
     const int r = cell_owner(c);
-    for (Index k = 0; k < cd.cols(); ++k) {
-      int& o = owner_[static_cast<std::size_t>(cd(c, k))];
-      o = std::min(o, r);
-    }
+    for (Index k = 0; k < cd.cols(); ++k) owner_[static_cast<std::size_t>(cd(c, k))] = r;
   }
-  for (int& o : owner_)
-    if (o == size_) o = size_ - 1;
 }
 
 void DofDistribution::number(const Mesh<2>& mesh, const DofMap& dofs) {

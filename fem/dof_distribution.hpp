@@ -2,7 +2,7 @@
 // Parallel ownership and PETSc numbering of the DOFs of a DofMap.
 //
 // Cells are owned by the rank partition_cells() (or the caller) gives them; a DOF is owned by
-// the lowest rank among the cells that contain it. PETSc global indices number
+// the owner of the first cell (in cell order) that contains it. PETSc global indices number
 // the DOFs of rank 0 first, then rank 1, ..., so every rank owns one contiguous
 // range [owned_begin, owned_end). Within a rank: P1/Q1 in vertex order (which
 // refine_uniformly makes the order of first use by the cells), higher orders
@@ -32,10 +32,11 @@ class DofDistribution {
   /// on every rank), e.g. a nested partition of a hierarchy (nested_partitions()).
   DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs, const std::vector<int>& cell_owner);
   /// Cells partitioned by `blocks` (a level above the base of
-  /// nested_level_partitions()). The same distribution as with every cell's
-  /// owner listed, but P1/Q1 owners and numbers follow from the blocks' vertex
-  /// ranges (no pass over the cells), and on several ranks the sparsity
-  /// pattern visits only the cells of the blocks near the rank's.
+  /// nested_level_partitions(), or of a MeshHierarchy built for a partition).
+  /// The same distribution as with every cell's owner listed, but P1/Q1 owners
+  /// and numbers follow from the blocks' vertex ranges (no pass over the cells:
+  /// the mesh may be partial), and on several ranks the sparsity pattern visits
+  /// only the cells of the blocks near the rank's.
   DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs, const NestedBlocks& blocks);
 
   MPI_Comm comm() const { return comm_; }
@@ -98,7 +99,7 @@ class DofDistribution {
   void pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
                std::vector<PetscInt>& cols, std::vector<PetscInt>* off_row_ptr,
                std::vector<PetscInt>* off_cols) const;
-  /// Owners of the DOFs by a pass over the cells.
+  /// Owners of the DOFs by a pass over the cells (the first cell containing a DOF decides).
   template <class CellOwner>
   void own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, const CellOwner& cell_owner);
   /// PETSc numbers from owner_: rank by rank (see the class comment).

@@ -13,6 +13,7 @@ namespace warpfem::fem {
 
 template <int dim>
 EdgeNumbering::EdgeNumbering(const Mesh<dim>& mesh) {
+  mesh.require_whole("EdgeNumbering");
   const auto& edges = cell_edges(mesh.cell_type);
   const Index nc = mesh.num_cells(), nv = mesh.num_vertices(), ne = static_cast<Index>(edges.size());
   // 32-bit slots (half the memory, which is mostly first-touch cost): vertex and

@@ -41,11 +41,27 @@ const std::vector<std::array<int, 2>>& cell_edges(CellType t) {
 }
 
 template <int dim>
+std::vector<std::array<Index, 2>> Mesh<dim>::cell_ranges() const {
+  if (partial) return present_cells;
+  return {{0, num_cells()}};
+}
+
+template <int dim>
+void Mesh<dim>::require_whole(const std::string& what) const {
+  if (partial)
+    throw Error(what + " needs the whole mesh, but this level was refined only around one rank's cells",
+                {.file = "",
+                 .key_path = "",
+                 .hint = "build the MeshHierarchy without a partition (every level whole on every rank)"});
+}
+
+template <int dim>
 Real Mesh<dim>::max_edge_length() const {
   Real h = 0;
-  for (Index c = 0; c < num_cells(); ++c)
-    for (const auto& e : cell_edges(cell_type))
-      h = std::max(h, (vertex(cells(c, e[0])) - vertex(cells(c, e[1]))).norm());
+  for (const auto& [first, last] : cell_ranges())
+    for (Index c = first; c < last; ++c)
+      for (const auto& e : cell_edges(cell_type))
+        h = std::max(h, (vertex(cells(c, e[0])) - vertex(cells(c, e[1]))).norm());
   return h;
 }
 

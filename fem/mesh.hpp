@@ -54,11 +54,27 @@ struct Mesh {
   IndexTable boundary_facets;   ///< boundary facets x (dim == 2 ? 2 : 3)
   std::vector<int> facet_tags;  ///< per boundary facet: index of the polygon edge (face) it lies on
 
+  /// A level one rank refined only around its own cells (a MeshHierarchy
+  /// built for a partition, fem/partial_refinement.hpp): the tables keep the
+  /// whole level's size and numbering, but only the cells in `present_cells`
+  /// (ranges [first, last)) and their vertices are stored; the memory of the
+  /// other rows is never written (nor touched). Boundary facets outside the
+  /// rank's region are rows (-1, -1). A whole mesh has partial = false.
+  bool partial = false;
+  std::vector<std::array<Index, 2>> present_cells;
+
   Index num_vertices() const { return vertices.rows(); }
   Index num_cells() const { return cells.rows(); }
   Index num_boundary_facets() const { return boundary_facets.rows(); }
   Point<dim> vertex(Index i) const { return vertices.row(i).transpose(); }
-  /// Largest edge length over all cells.
+  /// The stored cells as ranges [first, last): {{0, num_cells()}} for a whole mesh.
+  std::vector<std::array<Index, 2>> cell_ranges() const;
+  /// Whether boundary facet f is stored (always, in a whole mesh).
+  bool has_facet(Index f) const { return boundary_facets(f, 0) >= 0; }
+  /// Throws warpfem::Error naming `what` unless the whole mesh is stored
+  /// (for algorithms that visit every cell).
+  void require_whole(const std::string& what) const;
+  /// Largest edge length over the stored cells (all cells of a whole mesh).
   Real max_edge_length() const;
 };
 

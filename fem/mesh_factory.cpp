@@ -6,6 +6,7 @@
 #include "core/log.hpp"
 #include "fem/cell_partition.hpp"
 #include "fem/gmsh_reader.hpp"
+#include "fem/partial_refinement.hpp"
 #include "fem/polygon_mesher.hpp"
 #include "fem/pullback_mesher.hpp"
 #include "fem/structured_mesher.hpp"
@@ -69,11 +70,62 @@ namespace {
 /// least `min_cells_per_part` cells per part, else the finest.
 int partition_base_level(const MeshHierarchy& h, int num_parts, Index min_cells_per_part) {
   require(num_parts >= 1, "nested_partitions: need at least one part");
+  for (const Mesh<2>& level : h.levels)
+    level.require_whole(
+        "nested_partitions (a hierarchy built for a partition has its own: MeshHierarchy::partitions)");
   for (int l = 0; l < h.num_levels(); ++l)
     if (h.levels[static_cast<std::size_t>(l)].num_cells() >= min_cells_per_part * num_parts) return l;
   return h.num_levels() - 1;
 }
 }  // namespace
+
+MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPartition& partition) {
+  const int parts = partition.parts;
+  require(parts >= 1 && partition.rank >= 0 && partition.rank < parts,
+          "MeshHierarchy: rank " + std::to_string(partition.rank) + " is not in a partition of " +
+              std::to_string(parts) + " parts");
+  if (refinements < 0)
+    throw Error("MeshHierarchy: negative number of refinements " + std::to_string(refinements));
+  // The base level (cut along the Morton curve; the finer levels inherit):
+  // the coarsest with enough cells per part, known from the cell counts alone.
+  int base = 0;
+  if (parts > 1) {
+    Index cells = coarse.num_cells();
+    while (base < refinements && cells < partition.min_cells_per_part * parts) cells *= 4, ++base;
+  }
+  const bool partial =
+      partition.partial_levels && parts > 1 && base < refinements && coarse.cell_type == CellType::triangle;
+  const int whole = partial ? base : refinements;  // levels 0 … whole are whole meshes
+  levels.reserve(static_cast<std::size_t>(refinements) + 1);
+  transfers.reserve(static_cast<std::size_t>(refinements));
+  levels.push_back(std::move(coarse));
+  std::optional<EdgeNumbering> edges;
+  for (int r = 0; r < whole; ++r) {
+    // Edges are numbered for every level that is refined further (triangles).
+    transfers.push_back(refine_uniformly(levels.back(), edges ? &*edges : nullptr, r + 1 < refinements));
+    edges = std::move(transfers.back().fine_edges);
+    transfers.back().fine_edges.reset();
+    levels.push_back(std::move(transfers.back().mesh));
+  }
+  partitions.resize(static_cast<std::size_t>(refinements) + 1);
+  for (int l = 0; l <= base; ++l) {
+    const Mesh<2>& mesh = levels[static_cast<std::size_t>(l)];
+    partitions[static_cast<std::size_t>(l)].cell_owner =
+        parts == 1 ? std::vector<int>(static_cast<std::size_t>(mesh.num_cells()), 0)
+                   : partition_cells(mesh, parts);
+  }
+  const std::vector<int>& base_owner = partitions[static_cast<std::size_t>(base)].cell_owner;
+  if (!partial) {
+    for (int l = base + 1; l <= refinements; ++l)
+      partitions[static_cast<std::size_t>(l)].blocks = nested_blocks(*this, base, l, base_owner);
+    return;
+  }
+  if (!edges) edges.emplace(levels.back());  // the base is the coarse mesh itself
+  std::vector<NestedBlocks> blocks;
+  refine_partially(*this, *edges, base_owner, partition.rank, refinements - base, blocks);
+  for (std::size_t k = 0; k < blocks.size(); ++k)
+    partitions[static_cast<std::size_t>(base) + 1 + k].blocks = std::move(blocks[k]);
+}
 
 std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
                                                 Index min_cells_per_part) {
@@ -94,7 +146,7 @@ std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_
 
 std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int num_parts,
                                                     Index min_cells_per_part) {
-  const int base = num_parts == 1 ? 0 : partition_base_level(h, num_parts, min_cells_per_part);
+  const int base = partition_base_level(h, num_parts, num_parts == 1 ? 0 : min_cells_per_part);
   std::vector<LevelPartition> levels(static_cast<std::size_t>(h.num_levels()));
   for (int l = 0; l <= base; ++l) {
     const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];

@@ -35,6 +35,16 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const MeshSpec& spec);
 Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const mapping::Map<2>& map,
                          const MeshSpec& spec);
 
+/// For a MeshHierarchy built for one rank of a partition.
+struct HierarchyPartition {
+  int parts = 1;                   ///< number of ranks
+  int rank = 0;                    ///< the rank the levels are built for
+  Index min_cells_per_part = 256;  ///< the base level: the coarsest with this many cells per part
+  /// Build the levels above the base only around the rank's cells (triangles;
+  /// fit for P1: elements with edge DOFs need whole levels).
+  bool partial_levels = true;
+};
+
 /// Nested meshes: level 0 is the coarse mesh, level k + 1 the uniform refinement of level k.
 struct MeshHierarchy {
   std::vector<Mesh<2>> levels;
@@ -43,6 +53,13 @@ struct MeshHierarchy {
   std::vector<RefinedMesh> transfers;
 
   MeshHierarchy(Mesh<2> coarse, int refinements);
+  /// The same levels, partitioned as nested_level_partitions() partitions
+  /// them (kept in `partitions`), with the levels above the base built only
+  /// around `partition.rank`'s cells (partial meshes, fem/partial_refinement.hpp)
+  /// when there are several parts and the cells are triangles; otherwise whole.
+  MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPartition& partition);
+  /// Every level's partition (the partitioned constructor only; else empty).
+  std::vector<LevelPartition> partitions;
   const Mesh<2>& finest() const { return levels.back(); }
   int num_levels() const { return static_cast<int>(levels.size()); }
 };

@@ -1,7 +1,5 @@
 #include "fem/nested_blocks.hpp"
 
-#include <algorithm>
-#include <array>
 #include <string>
 #include <utility>
 
@@ -25,30 +23,6 @@ std::vector<Index> NestedBlocks::blocks_near(int rank) const {
         break;
       }
   return near;
-}
-
-std::vector<Index> NestedBlocks::interface_blocks() const {
-  require(base && base->num_cells() == num_blocks(), "NestedBlocks: the base mesh does not match the blocks");
-  // The lowest and highest owner of the blocks around every base vertex.
-  const int none = -1;
-  std::vector<std::array<int, 2>> owners(static_cast<std::size_t>(base->num_vertices()), {none, none});
-  const Index nv = base->cells.cols();
-  for (Index b = 0; b < num_blocks(); ++b) {
-    const int o = owner[static_cast<std::size_t>(b)];
-    for (Index k = 0; k < nv; ++k) {
-      auto& [lo, hi] = owners[static_cast<std::size_t>(base->cells(b, k))];
-      lo = lo == none ? o : std::min(lo, o);
-      hi = std::max(hi, o);
-    }
-  }
-  std::vector<Index> mixed;
-  for (Index b = 0; b < num_blocks(); ++b)
-    for (Index k = 0; k < nv; ++k)
-      if (const auto& [lo, hi] = owners[static_cast<std::size_t>(base->cells(b, k))]; lo != hi) {
-        mixed.push_back(b);
-        break;
-      }
-  return mixed;
 }
 
 NestedBlocks nested_blocks(const MeshHierarchy& h, int base, int level, std::vector<int> base_owner) {

@@ -37,9 +37,6 @@ struct NestedBlocks {
   /// Blocks whose cells can contain a vertex that one of `rank`'s blocks uses
   /// first: its own and those sharing a base vertex with one of them, in order.
   std::vector<Index> blocks_near(int rank) const;
-  /// Blocks sharing a base vertex with a block of another owner, in order: every
-  /// cell containing a vertex of a block that is not on this list has the block's owner.
-  std::vector<Index> interface_blocks() const;
 };
 
 /// The owners of one level's cells: explicit (one rank per cell, the same on

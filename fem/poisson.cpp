@@ -294,7 +294,7 @@ void PoissonProblem::assemble_neumann(std::vector<PetscInt>& rows, std::vector<P
   const auto rule = gauss_legendre(order + 3);
   std::vector<Index> facets;
   for (Index f = 0; f < mesh_.num_boundary_facets(); ++f)
-    if (dist_.owns(mesh_.boundary_facets(f, 0))) facets.push_back(f);
+    if (mesh_.has_facet(f) && dist_.owns(mesh_.boundary_facets(f, 0))) facets.push_back(f);
   if (facets.empty()) return;
   const Index nq = rule.size();
   Points<2> s0(static_cast<Index>(facets.size()) * nq, 2);
@@ -334,6 +334,7 @@ void PoissonProblem::find_dirichlet_dofs() {
   std::vector<char> seen(static_cast<std::size_t>(dofs_.num_dofs()), 0);
   std::vector<Index> nodes;
   for (Index f = 0; f < mesh_.num_boundary_facets() && !data_.dirichlet.empty(); ++f) {
+    if (!mesh_.has_facet(f)) continue;  // outside a partial level's stored cells
     for (Index d : dofs_.facet_dofs(mesh_, f)) {
       if (!dist_.owns(d) || seen[d]) continue;
       const int k = condition_at(data_.dirichlet, f, dofs_.dof_points().row(d).transpose());

@@ -67,6 +67,7 @@ EdgeNumbering number_fine_edges(const Mesh<2>& coarse, const EdgeNumbering& edge
 }  // namespace
 
 RefinedMesh refine_uniformly(const Mesh<2>& coarse, const EdgeNumbering* coarse_edges, bool number_fine) {
+  coarse.require_whole("refine_uniformly");
   const bool quads = coarse.cell_type == CellType::quadrilateral;
   require(coarse.cell_type == CellType::triangle || quads, "refine_uniformly: unsupported cell type");
   std::optional<EdgeNumbering> own_edges;

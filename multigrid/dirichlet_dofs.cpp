@@ -14,6 +14,7 @@ std::vector<char> dirichlet_dofs(const fem::Mesh<2>& mesh, const fem::DofMap& do
   if (data.boundary_polygon) locator.emplace(*data.boundary_polygon);
   std::vector<int> edges;
   for (Index f = 0; f < mesh.num_boundary_facets(); ++f) {
+    if (!mesh.has_facet(f)) continue;  // outside a partial level's stored cells
     for (Index d : dofs.facet_dofs(mesh, f)) {
       char& m = mask[static_cast<std::size_t>(d)];
       if (m) continue;

@@ -9,12 +9,20 @@
 
 namespace warpfem::multigrid {
 namespace {
-fem::MeshHierarchy timed_hierarchy(fem::Mesh<2> coarse, int refinements, double& seconds) {
+/// The hierarchy partitioned for `comm`'s ranks; with `partial_levels` the
+/// levels above the base are built only around this rank's cells
+/// (fem/partial_refinement.hpp; elements with edge DOFs need whole levels).
+fem::MeshHierarchy timed_hierarchy(MPI_Comm comm, fem::Mesh<2> coarse, int refinements, bool partial_levels,
+                                   double& seconds) {
   if (refinements < 0)
     throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
                 {.file = "", .key_path = "/mesh/refinements", .hint = "use 0 or more refinements"});
   Stopwatch watch;
-  fem::MeshHierarchy h(std::move(coarse), refinements);
+  fem::HierarchyPartition partition;
+  MPI_Comm_size(comm, &partition.parts);
+  MPI_Comm_rank(comm, &partition.rank);
+  partition.partial_levels = partial_levels;
+  fem::MeshHierarchy h(std::move(coarse), refinements, partition);
   seconds = watch.seconds();
   return h;
 }
@@ -23,7 +31,8 @@ fem::MeshHierarchy timed_hierarchy(fem::Mesh<2> coarse, int refinements, double&
 PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coarse, int refinements,
                                                mapping::MapPtr<2> map, int order, int quadrature_degree,
                                                fem::PoissonData data, const PoissonMultigridOptions& options)
-    : hierarchy_(timed_hierarchy(std::move(coarse), refinements, timings_.hierarchy)) {
+    : hierarchy_(timed_hierarchy(comm, std::move(coarse), refinements, options.partial_levels && order == 1,
+                                 timings_.hierarchy)) {
   Stopwatch watch;
   MultigridTimings& t = timings_;
   const int levels = hierarchy_.num_levels();
@@ -42,9 +51,7 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
   // nested cell partition. The coarse levels' operators are assembled once: their
   // geometry is streamed.
   watch.reset();
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  const std::vector<fem::LevelPartition> partitions = fem::nested_level_partitions(hierarchy_, ranks);
+  const std::vector<fem::LevelPartition>& partitions = hierarchy_.partitions;
   for (int l = 0; l < levels; ++l) {
     const fem::GeometryStorage storage =
         l == levels - 1 ? options.finest_geometry : fem::GeometryStorage::streamed;

@@ -14,13 +14,14 @@
 // chebyshev_jacobi|chebyshev_sor|sor, -smoothing_steps k and -chebyshev_kernel
 // petsc|fused_double|fused_single (solver.multigrid of a run config), -quadrature_degree <q> (default
 // fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest level's geometry streamed instead of
-// cached; coarse levels are always streamed), -pullback 1 (coarse mesh: CGAL's mesh of the map's target
-// pulled back through f⁻¹, -coarse_h in target units), -prerefine k (refine the coarse mesh k times before
-// the hierarchy starts, e.g. with -mg_coarse_pc_type hypre). MG set-up = refinement + per-level problems +
-// assembly of every level + prolongations + KSPSetUp. AMG set-up = KSPSetUp only (the finest matrix is
-// shared, its assembly is the "fine asm" column). Any PETSc option applies (-log_view, -mg_levels_ksp_type
-// richardson, -amg_pc_gamg_threshold 0.05, ...); P1/Q1 Chebyshev smoothers use Gershgorin bounds (no
-// eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1 brings the estimate back.
+// cached; coarse levels are always streamed), -whole_levels 1 (every rank holds every level whole instead of
+// the P1 levels above the partition's base only around its cells), -pullback 1 (coarse mesh: CGAL's mesh of
+// the map's target pulled back through f⁻¹, -coarse_h in target units), -prerefine k (refine the coarse mesh
+// k times before the hierarchy starts, e.g. with -mg_coarse_pc_type hypre). MG set-up = refinement +
+// per-level problems + assembly of every level + prolongations + KSPSetUp. AMG set-up = KSPSetUp only (the
+// finest matrix is shared, its assembly is the "fine asm" column). Any PETSc option applies (-log_view,
+// -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...); P1/Q1 Chebyshev smoothers use Gershgorin
+// bounds (no eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1 brings the estimate back.
 
 #include <cstdio>
 #include <exception>
@@ -118,6 +119,7 @@ int run(int argc, char** argv) {
   if (smoother != "chebyshev_jacobi" && smoother != "chebyshev_sor" && smoother != "sor")
     throw Error("-smoother " + smoother + ": expected chebyshev_jacobi, chebyshev_sor or sor");
   const bool stream_finest = int_option("-stream_finest", 0) != 0;
+  const bool whole_levels = int_option("-whole_levels", 0) != 0;
   const std::string map_type = string_option("-map", "identity");
   const bool quads = string_option("-cells", "triangle") == "quad";
   const int qdeg = static_cast<int>(int_option("-quadrature_degree", fem::default_quadrature_degree(order)));
@@ -181,6 +183,7 @@ int run(int argc, char** argv) {
   for (int r = rmin; r <= rmax; ++r) {
     multigrid::PoissonMultigridOptions options;
     if (stream_finest) options.finest_geometry = fem::GeometryStorage::streamed;
+    options.partial_levels = !whole_levels;
     if (galerkin)
       options.multigrid.coarse_operators = multigrid::MultigridSettings::CoarseOperators::galerkin;
     if (prolongation == "smoothed")

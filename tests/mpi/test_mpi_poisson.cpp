@@ -98,3 +98,34 @@ TEST_P(MpiPoisson, TwoRankOperatorEqualsSerial) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Orders, MpiPoisson, ::testing::Values(1, 2));
+
+// Enough refinements that the multigrid hierarchy's finest levels are built
+// only around each rank's cells (fem/partial_refinement.hpp): the app's
+// solution, h, area and curved (order-2) output are the serial ones.
+TEST(MpiPoisson, LevelsBuiltAroundEachRankGiveTheSerialRun) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
+  io::RunConfig cfg = io::parse_run_config(nlohmann::json::parse(R"json({
+    "verbosity": "warning",
+    "map": {"type": "composite_mean_value", "source": [[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]],
+            "target": [[0,0],[2,0],[2.2,1.1],[1,1],[1,2],[-0.1,2.1]]},
+    "mesh": {"max_edge_length": 0.4, "refinements": 4},
+    "problem": {"source": "1 + x*y", "dirichlet": [{"edges": [0, 1, 2], "value": "x"}],
+                "neumann": [{"edges": [3, 4, 5], "value": "0.5"}]},
+    "solver": {"rtol": 1e-12},
+    "output": {"vtk_order": 2}
+  })json"),
+                                           "mpi_partial_test.json");
+  cfg.output.directory = "output/test_mpi";
+  cfg.output.name = "partial";
+  const auto parallel =
+      apps::run_poisson(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
+  const auto serial = apps::run_poisson(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
+  ASSERT_EQ(parallel.solution.size(), serial.solution.size());
+  EXPECT_LT((parallel.solution - serial.solution).lpNorm<Eigen::Infinity>(),
+            1e-9 * serial.solution.lpNorm<Eigen::Infinity>());
+  EXPECT_EQ(parallel.h, serial.h);
+  EXPECT_NEAR(parallel.area, serial.area, 1e-12);
+  EXPECT_EQ(parallel.output_file, "output/test_mpi/partial.pvtu");
+}
