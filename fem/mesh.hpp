@@ -1,9 +1,10 @@
 #pragma once
 // A conforming mesh of the parametrization domain Ω0 (the "simple" mesh).
 //
-// The mesh is replicated on every MPI rank (it is the coarse description of
-// Ω0 and its uniform refinements); ownership of cells and DOFs is decided by
-// fem::DofDistribution. Boundary facets carry the index of the source-polygon
+// A mesh is the same on every MPI rank (the coarse description of Ω0 and its
+// uniform refinements), except the fine levels of a MeshHierarchy built for a
+// partition, which each rank stores only around its own cells (`partial`);
+// ownership of cells and DOFs is decided by fem::DofDistribution. Boundary facets carry the index of the source-polygon
 // edge they lie on, which is also the index of the corresponding target edge,
 // so boundary conditions can select "target-polygon edges".
 
