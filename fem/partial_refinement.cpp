@@ -188,6 +188,12 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
       }
       if (more) std::fill(id_of_key.get() + 2 * ne + 3 * c0, id_of_key.get() + 2 * ne + 3 * c1, kUnknown);
       prefault(&fine.cells(4 * c0, 0), static_cast<std::size_t>(12 * per_block) * sizeof(TableIndex));
+      {
+        const std::size_t v0 = static_cast<std::size_t>(first_vertex[static_cast<std::size_t>(b)]);
+        const std::size_t n = static_cast<std::size_t>(first_vertex[static_cast<std::size_t>(b + 1)]) - v0;
+        prefault(fine.vertices.data() + v0, n * sizeof(double));
+        prefault(fine.vertices.data() + fine_nv + v0, n * sizeof(double));
+      }
       TableIndex next_vertex = first_vertex[static_cast<std::size_t>(b)];
       TableIndex next_edge = first_edge[static_cast<std::size_t>(b)];
       // Vertex positions written column by column (Points are stored x then y).
