@@ -58,6 +58,11 @@ struct MeshHierarchy {
   /// around `partition.rank`'s cells (partial meshes, fem/partial_refinement.hpp)
   /// when there are several parts and the cells are triangles; otherwise whole.
   MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPartition& partition);
+  // Movable, not copyable: `partitions` point into `levels` (a moved vector keeps its elements).
+  MeshHierarchy(MeshHierarchy&&) = default;
+  MeshHierarchy& operator=(MeshHierarchy&&) = default;
+  MeshHierarchy(const MeshHierarchy&) = delete;
+  MeshHierarchy& operator=(const MeshHierarchy&) = delete;
   /// Every level's partition (the partitioned constructor only; else empty).
   std::vector<LevelPartition> partitions;
   const Mesh<2>& finest() const { return levels.back(); }
