@@ -4,9 +4,10 @@
 // A mesh is the same on every MPI rank (the coarse description of Ω0 and its
 // uniform refinements), except the fine levels of a MeshHierarchy built for a
 // partition, which each rank stores only around its own cells (`partial`);
-// ownership of cells and DOFs is decided by fem::DofDistribution. Boundary facets carry the index of the source-polygon
-// edge they lie on, which is also the index of the corresponding target edge,
-// so boundary conditions can select "target-polygon edges".
+// ownership of cells and DOFs is decided by fem::DofDistribution.
+// Boundary facets carry the index of the source-polygon edge they lie on,
+// which is also the index of the corresponding target edge, so boundary
+// conditions can select "target-polygon edges".
 
 #include <Eigen/Core>
 #include <array>

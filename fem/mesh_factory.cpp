@@ -53,15 +53,20 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const map
 
 MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements) {
   levels.push_back(std::move(coarse));
+  refine_whole(refinements, refinements);
+}
+
+std::optional<EdgeNumbering> MeshHierarchy::refine_whole(int count, int total) {
   // Each refinement numbers the next level's edges from its own (no search),
-  // except the last, whose edges nobody refines.
+  // except for a level nobody refines (the total-th).
   std::optional<EdgeNumbering> edges;
-  for (int r = 0; r < refinements; ++r) {
-    transfers.push_back(refine_uniformly(levels.back(), edges ? &*edges : nullptr, r + 1 < refinements));
+  for (int r = 0; r < count; ++r) {
+    transfers.push_back(refine_uniformly(levels.back(), edges ? &*edges : nullptr, r + 1 < total));
     edges = std::move(transfers.back().fine_edges);
     transfers.back().fine_edges.reset();
     levels.push_back(std::move(transfers.back().mesh));  // the parent maps stay in `transfers`
   }
+  return edges;
 }
 
 namespace {
@@ -99,14 +104,7 @@ MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPar
   levels.reserve(static_cast<std::size_t>(refinements) + 1);
   transfers.reserve(static_cast<std::size_t>(refinements));
   levels.push_back(std::move(coarse));
-  std::optional<EdgeNumbering> edges;
-  for (int r = 0; r < whole; ++r) {
-    // Edges are numbered for every level that is refined further (triangles).
-    transfers.push_back(refine_uniformly(levels.back(), edges ? &*edges : nullptr, r + 1 < refinements));
-    edges = std::move(transfers.back().fine_edges);
-    transfers.back().fine_edges.reset();
-    levels.push_back(std::move(transfers.back().mesh));
-  }
+  std::optional<EdgeNumbering> edges = refine_whole(whole, refinements);
   partitions.resize(static_cast<std::size_t>(refinements) + 1);
   for (int l = 0; l <= base; ++l) {
     const Mesh<2>& mesh = levels[static_cast<std::size_t>(l)];

@@ -2,6 +2,7 @@
 // Builds the simple mesh of Ω0 a config asks for, and its nested hierarchy of
 // uniform refinements.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,11 @@ struct MeshHierarchy {
   std::vector<LevelPartition> partitions;
   const Mesh<2>& finest() const { return levels.back(); }
   int num_levels() const { return static_cast<int>(levels.size()); }
+
+ private:
+  /// Appends `count` whole refinements of the finest level, of `total` to come;
+  /// returns the last new level's edge numbering if a further refinement needs it.
+  std::optional<EdgeNumbering> refine_whole(int count, int total);
 };
 
 /// Cell owners for every level of `h` (the same on every rank, no communication):
