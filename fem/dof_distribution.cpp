@@ -93,15 +93,8 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
     own_by_cells(mesh, dofs, [&](Index c) { return blocks.cell_owner(c); });
   }
   number(mesh, dofs);
-  if (size_ > 1) {
-    // Cells that can hold an owned DOF: those of the blocks next to the rank's.
-    for (Index b : blocks.blocks_near(rank_)) {
-      if (!candidate_cells_.empty() && candidate_cells_.back()[1] == b * per_block)
-        candidate_cells_.back()[1] += per_block;
-      else
-        candidate_cells_.push_back({b * per_block, (b + 1) * per_block});
-    }
-  }
+  // Cells that can hold an owned DOF: those of the blocks next to the rank's.
+  if (size_ > 1) candidate_cells_ = block_cell_ranges(blocks.blocks_near(rank_), per_block);
 }
 
 void DofDistribution::check_owners(Index num_cells, Index num_listed, int lowest, int highest) const {

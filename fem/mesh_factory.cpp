@@ -73,6 +73,12 @@ namespace {
 /// The level nested_partitions() cuts along the Morton curve last (every
 /// coarser level is cut too, every finer one inherits): the coarsest with at
 /// least `min_cells_per_part` cells per part, else the finest.
+/// Owners of a level cut along its Morton curve (all rank 0's for one part).
+std::vector<int> cut_level(const Mesh<2>& mesh, int num_parts) {
+  return num_parts == 1 ? std::vector<int>(static_cast<std::size_t>(mesh.num_cells()), 0)
+                        : partition_cells(mesh, num_parts);
+}
+
 int partition_base_level(const MeshHierarchy& h, int num_parts, Index min_cells_per_part) {
   require(num_parts >= 1, "nested_partitions: need at least one part");
   for (const Mesh<2>& level : h.levels)
@@ -108,9 +114,7 @@ MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPar
   partitions.resize(static_cast<std::size_t>(refinements) + 1);
   for (int l = 0; l <= base; ++l) {
     const Mesh<2>& mesh = levels[static_cast<std::size_t>(l)];
-    partitions[static_cast<std::size_t>(l)].cell_owner =
-        parts == 1 ? std::vector<int>(static_cast<std::size_t>(mesh.num_cells()), 0)
-                   : partition_cells(mesh, parts);
+    partitions[static_cast<std::size_t>(l)].cell_owner = cut_level(mesh, parts);
   }
   const std::vector<int>& base_owner = partitions[static_cast<std::size_t>(base)].cell_owner;
   if (!partial) {
@@ -148,9 +152,7 @@ std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int 
   std::vector<LevelPartition> levels(static_cast<std::size_t>(h.num_levels()));
   for (int l = 0; l <= base; ++l) {
     const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];
-    levels[static_cast<std::size_t>(l)].cell_owner =
-        num_parts == 1 ? std::vector<int>(static_cast<std::size_t>(mesh.num_cells()), 0)
-                       : partition_cells(mesh, num_parts);
+    levels[static_cast<std::size_t>(l)].cell_owner = cut_level(mesh, num_parts);
   }
   for (int l = base + 1; l < h.num_levels(); ++l)
     levels[static_cast<std::size_t>(l)].blocks =

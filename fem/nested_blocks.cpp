@@ -8,21 +8,39 @@
 
 namespace warpfem::fem {
 
+std::vector<char> blocks_sharing_a_vertex(const Mesh<2>& base, const std::vector<char>& seed) {
+  std::vector<char> touched(static_cast<std::size_t>(base.num_vertices()), 0);
+  const Index nb = base.num_cells(), nv = base.cells.cols();
+  for (Index b = 0; b < nb; ++b)
+    if (seed[static_cast<std::size_t>(b)])
+      for (Index k = 0; k < nv; ++k) touched[static_cast<std::size_t>(base.cells(b, k))] = 1;
+  std::vector<char> out(static_cast<std::size_t>(nb), 0);
+  for (Index b = 0; b < nb; ++b)
+    for (Index k = 0; k < nv; ++k)
+      if (touched[static_cast<std::size_t>(base.cells(b, k))]) out[static_cast<std::size_t>(b)] = 1;
+  return out;
+}
+
+std::vector<std::array<Index, 2>> block_cell_ranges(const std::vector<Index>& blocks, Index cells_per_block) {
+  std::vector<std::array<Index, 2>> ranges;
+  for (Index b : blocks) {
+    if (!ranges.empty() && ranges.back()[1] == b * cells_per_block)
+      ranges.back()[1] += cells_per_block;
+    else
+      ranges.push_back({b * cells_per_block, (b + 1) * cells_per_block});
+  }
+  return ranges;
+}
+
 std::vector<Index> NestedBlocks::blocks_near(int rank) const {
   require(base && base->num_cells() == num_blocks(), "NestedBlocks: the base mesh does not match the blocks");
-  std::vector<char> touched(static_cast<std::size_t>(base->num_vertices()), 0);
-  const Index nv = base->cells.cols();
+  std::vector<char> own(owner.size(), 0);
+  for (std::size_t b = 0; b < owner.size(); ++b) own[b] = owner[b] == rank;
+  const std::vector<char> near = blocks_sharing_a_vertex(*base, own);
+  std::vector<Index> list;
   for (Index b = 0; b < num_blocks(); ++b)
-    if (owner[static_cast<std::size_t>(b)] == rank)
-      for (Index k = 0; k < nv; ++k) touched[static_cast<std::size_t>(base->cells(b, k))] = 1;
-  std::vector<Index> near;
-  for (Index b = 0; b < num_blocks(); ++b)
-    for (Index k = 0; k < nv; ++k)
-      if (touched[static_cast<std::size_t>(base->cells(b, k))]) {
-        near.push_back(b);
-        break;
-      }
-  return near;
+    if (near[static_cast<std::size_t>(b)]) list.push_back(b);
+  return list;
 }
 
 NestedBlocks nested_blocks(const MeshHierarchy& h, int base, int level, std::vector<int> base_owner) {

@@ -11,6 +11,7 @@
 // vertex DOFs, the owner and PETSc number of every DOF follow from a few
 // numbers per block, without scanning the level's cells.
 
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -38,6 +39,14 @@ struct NestedBlocks {
   /// first: its own and those sharing a base vertex with one of them, in order.
   std::vector<Index> blocks_near(int rank) const;
 };
+
+/// Base cells sharing a vertex with a cell of `seed` (masks over the base cells;
+/// the seed's own cells included).
+std::vector<char> blocks_sharing_a_vertex(const Mesh<2>& base, const std::vector<char>& seed);
+
+/// The cells of `blocks` (increasing) on a level of `cells_per_block` cells per
+/// block, as ranges [first, last), consecutive blocks merged.
+std::vector<std::array<Index, 2>> block_cell_ranges(const std::vector<Index>& blocks, Index cells_per_block);
 
 /// The owners of one level's cells: explicit (one rank per cell, the same on
 /// every rank) on and below the partitioned base level, as blocks above it.

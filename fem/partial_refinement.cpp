@@ -15,20 +15,6 @@ namespace warpfem::fem {
 
 namespace {
 
-/// Blocks sharing a base vertex with a block of `seed` (masks over the base cells).
-std::vector<char> grow(const Mesh<2>& base, const std::vector<char>& seed) {
-  std::vector<char> touched(static_cast<std::size_t>(base.num_vertices()), 0);
-  const Index nb = base.num_cells(), nv = base.cells.cols();
-  for (Index b = 0; b < nb; ++b)
-    if (seed[static_cast<std::size_t>(b)])
-      for (Index k = 0; k < nv; ++k) touched[static_cast<std::size_t>(base.cells(b, k))] = 1;
-  std::vector<char> out(static_cast<std::size_t>(nb), 0);
-  for (Index b = 0; b < nb; ++b)
-    for (Index k = 0; k < nv; ++k)
-      if (touched[static_cast<std::size_t>(base.cells(b, k))]) out[static_cast<std::size_t>(b)] = 1;
-  return out;
-}
-
 /// first[b] = count[0] + … + count[b - 1] (blocks + 1 entries).
 std::vector<TableIndex> offsets(const std::vector<Index>& count, const std::string& what) {
   std::vector<TableIndex> first(count.size() + 1);
@@ -123,7 +109,11 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
   std::vector<char> own(static_cast<std::size_t>(nb), 0);
   for (Index b = 0; b < nb; ++b)
     own[static_cast<std::size_t>(b)] = base_owner[static_cast<std::size_t>(b)] == rank;
-  const std::vector<char> near = grow(base, own), refined = grow(base, near);
+  const std::vector<char> near = blocks_sharing_a_vertex(base, own),
+                          refined = blocks_sharing_a_vertex(base, near);
+  std::vector<Index> near_blocks;
+  for (Index b = 0; b < nb; ++b)
+    if (near[static_cast<std::size_t>(b)]) near_blocks.push_back(b);
   const auto in = [](const std::vector<char>& mask, Index b) {
     return b >= 0 && mask[static_cast<std::size_t>(b)];
   };
@@ -319,14 +309,7 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
 
     // The present cells: those of the rank's blocks and their neighbours.
     const Index fine_per_block = 4 * per_block;
-    for (Index b = 0; b < nb; ++b) {
-      if (!in(near, b)) continue;
-      auto& ranges = fine.present_cells;
-      if (!ranges.empty() && ranges.back()[1] == b * fine_per_block)
-        ranges.back()[1] += fine_per_block;
-      else
-        ranges.push_back({b * fine_per_block, (b + 1) * fine_per_block});
-    }
+    fine.present_cells = block_cell_ranges(near_blocks, fine_per_block);
 
     NestedBlocks nested;
     nested.base = &h.levels[static_cast<std::size_t>(base_level)];
