@@ -228,58 +228,42 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
   };
   // 1. Every row holds its diagonal, and every cell offers its other nloc - 1
   // global DOFs as candidate columns to each of its owned rows: count the
-  // candidates per row. The cells with an owned row are remembered (all of them
-  // on one rank): step 2 then visits only those. Nested levels name the cell
-  // ranges that can hold an owned DOF; otherwise every cell is looked at.
+  // candidates per row. Nested levels name the cell ranges that can hold an
+  // owned DOF; otherwise every cell is looked at.
   std::vector<PetscInt> slot(static_cast<std::size_t>(rows) + 1, 1);
   slot[0] = 0;
-  std::vector<Index> touching;
-  const bool all_cells = size_ == 1;
   const std::vector<std::array<Index, 2>> every_cell{{0, nc}};
   const auto& scanned = candidate_cells_.empty() ? every_cell : candidate_cells_;
-  if (!all_cells) {  // address space only: no regrowth copies
-    Index n = 0;
-    for (const auto& [first, last] : scanned) n += last - first;
-    touching.reserve(static_cast<std::size_t>(n));
-  }
   for (const auto& [first, last] : scanned)
-    for (Index c = first; c < last; ++c) {
-      bool touches = false;
+    for (Index c = first; c < last; ++c)
       for (Index k = 0; k < nloc; ++k)
-        if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
-          slot[r + 1] += static_cast<PetscInt>(nloc - 1);
-          touches = true;
-        }
-      if (touches && !all_cells) touching.push_back(c);
-    }
-  const Index ncells = all_cells ? nc : static_cast<Index>(touching.size());
-  const auto cell = [&](Index i) { return all_cells ? i : touching[static_cast<std::size_t>(i)]; };
+        if (const PetscInt r = owned_row(cd(c, k)); r >= 0) slot[r + 1] += static_cast<PetscInt>(nloc - 1);
   for (PetscInt r = 0; r < rows; ++r) slot[r + 1] += slot[r];
-  // 2. One pass over the cells in order: the cell table is read sequentially and
-  // the rows of a cell lie close together (DOFs are numbered by first use), so
-  // the candidates are written to nearby buckets.
+  // 2. One pass over the same cells in order: the cell table is read
+  // sequentially and the rows of a cell lie close together (DOFs are numbered
+  // by first use), so the candidates are written to nearby buckets. slot[r]
+  // serves as row r's write position: afterwards it is the row's end, and row r
+  // starts at slot[r - 1] (no second array of row positions).
   const auto candidates = std::make_unique_for_overwrite<PetscInt[]>(static_cast<std::size_t>(slot[rows]));
   prefault(candidates.get(), static_cast<std::size_t>(slot[rows]) * sizeof(PetscInt));
-  std::vector<PetscInt> fill(static_cast<std::size_t>(rows));
-  for (PetscInt r = 0; r < rows; ++r) {
-    candidates[static_cast<std::size_t>(slot[r])] = owned_begin_ + r;
-    fill[r] = slot[r] + 1;
-  }
+  for (PetscInt r = 0; r < rows; ++r) candidates[static_cast<std::size_t>(slot[r]++)] = owned_begin_ + r;
+  const auto row_begin = [&](PetscInt r) { return candidates.get() + (r > 0 ? slot[r - 1] : 0); };
   // The DOFs per cell as a compile-time constant where it is a common one: the
   // copies of a few indices then inline instead of calling memcpy per row.
   const auto offer = [&]<int NLOC>(std::integral_constant<int, NLOC>) {
     PetscInt global_cell[NLOC];
-    for (Index i = 0; i < ncells; ++i) {
-      const TableIndex* d = &cd(cell(i), 0);
-      for (int k = 0; k < NLOC; ++k) global_cell[k] = global_[d[k]];
-      for (int k = 0; k < NLOC; ++k)
-        if (const PetscInt r = owned_row(d[k]); r >= 0) {
-          PetscInt* out = candidates.get() + fill[r];
-          for (int j = 0; j < NLOC; ++j)
-            if (j != k) *out++ = global_cell[j];
-          fill[r] += NLOC - 1;
-        }
-    }
+    for (const auto& [first, last] : scanned)
+      for (Index c = first; c < last; ++c) {
+        const TableIndex* d = &cd(c, 0);
+        for (int k = 0; k < NLOC; ++k) global_cell[k] = global_[d[k]];
+        for (int k = 0; k < NLOC; ++k)
+          if (const PetscInt r = owned_row(d[k]); r >= 0) {
+            PetscInt* out = candidates.get() + slot[r];
+            for (int j = 0; j < NLOC; ++j)
+              if (j != k) *out++ = global_cell[j];
+            slot[r] += NLOC - 1;
+          }
+      }
   };
   switch (nloc) {
     case 3: offer(std::integral_constant<int, 3>{}); break;
@@ -288,17 +272,17 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
     case 9: offer(std::integral_constant<int, 9>{}); break;
     default: {
       std::vector<PetscInt> global_cell(static_cast<std::size_t>(nloc));
-      for (Index i = 0; i < ncells; ++i) {
-        const Index c = cell(i);
-        for (Index k = 0; k < nloc; ++k) global_cell[k] = global_[cd(c, k)];
-        for (Index k = 0; k < nloc; ++k)
-          if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
-            PetscInt* out = candidates.get() + fill[r];
-            for (Index j = 0; j < nloc; ++j)
-              if (j != k) *out++ = global_cell[j];
-            fill[r] += static_cast<PetscInt>(nloc - 1);
-          }
-      }
+      for (const auto& [first, last] : scanned)
+        for (Index c = first; c < last; ++c) {
+          for (Index k = 0; k < nloc; ++k) global_cell[k] = global_[cd(c, k)];
+          for (Index k = 0; k < nloc; ++k)
+            if (const PetscInt r = owned_row(cd(c, k)); r >= 0) {
+              PetscInt* out = candidates.get() + slot[r];
+              for (Index j = 0; j < nloc; ++j)
+                if (j != k) *out++ = global_cell[j];
+              slot[r] += static_cast<PetscInt>(nloc - 1);
+            }
+        }
     }
   }
   // 3. Sort and deduplicate every row's candidates in place (blocks of rows on
@@ -306,16 +290,12 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
   // ranks are a prefix (below the own range) and a suffix (above it).
   const Index blocks = std::max<Index>(1, std::min<Index>(64, rows / 4096));
   row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
-  std::vector<PetscInt> below;  // split: per row, the columns below the own range
-  if (split) {
-    off_row_ptr->assign(static_cast<std::size_t>(rows) + 1, 0);
-    below.assign(static_cast<std::size_t>(rows), 0);
-  }
+  if (split) off_row_ptr->assign(static_cast<std::size_t>(rows) + 1, 0);
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
     for (Index blk = first_block; blk < last_block; ++blk)
       for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r) {
-        PetscInt* begin = candidates.get() + slot[r];
-        PetscInt* end = candidates.get() + slot[r + 1];
+        PetscInt* begin = row_begin(r);
+        PetscInt* end = candidates.get() + slot[r];
         // Insertion into the sorted, duplicate-free prefix (the diagonal first): a
         // row has few distinct columns (7 for P1) among its candidates (13), so
         // this beats sort + unique.
@@ -334,7 +314,6 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
         if (split && (*begin < owned_begin_ || kept[-1] >= owned_end_)) {
           const PetscInt lo = static_cast<PetscInt>(std::lower_bound(begin, kept, owned_begin_) - begin);
           const PetscInt hi = static_cast<PetscInt>(kept - std::lower_bound(begin, kept, owned_end_));
-          below[static_cast<std::size_t>(r)] = lo;
           (*off_row_ptr)[static_cast<std::size_t>(r) + 1] = lo + hi;
           length -= lo + hi;
         }
@@ -347,8 +326,7 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
     parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
       for (Index blk = first_block; blk < last_block; ++blk)
         for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r)
-          std::copy(candidates.get() + slot[r], candidates.get() + slot[r] + (row_ptr[r + 1] - row_ptr[r]),
-                    cols.begin() + row_ptr[r]);
+          std::copy(row_begin(r), row_begin(r) + (row_ptr[r + 1] - row_ptr[r]), cols.begin() + row_ptr[r]);
     });
     return;
   }
@@ -358,9 +336,11 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
     for (Index blk = first_block; blk < last_block; ++blk)
       for (PetscInt r = static_cast<PetscInt>(rows * blk / blocks); r < rows * (blk + 1) / blocks; ++r) {
-        const PetscInt* row = candidates.get() + slot[r];
-        const PetscInt lo = below[static_cast<std::size_t>(r)], off = orp[r + 1] - orp[r];
-        const PetscInt own = row_ptr[r + 1] - row_ptr[r];
+        const PetscInt* row = row_begin(r);
+        const PetscInt off = orp[r + 1] - orp[r], own = row_ptr[r + 1] - row_ptr[r];
+        // The sorted row's columns below the own range come first.
+        const PetscInt lo =
+            off == 0 ? 0 : static_cast<PetscInt>(std::lower_bound(row, row + own + off, owned_begin_) - row);
         PetscInt* out = cols.data() + row_ptr[r];
         for (PetscInt k = 0; k < own; ++k) out[k] = row[lo + k] - owned_begin_;
         PetscInt* out_off = off_cols->data() + orp[r];

@@ -111,9 +111,16 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
     own[static_cast<std::size_t>(b)] = base_owner[static_cast<std::size_t>(b)] == rank;
   const std::vector<char> near = blocks_sharing_a_vertex(base, own),
                           refined = blocks_sharing_a_vertex(base, near);
-  std::vector<Index> near_blocks;
-  for (Index b = 0; b < nb; ++b)
+  std::vector<Index> near_blocks, refined_blocks;
+  for (Index b = 0; b < nb; ++b) {
     if (near[static_cast<std::size_t>(b)]) near_blocks.push_back(b);
+    if (refined[static_cast<std::size_t>(b)]) refined_blocks.push_back(b);
+  }
+  // Runs [b0, b1) of consecutive refined blocks: the arrays every block writes
+  // are populated run by run, one system call each (a block's share is below
+  // prefault()'s megabyte, and first touches page by page cost more than the
+  // refinement itself).
+  const std::vector<std::array<Index, 2>> refined_runs = block_cell_ranges(refined_blocks, 1);
   const auto in = [](const std::vector<char>& mask, Index b) {
     return b >= 0 && mask[static_cast<std::size_t>(b)];
   };
@@ -164,6 +171,25 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
       return in(refined, owner) ? *slot : kUnknown;
     };
 
+    const auto populate = [](auto* data, Index begin, Index end) {
+      prefault(data + begin, static_cast<std::size_t>(end - begin) * sizeof(*data));
+    };
+    for (const auto& [b0, b1] : refined_runs) {
+      const auto at = [](const std::vector<TableIndex>& first, Index b) {
+        return first[static_cast<std::size_t>(b)];
+      };
+      populate(fine.cells.data(), 12 * b0 * per_block, 12 * b1 * per_block);
+      populate(fine.vertices.data(), at(first_vertex, b0), at(first_vertex, b1));
+      populate(fine.vertices.data() + fine_nv, at(first_vertex, b0), at(first_vertex, b1));
+      if (more) {
+        populate(fine_cell_edge.data(), 12 * b0 * per_block, 12 * b1 * per_block);
+        populate(id_of_key.get() + 2 * ne, 3 * b0 * per_block, 3 * b1 * per_block);
+      }
+      if (level.base_edges) continue;  // the base level's tables are filled whole above
+      populate(vertex_of.get(), at(level.first_vertex, b0), at(level.first_vertex, b1));
+      populate(vertex_of.get() + nv, at(level.first_edge, b0), at(level.first_edge, b1));
+      if (more) populate(id_of_key.get(), 2 * at(level.first_edge, b0), 2 * at(level.first_edge, b1));
+    }
     for (Index b = 0; b < nb; ++b) {
       if (!in(refined, b)) continue;
       const Index c0 = b * per_block, c1 = c0 + per_block;
@@ -177,13 +203,6 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
                     id_of_key.get() + 2 * level.first_edge[static_cast<std::size_t>(b + 1)], kUnknown);
       }
       if (more) std::fill(id_of_key.get() + 2 * ne + 3 * c0, id_of_key.get() + 2 * ne + 3 * c1, kUnknown);
-      prefault(&fine.cells(4 * c0, 0), static_cast<std::size_t>(12 * per_block) * sizeof(TableIndex));
-      {
-        const std::size_t v0 = static_cast<std::size_t>(first_vertex[static_cast<std::size_t>(b)]);
-        const std::size_t n = static_cast<std::size_t>(first_vertex[static_cast<std::size_t>(b + 1)]) - v0;
-        prefault(fine.vertices.data() + v0, n * sizeof(double));
-        prefault(fine.vertices.data() + fine_nv + v0, n * sizeof(double));
-      }
       TableIndex next_vertex = first_vertex[static_cast<std::size_t>(b)];
       TableIndex next_edge = first_edge[static_cast<std::size_t>(b)];
       // Vertex positions written column by column (Points are stored x then y).
