@@ -1,6 +1,7 @@
 #include "fem/poisson.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -206,6 +207,7 @@ void PoissonProblem::assemble() {
   const IndexTable& cell_dofs = dofs_.cell_dofs();
   const double* N = shape_values_.data();  // column-major: (q, k) at k nq + q
   const ConstantFunction* constant_source = data_.source.target<ConstantFunction>();
+  const std::vector<char>& fixed = fixed_;
   geometry_.for_each_chunk([&](const GeometryChunk& g) {
     // w det J f(x) at every point of the chunk first: the cell loop below then
     // makes no calls through std::function (a constant source makes none at all).
@@ -227,6 +229,11 @@ void PoissonProblem::assemble() {
       }
       const TableIndex* dofs = &cell_dofs(c, 0);
       for (int k = 0; k < n; ++k) idx[k] = dist_.global(dofs[k]);
+      if (!fixed.empty()) {
+        unsigned mask = 0;
+        for (int k = 0; k < n; ++k) mask |= fixed[static_cast<std::size_t>(dofs[k])] ? 1u << k : 0u;
+        if (mask) eliminate_fixed(dofs, mask, ke.data(), fe.data());
+      }
       for (int r = 0; r < n; ++r) {
         const PetscInt row = idx[r] - begin;
         if (row < 0 || row >= owned) {
@@ -265,6 +272,13 @@ void PoissonProblem::assemble() {
       }
     }
   });
+  // Dirichlet rows: the identity (their other entries received zeros only).
+  for (const PetscInt global_row : dirichlet_rows_) {
+    const PetscInt row = global_row - begin;
+    PetscInt j = ia[row];
+    while (ja[j] != row) ++j;  // serial: begin = 0, the columns are global
+    a[j] = 1.0;
+  }
   WARPFEM_PETSC_CHECK(VecRestoreArray(b_.get(), &b));
   restore_rows(Ad, &ia, &ja, &a);
   if (!serial) restore_rows(Ao, &ia_o, &ja_o, &ao);
@@ -331,40 +345,74 @@ void PoissonProblem::assemble_neumann(std::vector<PetscInt>& rows, std::vector<P
 }
 
 void PoissonProblem::find_dirichlet_dofs() {
-  std::vector<char> seen(static_cast<std::size_t>(dofs_.num_dofs()), 0);
+  if (data_.dirichlet.empty()) return;
+  // Every DOF on a stored boundary facet with a Dirichlet condition, owned or
+  // not: a rank eliminates them from all its cells' element matrices, and
+  // skips the rows of other ranks' ones. A DOF takes the condition of the
+  // first such facet containing it, the same on every rank (all facets at a
+  // DOF of a rank's cells are stored there).
+  fixed_.assign(static_cast<std::size_t>(dofs_.num_dofs()), 0);
   std::vector<Index> nodes;
-  for (Index f = 0; f < mesh_.num_boundary_facets() && !data_.dirichlet.empty(); ++f) {
+  std::vector<int> condition;
+  for (Index f = 0; f < mesh_.num_boundary_facets(); ++f) {
     if (!mesh_.has_facet(f)) continue;  // outside a partial level's stored cells
     for (Index d : dofs_.facet_dofs(mesh_, f)) {
-      if (!dist_.owns(d) || seen[d]) continue;
+      if (fixed_[static_cast<std::size_t>(d)]) continue;
       const int k = condition_at(data_.dirichlet, f, dofs_.dof_points().row(d).transpose());
       if (k < 0) continue;
-      seen[d] = 1;
-      dirichlet_rows_.push_back(dist_.global(d));
-      dirichlet_condition_.push_back(k);
+      fixed_[static_cast<std::size_t>(d)] = 1;
       nodes.push_back(d);
+      condition.push_back(k);
     }
   }
   // The map only at these boundary nodes (one batch), not at every DOF.
-  Points<2> x0(static_cast<Index>(nodes.size()), 2);
+  Points<2> x0(static_cast<Index>(nodes.size()), 2), x;
   for (std::size_t i = 0; i < nodes.size(); ++i)
     x0.row(static_cast<Index>(i)) = dofs_.dof_points().row(nodes[i]);
-  map_->eval(x0, dirichlet_x_);
+  map_->eval(x0, x);
+  fixed_values_.resize(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    fixed_values_[i] = {nodes[i], data_.dirichlet[static_cast<std::size_t>(condition[i])].value(
+                                      x.row(static_cast<Index>(i)).transpose(), 0.0)};
+  std::sort(fixed_values_.begin(), fixed_values_.end());
+  for (const auto& [d, value] : fixed_values_)
+    if (dist_.owns(d)) {
+      dirichlet_rows_.push_back(dist_.global(d));
+      dirichlet_values_.push_back(value);
+    }
+}
+
+double PoissonProblem::fixed_value(Index d) const {
+  const auto it =
+      std::lower_bound(fixed_values_.begin(), fixed_values_.end(), std::pair<Index, double>(d, -INFINITY));
+  return it->second;
+}
+
+void PoissonProblem::eliminate_fixed(const TableIndex* dofs, unsigned mask, double* ke, double* fe) const {
+  const int n = dofs_.element().num_dofs();
+  for (int k = 0; k < n; ++k) {
+    if (!(mask & (1u << k))) continue;
+    const double g = fixed_value(dofs[k]);
+    for (int r = 0; r < n; ++r) {
+      if (!(mask & (1u << r))) fe[r] -= ke[r * n + k] * g;
+      ke[r * n + k] = ke[k * n + r] = 0.0;
+    }
+    fe[k] = 0.0;
+  }
 }
 
 void PoissonProblem::apply_dirichlet() {
+  // Assembly eliminated the Dirichlet DOFs symmetrically (rows and columns of
+  // the identity, b −= A_{:,D} u_D); b and u take the data on their rows.
   const std::vector<PetscInt>& rows = dirichlet_rows_;
-  std::vector<PetscScalar> values(rows.size());
+  const PetscInt begin = dist_.owned_begin();
+  PetscScalar *b = nullptr, *u = nullptr;
+  WARPFEM_PETSC_CHECK(VecGetArray(b_.get(), &b));
+  WARPFEM_PETSC_CHECK(VecGetArray(u_.get(), &u));
   for (std::size_t i = 0; i < rows.size(); ++i)
-    values[i] = data_.dirichlet[static_cast<std::size_t>(dirichlet_condition_[i])].value(
-        dirichlet_x_.row(static_cast<Index>(i)).transpose(), 0.0);
-  WARPFEM_PETSC_CHECK(
-      VecSetValues(u_.get(), static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES));
-  WARPFEM_PETSC_CHECK(VecAssemblyBegin(u_.get()));
-  WARPFEM_PETSC_CHECK(VecAssemblyEnd(u_.get()));
-  // Symmetric elimination keeps the matrix SPD for CG: b -= A_{:,D} u_D, rows/cols D -> identity.
-  WARPFEM_PETSC_CHECK(
-      MatZeroRowsColumns(A_.get(), static_cast<PetscInt>(rows.size()), rows.data(), 1.0, u_.get(), b_.get()));
+    b[rows[i] - begin] = u[rows[i] - begin] = dirichlet_values_[i];
+  WARPFEM_PETSC_CHECK(VecRestoreArray(u_.get(), &u));
+  WARPFEM_PETSC_CHECK(VecRestoreArray(b_.get(), &b));
   PetscInt total = 0, local = static_cast<PetscInt>(rows.size());
   MPI_Allreduce(&local, &total, 1, MPIU_INT, MPI_SUM, comm_);
   if (total == 0 && data_.neumann.empty())

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/petsc/handles.hpp"
@@ -84,6 +85,12 @@ class PoissonProblem {
 
  private:
   void find_dirichlet_dofs();
+  /// The Dirichlet data at flagged DOF d.
+  double fixed_value(Index d) const;
+  /// Removes the Dirichlet DOFs of a cell from its element matrix and vector:
+  /// their columns move to the right-hand side (fe −= ke[:, k] g_k), their rows
+  /// and columns become zero. `mask` has bit k set for local DOF k fixed.
+  void eliminate_fixed(const TableIndex* dofs, unsigned mask, double* ke, double* fe) const;
   void apply_dirichlet();
   /// Index into `conditions` of the last condition that applies at x0 on facet f; -1 if none.
   int condition_at(const std::vector<BoundaryCondition>& conditions, Index facet, const Point<2>& x0) const;
@@ -119,10 +126,14 @@ class PoissonProblem {
   std::array<std::vector<double>, 3> constant_products_;  // constant gradients: full n x n, any point
   bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
   bool serial_ = true;
-  // Owned Dirichlet DOFs: global rows, which condition applies, f at their nodes.
+  // Dirichlet DOFs on the rank's stored boundary facets, owned or not: a flag
+  // per DOF (empty without Dirichlet conditions) and the data at each flagged
+  // DOF, sorted by DOF. Assembly eliminates them as it adds element matrices.
+  std::vector<char> fixed_;
+  std::vector<std::pair<Index, double>> fixed_values_;
+  // The owned ones: global rows and data values.
   std::vector<PetscInt> dirichlet_rows_;
-  std::vector<int> dirichlet_condition_;
-  Points<2> dirichlet_x_;
+  std::vector<PetscScalar> dirichlet_values_;
   petsc::Matrix A_;
   petsc::Vector b_, u_;
 };
