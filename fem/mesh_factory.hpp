@@ -36,11 +36,20 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const MeshSpec& spec);
 Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const mapping::Map<2>& map,
                          const MeshSpec& spec);
 
+/// Cells per part on the partitioned base level of a hierarchy (the coarsest
+/// level with at least this many cells per part is cut along its Morton curve;
+/// finer levels inherit). Finer bases make thinner rings of neighbour blocks
+/// around a rank's cells but more blocks: at 1.24 M P1 DOFs on two ranks,
+/// 1024 stored 55 % of the finest cells per rank against 59 % with 256 and set
+/// up faster than 256 and 4096 (BENCHMARKS.md, "Session 15").
+inline constexpr Index kBaseCellsPerPart = 1024;
+
 /// For a MeshHierarchy built for one rank of a partition.
 struct HierarchyPartition {
-  int parts = 1;                   ///< number of ranks
-  int rank = 0;                    ///< the rank the levels are built for
-  Index min_cells_per_part = 256;  ///< the base level: the coarsest with this many cells per part
+  int parts = 1;  ///< number of ranks
+  int rank = 0;   ///< the rank the levels are built for
+  Index min_cells_per_part =
+      kBaseCellsPerPart;  ///< the base level: the coarsest with this many cells per part
   /// Build the levels above the base only around the rank's cells (triangles;
   /// fit for P1: elements with edge DOFs need whole levels).
   bool partial_levels = true;
@@ -84,12 +93,12 @@ struct MeshHierarchy {
 /// and balanced to one base cell's descendants; the per-level Morton sort of
 /// the large levels is skipped.
 std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
-                                                Index min_cells_per_part = 256);
+                                                Index min_cells_per_part = kBaseCellsPerPart);
 
 /// The same partition, with the levels above the base described as
 /// NestedBlocks (no per-cell owner lists for the large levels). One part: the
 /// base is level 0.
 std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int num_parts,
-                                                    Index min_cells_per_part = 256);
+                                                    Index min_cells_per_part = kBaseCellsPerPart);
 
 }  // namespace warpfem::fem

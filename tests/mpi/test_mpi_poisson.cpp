@@ -110,7 +110,7 @@ TEST(MpiPoisson, LevelsBuiltAroundEachRankGiveTheSerialRun) {
     "verbosity": "warning",
     "map": {"type": "composite_mean_value", "source": [[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]],
             "target": [[0,0],[2,0],[2.2,1.1],[1,1],[1,2],[-0.1,2.1]]},
-    "mesh": {"max_edge_length": 0.4, "refinements": 4},
+    "mesh": {"max_edge_length": 0.4, "refinements": 5},
     "problem": {"source": "1 + x*y", "dirichlet": [{"edges": [0, 1, 2], "value": "x"}],
                 "neumann": [{"edges": [3, 4, 5], "value": "0.5"}]},
     "solver": {"rtol": 1e-12},

@@ -65,7 +65,7 @@ TEST_P(MpiMultigrid, SmoothedProlongationTwoRanksEqualSerial) {
 INSTANTIATE_TEST_SUITE_P(Orders, MpiMultigrid, ::testing::Values(1, 2));
 
 TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
-  // Five refinements: the levels beyond the first with >= 256 cells per rank
+  // Five refinements: the levels beyond the first with >= kBaseCellsPerPart cells per rank
   // inherit their parents' owners, so each rank's fine cells lie in its coarse cells.
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -81,7 +81,8 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
   const fem::MeshHierarchy& h = mg->hierarchy();
   int nested_levels = 0;
   for (int l = 1; l < h.num_levels(); ++l) {
-    if (h.levels[static_cast<std::size_t>(l - 1)].num_cells() < 256 * size) continue;  // not yet inherited
+    if (h.levels[static_cast<std::size_t>(l - 1)].num_cells() < fem::kBaseCellsPerPart * size)
+      continue;  // not yet inherited
     ++nested_levels;
     const auto& coarse_cells = mg->level(l - 1).distribution().local_cells();
     const std::set<Index> coarse(coarse_cells.begin(), coarse_cells.end());
@@ -135,7 +136,7 @@ TEST(MpiElasticityMultigrid, CoarseLevelsAreNestedUnderAFinestSpaceOnTheNestedPa
   };
   int nested_levels = 0;
   for (int l = 1; l < mg.num_levels(); ++l) {
-    if (hierarchy.levels[static_cast<std::size_t>(l - 1)].num_cells() < 256 * size)
+    if (hierarchy.levels[static_cast<std::size_t>(l - 1)].num_cells() < fem::kBaseCellsPerPart * size)
       continue;  // not inherited
     ++nested_levels;
     const std::set<Index> coarse(local_cells(l - 1).begin(), local_cells(l - 1).end());
