@@ -117,9 +117,8 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
     if (refined[static_cast<std::size_t>(b)]) refined_blocks.push_back(b);
   }
   // Runs [b0, b1) of consecutive refined blocks: the arrays every block writes
-  // are populated run by run, one system call each (a block's share is below
-  // prefault()'s megabyte, and first touches page by page cost more than the
-  // refinement itself).
+  // are populated run by run, one system call each (a single block's share is
+  // below prefault()'s megabyte and would be faulted in page by page).
   const std::vector<std::array<Index, 2>> refined_runs = block_cell_ranges(refined_blocks, 1);
   const auto in = [](const std::vector<char>& mask, Index b) {
     return b >= 0 && mask[static_cast<std::size_t>(b)];
@@ -174,10 +173,10 @@ void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const s
     const auto populate = [](auto* data, Index begin, Index end) {
       prefault(data + begin, static_cast<std::size_t>(end - begin) * sizeof(*data));
     };
+    const auto at = [](const std::vector<TableIndex>& first, Index b) {
+      return first[static_cast<std::size_t>(b)];
+    };
     for (const auto& [b0, b1] : refined_runs) {
-      const auto at = [](const std::vector<TableIndex>& first, Index b) {
-        return first[static_cast<std::size_t>(b)];
-      };
       populate(fine.cells.data(), 12 * b0 * per_block, 12 * b1 * per_block);
       populate(fine.vertices.data(), at(first_vertex, b0), at(first_vertex, b1));
       populate(fine.vertices.data() + fine_nv, at(first_vertex, b0), at(first_vertex, b1));
