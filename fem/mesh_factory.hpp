@@ -48,8 +48,8 @@ inline constexpr Index kBaseCellsPerPart = 1024;
 struct HierarchyPartition {
   int parts = 1;  ///< number of ranks
   int rank = 0;   ///< the rank the levels are built for
-  Index min_cells_per_part =
-      kBaseCellsPerPart;  ///< the base level: the coarsest with this many cells per part
+  /// The base level: the coarsest with this many cells per part.
+  Index min_cells_per_part = kBaseCellsPerPart;
   /// Build the levels above the base only around the rank's cells (triangles;
   /// fit for P1: elements with edge DOFs need whole levels).
   bool partial_levels = true;
