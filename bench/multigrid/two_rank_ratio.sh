@@ -14,6 +14,10 @@ set -euo pipefail
 
 pairs=${1:-10}
 shift || true
+if ! [[ "$pairs" =~ ^[1-9][0-9]*$ ]]; then
+  echo "two_rank_ratio: the number of pairs must be a positive integer, got '$pairs'" >&2
+  exit 2
+fi
 bench=${BENCH:-build/bench/multigrid/bench_multigrid_levels}
 args=(-order 1 -min_refinements 7 -max_refinements 7 -amg 0 -stream_finest 1 "$@")
 mpiexec_args=(-n 2)
@@ -29,7 +33,13 @@ fi
 total_of() {
   local out
   out=$("$@" 2>&1) || { echo "two_rank_ratio: run failed: $*" >&2; echo "$out" >&2; exit 1; }
-  echo "$out" | awk '/MG total set-up/ { gsub(",", "", $9); print $9 }'
+  local total
+  total=$(echo "$out" | awk '/MG total set-up/ { gsub(",", "", $9); print $9 }')
+  if [ -z "$total" ]; then
+    echo "two_rank_ratio: no 'MG total set-up' line in the output of: $*" >&2
+    exit 1
+  fi
+  echo "$total"
 }
 
 ones=() twos=() ratios=()
