@@ -10,6 +10,7 @@
 #include "core/log.hpp"
 #include "core/petsc/linear_solve.hpp"
 #include "core/timer.hpp"
+#include "fem/assembly/integrate.hpp"
 #include "fem/interpolated_map.hpp"
 #include "fem/mesh_factory.hpp"
 #include "fem/poisson.hpp"
@@ -154,11 +155,9 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     MPI_Comm_size(comm, &size);
     std::vector<Index> cells;
     for (Index c = rank; c < hierarchy.finest().num_cells(); c += size) cells.push_back(c);
-    const fem::WarpedGeometry g(hierarchy.finest(), cells,
-                                fem::cell_quadrature(hierarchy.finest().cell_type, qdeg), *f);
-    double local = 0;
-    for (Index p = 0; p < g.JxW().size(); ++p)
-      local += g.JxW()(p) * std::pow(u_fn(g.physical_points().row(p).transpose(), 0.0), 2);
+    const fem::WarpedGeometry<2> g(hierarchy.finest(), cells,
+                                   fem::cell_quadrature(hierarchy.finest().cell_type, qdeg), *f);
+    const double local = fem::integrate(g, [&](const Point<2>& x) { return std::pow(u_fn(x, 0.0), 2); });
     MPI_Allreduce(&local, &reference_norm, 1, MPI_DOUBLE, MPI_SUM, comm);
     reference_norm = std::sqrt(reference_norm);
   }

@@ -49,7 +49,7 @@ class ElasticityOutput {
       disp[static_cast<std::size_t>(3 * i)] = ux(i);
       disp[static_cast<std::size_t>(3 * i + 1)] = uy(i);
     }
-    const auto cells = op_.cell_values(u);
+    const auto cells = op_.point_values(u);
     const VectorX vm = mesh_.interpolate(projection_.dofs(), projection_.distribution(),
                                          projection_.project(cells.von_mises));
     const VectorX det =
@@ -126,10 +126,10 @@ void interpolate_initial_velocity(const io::ElasticityConfig& cfg, const fem::Hy
   std::vector<Index> owned;
   for (Index d : dist.relevant_dofs())
     if (dist.owns(d)) owned.push_back(d);
-  Points<2> x0(static_cast<Index>(owned.size()), 2), x;
+  Points<2> x0(static_cast<Index>(owned.size()), 2);
   for (std::size_t i = 0; i < owned.size(); ++i)
     x0.row(static_cast<Index>(i)) = op.space().dofs().dof_points().row(owned[i]);
-  op.map().eval(x0, x);  // once, at set-up
+  const Points<2> x = fem::warp_nodes(op.map(), x0);  // once, at set-up
   for (std::size_t i = 0; i < owned.size(); ++i) {
     const Point<2> p = x.row(static_cast<Index>(i)).transpose();
     const PetscInt rows[2] = {op.space().global(owned[i], 0), op.space().global(owned[i], 1)};

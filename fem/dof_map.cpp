@@ -49,41 +49,4 @@ std::vector<Index> DofMap::facet_dofs(const Mesh<2>& mesh, Index facet) const {
   return out;
 }
 
-namespace {
-template <int NV>
-void straight_cell_geometry(const Mesh<2>& mesh, Index cell, Index nq, const MatrixX& N,
-                            const std::array<MatrixX, 2>& dN, Points<2>& x0, Jacobians<2>& JG, Index offset) {
-  double vx[NV], vy[NV];  // the cell's vertices, read once
-  const TableIndex* c = &mesh.cells(cell, 0);
-  for (int k = 0; k < NV; ++k) {
-    vx[k] = mesh.vertices(c[k], 0);
-    vy[k] = mesh.vertices(c[k], 1);
-  }
-  const double *n = N.data(), *du = dN[0].data(), *dv = dN[1].data();  // column-major: (q, k) at k nq + q
-  const Index ldx = x0.rows(), ldj = JG.rows();
-  double* X = x0.data() + offset;
-  double* G = JG.data() + offset;
-  for (Index q = 0; q < nq; ++q) {
-    double x = 0, y = 0, j00 = 0, j01 = 0, j10 = 0, j11 = 0;
-    for (int k = 0; k < NV; ++k) {
-      const double w = n[k * nq + q], a = du[k * nq + q], b = dv[k * nq + q];
-      x += w * vx[k], y += w * vy[k];
-      j00 += vx[k] * a, j01 += vx[k] * b;
-      j10 += vy[k] * a, j11 += vy[k] * b;
-    }
-    X[q] = x, X[ldx + q] = y;
-    G[q] = j00, G[ldj + q] = j01, G[2 * ldj + q] = j10, G[3 * ldj + q] = j11;
-  }
-}
-}  // namespace
-
-void simple_cell_geometry(const Mesh<2>& mesh, Index cell, const Points<2>& xi, const MatrixX& N,
-                          const std::array<MatrixX, 2>& dN, Points<2>& x0, Jacobians<2>& JG, Index offset) {
-  // The vertex count as a compile-time constant: the inner loops unroll.
-  if (vertices_per_cell(mesh.cell_type) == 3)
-    straight_cell_geometry<3>(mesh, cell, xi.rows(), N, dN, x0, JG, offset);
-  else
-    straight_cell_geometry<4>(mesh, cell, xi.rows(), N, dN, x0, JG, offset);
-}
-
 }  // namespace warpfem::fem

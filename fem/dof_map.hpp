@@ -43,10 +43,4 @@ class DofMap {
   Points<2> dof_points_;
 };
 
-/// Reference-to-Ω0 geometry of a straight cell: x0(ξ) = Σ N_k(ξ) v_k with the
-/// P1/Q1 shape functions N_k. Fills the Ω0 points and J_G at the given reference points.
-void simple_cell_geometry(const Mesh<2>& mesh, Index cell, const Points<2>& xi, const MatrixX& geo_values,
-                          const std::array<MatrixX, 2>& geo_gradients, Points<2>& x0, Jacobians<2>& JG,
-                          Index offset);
-
 }  // namespace warpfem::fem

@@ -25,7 +25,6 @@ struct ConstantFunction {
 struct BoundaryCondition {
   std::vector<int> edges;  ///< empty: every boundary edge
   ScalarFunction value;
-  bool applies_to(int tag) const;
 };
 
 }  // namespace warpfem::fem

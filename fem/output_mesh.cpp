@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "fem/lagrange_element.hpp"
+#include "fem/warped_geometry.hpp"
 
 namespace warpfem::fem {
 
@@ -73,9 +74,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
   out.reference_points.resize(n, 2);
   for (Index i = 0; i < n; ++i)
     out.reference_points.row(i) = positions[static_cast<std::size_t>(i)].transpose();
-  Jacobians<2> J;
-  map.eval_with_jacobian(out.reference_points, out.points, J);
-  out.map_det = J.col(0).cwiseProduct(J.col(3)) - J.col(1).cwiseProduct(J.col(2));
+  out.points = warp_nodes(map, out.reference_points, &out.map_det);
   return out;
 }
 

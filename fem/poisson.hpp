@@ -12,8 +12,9 @@
 
 #include "core/petsc/handles.hpp"
 #include "core/petsc/linear_solve.hpp"
+#include "core/petsc/matrix_assembler.hpp"
 #include "core/polygon.hpp"
-#include "fem/boundary_locator.hpp"
+#include "fem/boundary_parts.hpp"
 #include "fem/dof_distribution.hpp"
 #include "fem/functions.hpp"
 #include "fem/warped_geometry.hpp"
@@ -72,7 +73,7 @@ class PoissonProblem {
   const Mesh<2>& mesh() const { return mesh_; }
   const DofMap& dofs() const { return dofs_; }
   const DofDistribution& distribution() const { return dist_; }
-  const WarpedGeometry& geometry() const { return geometry_; }
+  const WarpedGeometry<2>& geometry() const { return geometry_; }
   const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
   const mapping::Map<2>& map() const { return *map_; }
 
@@ -92,12 +93,8 @@ class PoissonProblem {
   /// and columns become zero. `mask` has bit k set for local DOF k fixed.
   void eliminate_fixed(const TableIndex* dofs, unsigned mask, double* ke, double* fe) const;
   void apply_dirichlet();
-  /// Index into `conditions` of the last condition that applies at x0 on facet f; -1 if none.
-  int condition_at(const std::vector<BoundaryCondition>& conditions, Index facet, const Point<2>& x0) const;
-  void assemble_neumann(std::vector<PetscInt>& rows, std::vector<PetscScalar>& values) const;
+  void assemble_neumann(petsc::MatrixAssembler& assembler) const;
   void create_matrix();
-  /// Element stiffness matrix of local cell i of a geometry chunk (n x n, row-major).
-  void element_stiffness(const GeometryChunk& g, Index i, double* ke) const;
 
   using DistributionMaker = std::function<DofDistribution(const DofMap&)>;
   PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
@@ -108,18 +105,14 @@ class PoissonProblem {
   const Mesh<2>& mesh_;
   mapping::MapPtr<2> map_;
   PoissonData data_;
-  std::optional<BoundaryLocator> locator_;
+  BoundaryParts parts_;
   DofMap dofs_;
   DofDistribution dist_;
-  WarpedGeometry geometry_;
-  MatrixX shape_values_;                // quadrature points x dofs per cell
-  std::array<MatrixX, 2> shape_grads_;  // reference gradients
-  // Products of reference gradients per quadrature point, (a*n + b, q):
-  // ∂u φa ∂u φb, ∂u φa ∂v φb + ∂v φa ∂u φb, ∂v φa ∂v φb. The element stiffness is
-  // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
+  WarpedGeometry<2> geometry_;
   // Products of reference gradients per DOF pair (a, b), a <= b (rows in the
   // order a = 0, b = 0..n-1, then a = 1, ...) and quadrature point:
-  // [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb.
+  // [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb. The element stiffness is
+  // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
   static constexpr int kMaxPairs = 64;  // Q2: 45
   std::vector<int> packed_entry_;       // entry a n + b of the element matrix -> its pair (row)
   std::array<MatrixX, 3> gradient_products_;

@@ -6,22 +6,26 @@
 // Two storage modes:
 //  - cached (default): computed once from batched calls of the map and kept.
 //    Assembly, Newton iterations and time steps read these arrays and never
-//    evaluate f again. 7 numbers per quadrature point (56 bytes).
+//    evaluate f again.
 //  - streamed: nothing is kept; every pass (for_each_chunk) evaluates the map
 //    again, chunk by chunk. For operators assembled once (multigrid coarse
 //    levels, a linear problem solved once) this saves the memory — the
 //    largest array of a Poisson problem — and the time to fill it.
 //
-// Only what assembly reads is kept: x (2 numbers), J^{-T} (4) and w det J (1)
+// Only what assembly reads is kept: x (dim numbers), J^{-T} (dim²) and w det J
 // per quadrature point; x0 and J_G are recomputed from the simple mesh when a
 // caller needs them (cell_reference_geometry), and J_f = J · J_G⁻¹. The map is
 // evaluated chunk by chunk so that its temporaries stay small.
+//
+// This class and WarpedFacets (boundary facets) are the only places in fem/
+// that evaluate the map at quadrature points; CellValues reads them.
 
 #include <array>
 #include <functional>
 #include <span>
 #include <vector>
 
+#include "fem/lagrange_element.hpp"
 #include "fem/mesh.hpp"
 #include "fem/quadrature.hpp"
 #include "mapping/map.hpp"
@@ -32,6 +36,7 @@ enum class GeometryStorage { cached, streamed };
 
 /// The geometry of the cells [first_cell, first_cell + num_cells) of a
 /// WarpedGeometry's cells(), quadrature point q of local cell i at at(i, q).
+template <int dim>
 class GeometryChunk {
  public:
   GeometryChunk(Index first_cell, Index num_cells, Index nq, const double* x, const double* JinvT,
@@ -40,12 +45,23 @@ class GeometryChunk {
 
   Index first_cell() const { return first_; }
   Index num_cells() const { return cells_; }
+  Index points_per_cell() const { return nq_; }
   Index at(Index i, Index q) const { return i * nq_ + q; }
   /// Component d of x = f(x0).
   double x(Index p, int d) const { return x_[d * ld_ + p]; }
-  Point<2> point(Index p) const { return {x_[p], x_[ld_ + p]}; }
-  /// Entry k of J^{-T} (row-major: k = 2 row + column).
+  Point<dim> point(Index p) const {
+    Point<dim> x;
+    for (int d = 0; d < dim; ++d) x[d] = x_[d * ld_ + p];
+    return x;
+  }
+  /// Entry k of J^{-T} (row-major: k = dim · row + column).
   double inverse_transpose(Index p, int k) const { return J_[k * ld_ + p]; }
+  Matrix<dim> inverse_transpose_matrix(Index p) const {
+    Matrix<dim> m;
+    for (int r = 0; r < dim; ++r)
+      for (int c = 0; c < dim; ++c) m(r, c) = J_[(r * dim + c) * ld_ + p];
+    return m;
+  }
   /// w_q |det J|.
   double JxW(Index p) const { return w_[p]; }
 
@@ -55,18 +71,19 @@ class GeometryChunk {
   Index ld_;
 };
 
+template <int dim>
 class WarpedGeometry {
  public:
   /// Throws warpfem::Error naming the cell and position if det J <= 0 anywhere
   /// (streamed: when a pass reaches that cell).
-  WarpedGeometry(const Mesh<2>& mesh, const std::vector<Index>& cells, const QuadratureRule<2>& rule,
-                 const mapping::Map<2>& map, GeometryStorage storage = GeometryStorage::cached);
+  WarpedGeometry(const Mesh<dim>& mesh, const std::vector<Index>& cells, const QuadratureRule<dim>& rule,
+                 const mapping::Map<dim>& map, GeometryStorage storage = GeometryStorage::cached);
   /// The same over cells the caller keeps (no copy; `cells`' storage must stay
   /// where it is while the geometry lives, e.g. DofDistribution::local_cells()
   /// of the same problem).
   struct BorrowCells {};
-  WarpedGeometry(const Mesh<2>& mesh, std::span<const Index> cells, BorrowCells,
-                 const QuadratureRule<2>& rule, const mapping::Map<2>& map,
+  WarpedGeometry(const Mesh<dim>& mesh, std::span<const Index> cells, BorrowCells,
+                 const QuadratureRule<dim>& rule, const mapping::Map<dim>& map,
                  GeometryStorage storage = GeometryStorage::cached);
   WarpedGeometry(WarpedGeometry&&) = default;
   WarpedGeometry& operator=(WarpedGeometry&&) = default;
@@ -78,20 +95,21 @@ class WarpedGeometry {
   /// Flat index of quadrature point q of the i-th cell of cells().
   Index at(Index i, Index q) const { return i * nq_ + q; }
   std::span<const Index> cells() const { return cells_; }
-  const QuadratureRule<2>& rule() const { return rule_; }
+  const Mesh<dim>& mesh() const { return *mesh_; }
+  const QuadratureRule<dim>& rule() const { return rule_; }
   GeometryStorage storage() const { return storage_; }
 
   /// Calls body(chunk) for consecutive chunks covering all cells, in order
   /// (cached: one chunk viewing the stored arrays; streamed: the map evaluated
   /// per chunk of chunk_points points). The map must outlive a streamed geometry.
-  void for_each_chunk(const std::function<void(const GeometryChunk&)>& body) const;
+  void for_each_chunk(const std::function<void(const GeometryChunk<dim>&)>& body) const;
 
   /// The whole arrays (cached storage only; throws otherwise).
-  const Points<2>& physical_points() const {  ///< f(x0) in Ω1
+  const Points<dim>& physical_points() const {  ///< f(x0) in Ω1
     if (storage_ != GeometryStorage::cached) throw_not_cached("physical_points");
     return x_;
   }
-  const Jacobians<2>& inverse_transpose() const {
+  const Jacobians<dim>& inverse_transpose() const {
     if (storage_ != GeometryStorage::cached) throw_not_cached("inverse_transpose");
     return JinvT_;
   }
@@ -102,49 +120,53 @@ class WarpedGeometry {
 
   /// x0 = G(ξ_q) and J_G(ξ_q) of the simple (unwarped) cell cells()[i], one row per
   /// quadrature point: recomputed from the mesh, not stored.
-  void cell_reference_geometry(Index i, Points<2>& x0, Jacobians<2>& JG) const;
+  void cell_reference_geometry(Index i, Points<dim>& x0, Jacobians<dim>& JG) const;
 
   /// Points per chunk of a streamed pass (one batched map evaluation per
   /// chunk, spread over the threads by the map): on one thread small enough
   /// for the chunk's temporaries to stay in L2, with more threads large enough
-  /// for the map's threads to share it (1.24 M P1 DOFs, one thread: finest
-  /// assembly 0.31 s with 2^16 points per chunk, 0.29 s with 2^12; two threads
-  /// and a composite map: 2^12 or 2^13 points 0.20-0.24 s, 2^16 0.16-0.18 s).
+  /// for the map's threads to share it (measured: BENCHMARKS.md).
   static Index chunk_points();
   /// Points per chunk when the cached arrays are filled: the chunks go to the
-  /// threads whole, and a chunk's temporaries (~100 bytes per point) stay in L2
-  /// (2^16 points: 1.73-1.79 s for 10^7 points, 2^12: 1.64 s, same run).
+  /// threads whole, and a chunk's temporaries (~100 bytes per point) stay in L2.
   static constexpr Index build_chunk_points = Index{1} << 12;
 
  private:
   /// Scratch of one chunk computation.
   struct Scratch {
-    Points<2> x0, x;
-    Jacobians<2> JG, Jf;  ///< J_G one row per point, or per cell for (affine) triangles
+    Points<dim> x0, x;
+    Jacobians<dim> JG, Jf;  ///< J_G one row per point, or per cell for (affine) simplices
   };
   /// Cells [first, last): x, J^{-T}, JxW written with leading dimension ld at
   /// offset 0 of the given arrays.
   void compute(Index first, Index last, Scratch& s, double* x, double* JinvT, double* JxW, Index ld) const;
   /// The constructors' common part: the cells are `own` if given, else `borrowed`.
-  WarpedGeometry(const Mesh<2>& mesh, std::span<const Index> borrowed, BorrowCells,
-                 const QuadratureRule<2>& rule, const mapping::Map<2>& map, GeometryStorage storage,
+  WarpedGeometry(const Mesh<dim>& mesh, std::span<const Index> borrowed, BorrowCells,
+                 const QuadratureRule<dim>& rule, const mapping::Map<dim>& map, GeometryStorage storage,
                  std::vector<Index> own);
   /// Throws naming the chunk's point with the smallest det J (or a NaN).
   [[noreturn]] void report_inverted(Index first, Index m, const Scratch& s) const;
   [[noreturn]] static void throw_not_cached(const char* what);
 
-  const Mesh<2>* mesh_;
-  const mapping::Map<2>* map_;
+  const Mesh<dim>* mesh_;
+  const mapping::Map<dim>* map_;
   std::vector<Index> own_cells_;  // empty when the cells are borrowed
   std::span<const Index> cells_;  // own_cells_, or the caller's (a vector's buffer survives moves)
-  QuadratureRule<2> rule_;
+  QuadratureRule<dim> rule_;
   Index nq_ = 0;
   GeometryStorage storage_;
   MatrixX geo_values_;
-  std::array<MatrixX, 2> geo_gradients_;
-  Points<2> x_;
-  Jacobians<2> JinvT_;
+  std::array<MatrixX, dim> geo_gradients_;
+  Points<dim> x_;
+  Jacobians<dim> JinvT_;
   VectorX JxW_;
 };
+
+/// f at the nodes x0 (one batched evaluation): the positions of DOF nodes on
+/// Ω1 for boundary data, initial states, rigid-body modes and output, and
+/// det J_f there if `det_jacobian` is given. Throws naming the first node
+/// where f is not finite.
+template <int dim>
+Points<dim> warp_nodes(const mapping::Map<dim>& map, const Points<dim>& x0, VectorX* det_jacobian = nullptr);
 
 }  // namespace warpfem::fem

@@ -234,6 +234,7 @@ fem::ElasticityData make_elasticity_data(const ElasticityConfig& cfg) {
   const auto& p = cfg.problem;
   fem::ElasticityData data;
   data.material = p.material;
+  data.boundary_polygon = cfg.map.source;
   data.gravity = Point<2>(p.gravity[0], p.gravity[1]);
   if (p.body_force[0] != "0" || p.body_force[1] != "0")
     data.body_force = vector(p.body_force, cfg.file, "/problem/body_force");

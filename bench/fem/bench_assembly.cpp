@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
     for (int rep = 0; rep < 3; ++rep) {
       MPI_Barrier(MPI_COMM_WORLD);
       w.reset();
-      const fem::WarpedGeometry g(mesh, cells, rule, *warped);
+      const fem::WarpedGeometry<2> g(mesh, cells, rule, *warped);
       MPI_Barrier(MPI_COMM_WORLD);
       best_geometry = std::min(best_geometry, w.seconds());
       if (rank == 0) std::printf("  WarpedGeometry rebuild %d: %.3f s\n", rep, w.seconds());

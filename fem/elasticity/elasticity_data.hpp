@@ -6,8 +6,10 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <vector>
 
+#include "core/polygon.hpp"
 #include "fem/dof_map.hpp"
 #include "fem/elasticity/material.hpp"
 #include "fem/functions.hpp"
@@ -36,14 +38,13 @@ struct ElasticityData {
   VectorFunction body_force;            ///< optional extra body force per unit reference volume
   std::vector<DisplacementCondition> dirichlet;
   std::vector<TractionCondition> neumann;
+  /// The source polygon: conditions then select polygon edges per point (see
+  /// fem/boundary_parts.hpp); without it, by the facet tags.
+  std::optional<Polygon> boundary_polygon;
 };
 
-/// True if `edges` is empty (all edges) or contains `tag`.
-bool selects_edge(const std::vector<int>& edges, int tag);
-
-/// The displacement condition that constrains each node of `dofs` (nullptr: free):
-/// per boundary facet the last matching condition applies, and a node keeps the
-/// first facet that constrains it. Component c of node d is fixed iff
+/// The displacement condition that constrains each node of `dofs` (nullptr:
+/// free), by the rule of fem/boundary_parts.hpp. Component c of node d is fixed iff
 /// result[d] && result[d]->value[c]. Every node of the mesh, on every rank.
 std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap& dofs,
                                                           const ElasticityData& data);

@@ -20,6 +20,7 @@
 #include "core/petsc/handles.hpp"
 #include "fem/elasticity/elasticity_data.hpp"
 #include "fem/elasticity/vector_space.hpp"
+#include "fem/values/cell_values.hpp"
 #include "fem/warped_geometry.hpp"
 #include "mapping/map.hpp"
 
@@ -34,11 +35,10 @@ class HyperelasticOperator {
                        int quadrature_degree, ElasticityData data, const std::vector<int>& cell_owner = {});
 
   const VectorSpace& space() const { return space_; }
-  const WarpedGeometry& geometry() const { return geometry_; }
+  const WarpedGeometry<2>& geometry() const { return geometry_; }
   const ElasticityData& data() const { return data_; }
   const Material& material() const { return data_.material; }
   const mapping::Map<2>& map() const { return *map_; }
-  const MatrixX& shape_values() const { return phi_; }
 
   /// R(u) with loads scaled by `scale` and evaluated at time `t`; `inertia` (may be
   /// null) is the field a (+ damping) multiplying the mass matrix. Collective.
@@ -71,14 +71,17 @@ class HyperelasticOperator {
   /// s · f_ext(t) · u: the work of the (dead) loads.
   double external_work(Vec u, double scale, double t) const;
 
+  /// ‖u − u_exact‖_L2 over the warped domain (collective).
+  double l2_error(Vec u, const VectorFunction& exact) const;
+
   /// Per local cell (geometry().cells() order): min det F and mean von Mises stress
   /// over its quadrature points, and ∫ cell of 1 (for averages). det F ≤ 0 gives von Mises NaN-free 0.
-  struct CellValues {
+  struct PointValues {
     VectorX min_det_F, mean_von_mises, measure;
     std::vector<std::vector<double>> von_mises;  ///< per cell, per quadrature point
     std::vector<std::vector<double>> det_F;      ///< per cell, per quadrature point
   };
-  CellValues cell_values(Vec u) const;
+  PointValues point_values(Vec u) const;
 
  private:
   struct Constraint {
@@ -86,10 +89,10 @@ class HyperelasticOperator {
     Point<2> x;          ///< physical position f(x0) of the node
     const ScalarFunction* value;
   };
-  /// Physical gradients (2 x n) of the shape functions at flat quadrature point p.
-  void physical_gradients(Index p, Index q, Eigen::Matrix<double, 2, Eigen::Dynamic>& g) const;
-  /// F at a point from the cell's displacement coefficients ue (interleaved).
-  static Matrix<2> deformation_gradient(const VectorX& ue, const Eigen::Matrix<double, 2, Eigen::Dynamic>& g);
+  /// Calls at_point(values, q) at every quadrature point, with `ue` holding the
+  /// cell's coefficients of `relevant` (if given).
+  template <class AtPoint>
+  void visit_points(const VectorX* relevant, VectorX& ue, AtPoint&& at_point) const;
   void cell_coefficients(const VectorX& relevant, Index cell, VectorX& ue) const;
   void block_indices(Index cell, std::vector<PetscInt>& idx) const;
   Vec external_force(double t) const;
@@ -99,9 +102,7 @@ class HyperelasticOperator {
   mapping::MapPtr<2> map_;
   ElasticityData data_;
   VectorSpace space_;
-  WarpedGeometry geometry_;
-  MatrixX phi_;                  // quadrature points x nodes per cell
-  std::array<MatrixX, 2> dphi_;  // reference gradients
+  WarpedGeometry<2> geometry_;
   std::vector<Constraint> constraints_;
   std::vector<PetscInt> constrained_rows_;  // global rows owned here
   Index num_constrained_global_ = 0;

@@ -17,7 +17,7 @@ class NodalProjection {
   /// `geometry` must cover exactly this rank's cells of the partition of `mesh`:
   /// `cell_owner` (the one the geometry's space was built with), or
   /// partition_cells() if that is empty.
-  NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry& geometry,
+  NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry<2>& geometry,
                   const std::vector<int>& cell_owner = {});
   NodalProjection(const NodalProjection&) = delete;
   NodalProjection& operator=(const NodalProjection&) = delete;
@@ -30,10 +30,13 @@ class NodalProjection {
   const DofDistribution& distribution() const { return dist_; }
 
  private:
-  const WarpedGeometry& geometry_;
+  /// sum_k = Σ_cells ∫ value(i, q) φ_k dx (value at quadrature point q of geometry cell i).
+  template <class Value>
+  void accumulate(Vec sum, Value&& value) const;
+
+  const WarpedGeometry<2>& geometry_;
   DofMap dofs_;
   DofDistribution dist_;
-  MatrixX phi_;
   petsc::Vector weights_;
 };
 

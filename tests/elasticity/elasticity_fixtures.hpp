@@ -44,26 +44,7 @@ inline VectorX to_eigen(const fem::VectorSpace& space, Vec v) {
 
 /// L2 norm over the warped domain of u_h - u_exact.
 inline double l2_error(const fem::HyperelasticOperator& op, Vec u, const fem::VectorFunction& exact) {
-  const VectorX ur = op.space().gather_relevant(u);
-  const auto& geo = op.geometry();
-  const auto& phi = op.shape_values();
-  const auto& cd = op.space().dofs().cell_dofs();
-  double local = 0;
-  for (Index i = 0; i < geo.num_cells(); ++i) {
-    const Index c = geo.cells()[static_cast<std::size_t>(i)];
-    for (Index q = 0; q < geo.points_per_cell(); ++q) {
-      const Index p = geo.at(i, q);
-      Point<2> uh = Point<2>::Zero();
-      for (Index k = 0; k < phi.cols(); ++k) {
-        const Index r = op.space().nodes().relevant_index(cd(c, k));
-        uh += phi(q, k) * ur.segment<2>(2 * r);
-      }
-      local += geo.JxW()(p) * (uh - exact(geo.physical_points().row(p).transpose(), 0.0)).squaredNorm();
-    }
-  }
-  double global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, op.space().comm());
-  return std::sqrt(global);
+  return op.l2_error(u, exact);
 }
 
 }  // namespace warpfem::test

@@ -46,13 +46,13 @@ TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
   const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 90, 90, fem::CellType::triangle);
   const auto map = concave_composite();
   const auto rule = fem::cell_quadrature(mesh.cell_type, 4);
-  const fem::WarpedGeometry cached(mesh, all_cells(mesh), rule, *map);
-  const fem::WarpedGeometry streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
-  ASSERT_GT(cached.num_cells() * cached.points_per_cell(), fem::WarpedGeometry::chunk_points());
+  const fem::WarpedGeometry<2> cached(mesh, all_cells(mesh), rule, *map);
+  const fem::WarpedGeometry<2> streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
+  ASSERT_GT(cached.num_cells() * cached.points_per_cell(), fem::WarpedGeometry<2>::chunk_points());
   int chunks = 0;
   Index next_cell = 0;
   double max_diff = 0;
-  streamed.for_each_chunk([&](const fem::GeometryChunk& g) {
+  streamed.for_each_chunk([&](const fem::GeometryChunk<2>& g) {
     ++chunks;
     EXPECT_EQ(g.first_cell(), next_cell);  // in order, no gaps
     next_cell += g.num_cells();
@@ -72,7 +72,7 @@ TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
   EXPECT_LE(max_diff, 1e-14);
   // The cached geometry is one chunk over its own arrays.
   int cached_chunks = 0;
-  cached.for_each_chunk([&](const fem::GeometryChunk& g) {
+  cached.for_each_chunk([&](const fem::GeometryChunk<2>& g) {
     ++cached_chunks;
     EXPECT_EQ(g.num_cells(), cached.num_cells());
     EXPECT_EQ(g.JxW(g.at(7, 3)), cached.JxW()(cached.at(7, 3)));
@@ -83,7 +83,7 @@ TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
 TEST(WarpedGeometryStorage, StreamedGeometryHasNoArrays) {
   const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 4, 4, fem::CellType::quadrilateral);
   const auto map = concave_composite();
-  const fem::WarpedGeometry g(mesh, all_cells(mesh), fem::cell_quadrature(mesh.cell_type, 4), *map,
+  const fem::WarpedGeometry<2> g(mesh, all_cells(mesh), fem::cell_quadrature(mesh.cell_type, 4), *map,
                               fem::GeometryStorage::streamed);
   EXPECT_THROW(g.JxW(), Error);
   EXPECT_THROW(g.physical_points(), Error);
@@ -98,10 +98,10 @@ TEST(WarpedGeometryStorage, FoldingMapIsReportedByTheFirstStreamedPass) {
   const auto map = std::make_shared<const mapping::BarycentricMap>(diamond, dart);
   const fem::Mesh<2> mesh = fem::mesh_polygon(diamond, {.max_edge_length = 0.1});
   const auto rule = fem::cell_quadrature(mesh.cell_type, 2);
-  EXPECT_THROW(fem::WarpedGeometry(mesh, all_cells(mesh), rule, *map), Error);
-  const fem::WarpedGeometry streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
+  EXPECT_THROW(fem::WarpedGeometry<2>(mesh, all_cells(mesh), rule, *map), Error);
+  const fem::WarpedGeometry<2> streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
   try {
-    streamed.for_each_chunk([](const fem::GeometryChunk&) {});
+    streamed.for_each_chunk([](const fem::GeometryChunk<2>&) {});
     ADD_FAILURE() << "a folding map must be reported";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("inverted or degenerate"), std::string::npos) << e.what();
