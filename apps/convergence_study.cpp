@@ -155,7 +155,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     std::vector<Index> cells;
     for (Index c = rank; c < hierarchy.finest().num_cells(); c += size) cells.push_back(c);
     const fem::WarpedGeometry g(hierarchy.finest(), cells,
-                                fem::cell_quadrature(hierarchy.finest().cell_type, qdeg), *f);
+                                fem::cell_quadrature<2>(hierarchy.finest().cell_type, qdeg), *f);
     double local = 0;
     for (Index p = 0; p < g.JxW().size(); ++p)
       local += g.JxW()(p) * std::pow(u_fn(g.physical_points().row(p).transpose(), 0.0), 2);

@@ -49,11 +49,11 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       map_(std::move(map)),
       data_(std::move(data)),
       dofs_(timed(setup_timings_.dof_map,
-                  [&] { return DofMap(mesh, LagrangeElement(mesh.cell_type, order)); })),
+                  [&] { return DofMap(mesh, LagrangeElement<2>(mesh.cell_type, order)); })),
       dist_(timed(setup_timings_.distribution, [&] { return distribute(dofs_); })),
       geometry_(timed(setup_timings_.geometry, [&] {
         return WarpedGeometry(mesh, dist_.local_cells(), WarpedGeometry::BorrowCells{},
-                              cell_quadrature(mesh.cell_type, quadrature_degree), *map_, storage);
+                              cell_quadrature<2>(mesh.cell_type, quadrature_degree), *map_, storage);
       })) {
   Stopwatch watch;
   if (data_.boundary_polygon) locator_.emplace(*data_.boundary_polygon);

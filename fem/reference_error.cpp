@@ -12,9 +12,9 @@ ErrorNorms error_against_reference(const PoissonProblem& coarse, const PoissonPr
   const VectorX ur = reference.distribution().gather_all(reference.solution());
   const Mesh<2>& rmesh = reference.mesh();
   const CellLocator locator(rmesh);
-  const LagrangeElement& ce = coarse.dofs().element();
-  const LagrangeElement& re = reference.dofs().element();
-  const LagrangeElement geo(rmesh.cell_type, 1);
+  const LagrangeElement<2>& ce = coarse.dofs().element();
+  const LagrangeElement<2>& re = reference.dofs().element();
+  const LagrangeElement<2> geo(rmesh.cell_type, 1);
   const WarpedGeometry& g = coarse.geometry();
   const MatrixX phi = ce.values(g.rule().points);
   const auto dphi = ce.gradients(g.rule().points);

@@ -32,7 +32,7 @@ WarpedGeometry::WarpedGeometry(const Mesh<2>& mesh, std::span<const Index> borro
       rule_(rule),
       nq_(rule.size()),
       storage_(storage) {
-  const LagrangeElement geo(mesh.cell_type, 1);
+  const LagrangeElement<2> geo(mesh.cell_type, 1);
   geo_values_ = geo.values(rule.points);
   geo_gradients_ = geo.gradients(rule.points);
   if (storage_ == GeometryStorage::streamed) return;
