@@ -156,7 +156,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     std::vector<Index> cells;
     for (Index c = rank; c < hierarchy.finest().num_cells(); c += size) cells.push_back(c);
     const fem::WarpedGeometry<2> g(hierarchy.finest(), cells,
-                                   fem::cell_quadrature(hierarchy.finest().cell_type, qdeg), *f);
+                                   fem::cell_quadrature<2>(hierarchy.finest().cell_type, qdeg), *f);
     const double local = fem::integrate(g, [&](const Point<2>& x) { return std::pow(u_fn(x, 0.0), 2); });
     MPI_Allreduce(&local, &reference_norm, 1, MPI_DOUBLE, MPI_SUM, comm);
     reference_norm = std::sqrt(reference_norm);

@@ -166,7 +166,7 @@ int map_command(const std::vector<std::string>& args) {
     const Polygon& source = *spec.source;
     const double h = edge > 0 ? edge : (source.bbox_max() - source.bbox_min()).norm() / 40.0;
     const fem::Mesh<2> mesh = fem::mesh_polygon(source, {.max_edge_length = h});
-    const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, 1));
+    const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 1));
     const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
     const fem::OutputMesh grid = fem::make_output_mesh(mesh, dist, *map, 2);
     Points<2> x;

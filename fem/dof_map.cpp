@@ -4,7 +4,7 @@
 
 namespace warpfem::fem {
 
-DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(element) {
+DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement<2>& element) : element_(element) {
   require(mesh.cell_type == element.cell_type(),
           "DofMap: element " + element.name() + " does not match " + to_string(mesh.cell_type) + " cells");
   const int per_edge = element.dofs_per_edge(), interior = element.interior_dofs();
@@ -27,7 +27,7 @@ DofMap::DofMap(const Mesh<2>& mesh, const LagrangeElement& element) : element_(e
       cell_dofs_(c, nloc - interior + k) = nv + ne * per_edge + c * interior + k;
   }
   // Node positions: map the reference nodes through the straight cell geometry.
-  const LagrangeElement geo(mesh.cell_type, 1);
+  const LagrangeElement<2> geo(mesh.cell_type, 1);
   const MatrixX N = geo.values(element.nodes());
   dof_points_.resize(num_dofs_, 2);
   for (Index c = 0; c < nc; ++c)

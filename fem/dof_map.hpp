@@ -21,10 +21,10 @@ namespace warpfem::fem {
 class DofMap {
  public:
   /// `mesh` must outlive the DofMap (P1/Q1 refer to its cells and vertices).
-  DofMap(const Mesh<2>& mesh, const LagrangeElement& element);
+  DofMap(const Mesh<2>& mesh, const LagrangeElement<2>& element);
 
   Index num_dofs() const { return num_dofs_; }
-  const LagrangeElement& element() const { return element_; }
+  const LagrangeElement<2>& element() const { return element_; }
   /// cells x element().num_dofs() table of DOF ids.
   const IndexTable& cell_dofs() const { return vertex_dofs_ ? vertex_dofs_->cells : cell_dofs_; }
   /// Position of every DOF node in Ω0 (num_dofs x 2).
@@ -35,7 +35,7 @@ class DofMap {
   std::vector<Index> facet_dofs(const Mesh<2>& mesh, Index facet) const;
 
  private:
-  LagrangeElement element_;
+  LagrangeElement<2> element_;
   std::optional<EdgeNumbering> edges_;  // only for elements with edge DOFs (P2, Q2)
   Index num_dofs_ = 0;
   const Mesh<2>* vertex_dofs_ = nullptr;  // P1/Q1: the DOFs are this mesh's vertices

@@ -16,7 +16,7 @@ void InterpolatedMap::eval_with_jacobian(const Points<2>& x0, Points<2>& x, Jaco
   const Index n = x0.rows();
   x.resize(n, 2);
   J.resize(n, 4);
-  const LagrangeElement geo(mesh_->cell_type, 1);
+  const LagrangeElement<2> geo(mesh_->cell_type, 1);
   const int nv = geo.num_dofs();
   for (Index p = 0; p < n; ++p) {
     const Point<2> q = x0.row(p).transpose();

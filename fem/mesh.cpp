@@ -17,29 +17,6 @@ TableIndex checked_table_size(Index count, const std::string& what) {
   return static_cast<TableIndex>(count);
 }
 
-std::string to_string(CellType t) {
-  switch (t) {
-    case CellType::triangle: return "triangle";
-    case CellType::quadrilateral: return "quadrilateral";
-    case CellType::tetrahedron: return "tetrahedron";
-    case CellType::hexahedron: return "hexahedron";
-  }
-  return "unknown";
-}
-
-const std::vector<std::array<int, 2>>& cell_edges(CellType t) {
-  static const std::vector<std::array<int, 2>> tri{{0, 1}, {1, 2}, {2, 0}};
-  static const std::vector<std::array<int, 2>> quad{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
-  static const std::vector<std::array<int, 2>> tet{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
-  static const std::vector<std::array<int, 2>> none{};
-  switch (t) {
-    case CellType::triangle: return tri;
-    case CellType::quadrilateral: return quad;
-    case CellType::tetrahedron: return tet;
-    default: return none;
-  }
-}
-
 template <int dim>
 std::vector<std::array<Index, 2>> Mesh<dim>::cell_ranges() const {
   if (partial) return present_cells;

@@ -15,24 +15,9 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "fem/reference_cell.hpp"
 
 namespace warpfem::fem {
-
-enum class CellType { triangle, quadrilateral, tetrahedron, hexahedron };
-
-constexpr int vertices_per_cell(CellType t) {
-  switch (t) {
-    case CellType::triangle: return 3;
-    case CellType::quadrilateral: return 4;
-    case CellType::tetrahedron: return 4;
-    case CellType::hexahedron: return 8;
-  }
-  return 0;
-}
-constexpr int cell_dimension(CellType t) {
-  return (t == CellType::triangle || t == CellType::quadrilateral) ? 2 : 3;
-}
-std::string to_string(CellType t);
 
 /// Entry type of mesh and DOF tables: 32-bit, which halves the memory (and the
 /// first-touch and bandwidth cost) of the largest arrays of a refined
@@ -44,16 +29,12 @@ TableIndex checked_table_size(Index count, const std::string& what);
 /// Row-major integer table: one row per cell (or facet).
 using IndexTable = Eigen::Matrix<TableIndex, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-/// Local vertex pairs of the edges of a 2D cell, in the order used for edge DOFs
-/// (and by VTK's Lagrange cells): triangle (0,1),(1,2),(2,0); quad (0,1),(1,2),(2,3),(3,0).
-const std::vector<std::array<int, 2>>& cell_edges(CellType t);
-
 template <int dim>
 struct Mesh {
   CellType cell_type = dim == 2 ? CellType::triangle : CellType::tetrahedron;
   Points<dim> vertices;         ///< N x dim, coordinates in Ω0
   IndexTable cells;             ///< cells x vertices_per_cell(cell_type), counter-clockwise in 2D
-  IndexTable boundary_facets;   ///< boundary facets x (dim == 2 ? 2 : 3)
+  IndexTable boundary_facets;   ///< boundary facets x facet vertices, outward (see cell_faces)
   std::vector<int> facet_tags;  ///< per boundary facet: index of the polygon edge (face) it lies on
 
   /// A level one rank refined only around its own cells (a MeshHierarchy

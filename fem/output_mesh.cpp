@@ -16,7 +16,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
   OutputMesh out;
   out.cell_type = mesh.cell_type;
   out.order = order;
-  const LagrangeElement element(mesh.cell_type, order);
+  const LagrangeElement<2> element(mesh.cell_type, order);
   require(element.dofs_per_edge() <= 1, "make_output_mesh: output order " + std::to_string(order) +
                                             " is not supported (at most one node per edge)");
   const int nloc = element.num_dofs(), nvert = element.num_vertex_dofs();
@@ -24,7 +24,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
       nvert + static_cast<int>(cell_edges(mesh.cell_type).size()) * element.dofs_per_edge();
   const auto& edges = cell_edges(mesh.cell_type);
   // Node positions in Ω0: the straight cell geometry at the element's nodes.
-  const MatrixX geometry = LagrangeElement(mesh.cell_type, 1).values(element.nodes());  // nodes x vertices
+  const MatrixX geometry = LagrangeElement<2>(mesh.cell_type, 1).values(element.nodes());  // nodes x vertices
   const auto& cells = dist.local_cells();
   out.cells.resize(static_cast<Index>(cells.size()), nloc);
   out.cell_ids = cells;
@@ -80,7 +80,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
 
 VectorX OutputMesh::interpolate(const DofMap& dofs, const DofDistribution& dist,
                                 const VectorX& relevant_values) const {
-  const LagrangeElement out_element(cell_type, order);
+  const LagrangeElement<2> out_element(cell_type, order);
   const MatrixX phi = dofs.element().values(out_element.nodes());  // output nodes x element dofs
   VectorX values(static_cast<Index>(node_source_.size()));
   for (std::size_t i = 0; i < node_source_.size(); ++i) {

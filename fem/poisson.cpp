@@ -48,11 +48,11 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       data_(std::move(data)),
       parts_(mesh, data_.boundary_polygon),
       dofs_(timed(setup_timings_.dof_map,
-                  [&] { return DofMap(mesh, LagrangeElement(mesh.cell_type, order)); })),
+                  [&] { return DofMap(mesh, LagrangeElement<2>(mesh.cell_type, order)); })),
       dist_(timed(setup_timings_.distribution, [&] { return distribute(dofs_); })),
       geometry_(timed(setup_timings_.geometry, [&] {
         return WarpedGeometry<2>(mesh, dist_.local_cells(), WarpedGeometry<2>::BorrowCells{},
-                                 cell_quadrature(mesh.cell_type, quadrature_degree), *map_, storage);
+                                 cell_quadrature<2>(mesh.cell_type, quadrature_degree), *map_, storage);
       })) {
   Stopwatch watch;
   const auto shape_grads = dofs_.element().gradients(geometry_.rule().points);

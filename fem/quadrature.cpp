@@ -28,8 +28,74 @@ QuadratureRule<1> gauss_legendre(int n) {
   return rule;
 }
 
-QuadratureRule<2> cell_quadrature(CellType type, int degree) {
-  require(degree >= 0, "cell_quadrature: negative degree");
+QuadratureRule<1> gauss_jacobi(int n, int alpha) {
+  require(n >= 1 && alpha >= 0, "gauss_jacobi: need at least one point and alpha >= 0");
+  // Golub–Welsch on the Jacobi matrix of the Jacobi polynomials P^(alpha, 0) on [-1, 1].
+  const double a = alpha;
+  MatrixX T = MatrixX::Zero(n, n);
+  for (int k = 0; k < n; ++k) {
+    const double s = 2.0 * k + a;
+    T(k, k) = k == 0 ? -a / (a + 2.0) : -a * a / (s * (s + 2.0));
+    if (k > 0)
+      T(k, k - 1) = T(k - 1, k) =
+          std::sqrt(4.0 * k * k * (k + a) * (k + a) / (s * s * (s + 1.0) * (s - 1.0)));
+  }
+  Eigen::SelfAdjointEigenSolver<MatrixX> eig(T);
+  QuadratureRule<1> rule;
+  rule.points.resize(n, 1);
+  rule.weights.resize(n);
+  for (int k = 0; k < n; ++k) {
+    rule.points(k, 0) = 0.5 * (eig.eigenvalues()(k) + 1.0);
+    const double v0 = eig.eigenvectors()(0, k);
+    // Total weight on [0, 1]: integral of (1 - x)^alpha = 1 / (alpha + 1).
+    rule.weights(k) = v0 * v0 / (a + 1.0);
+  }
+  rule.degree = 2 * n - 1;
+  return rule;
+}
+
+namespace {
+QuadratureRule<3> hexahedron_rule(int degree) {
+  const auto g = gauss_legendre(degree / 2 + 1);
+  const Index n = g.size();
+  QuadratureRule<3> rule;
+  rule.degree = g.degree;
+  rule.points.resize(n * n * n, 3);
+  rule.weights.resize(n * n * n);
+  Index q = 0;
+  for (Index k = 0; k < n; ++k)
+    for (Index j = 0; j < n; ++j)
+      for (Index i = 0; i < n; ++i, ++q) {
+        rule.points.row(q) << g.points(i, 0), g.points(j, 0), g.points(k, 0);
+        rule.weights(q) = g.weights(i) * g.weights(j) * g.weights(k);
+      }
+  return rule;
+}
+
+// Conical product (Stroud): (u, v, w) in [0,1]^3 -> (x, y, z) = (u (1-v)(1-w), v (1-w), w),
+// Jacobian (1-v)(1-w)^2, absorbed into Gauss–Jacobi weights in v and w. A monomial
+// of total degree p stays of degree <= p in each of u, v, w, so n = p/2 + 1 points
+// per direction are exact to 2n - 1 >= p.
+QuadratureRule<3> tetrahedron_rule(int degree) {
+  const int n = degree / 2 + 1;
+  const auto gu = gauss_legendre(n), gv = gauss_jacobi(n, 1), gw = gauss_jacobi(n, 2);
+  QuadratureRule<3> rule;
+  rule.degree = 2 * n - 1;
+  rule.points.resize(static_cast<Index>(n) * n * n, 3);
+  rule.weights.resize(static_cast<Index>(n) * n * n);
+  Index q = 0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i, ++q) {
+        const double u = gu.points(i, 0), v = gv.points(j, 0), w = gw.points(k, 0);
+        rule.points.row(q) << u * (1.0 - v) * (1.0 - w), v * (1.0 - w), w;
+        rule.weights(q) = gu.weights(i) * gv.weights(j) * gw.weights(k);
+      }
+  return rule;
+}
+
+// Quadrilateral: tensor Gauss. Triangle: symmetric rules up to degree 6, collapsed Gauss beyond.
+QuadratureRule<2> rule_2d(CellType type, int degree) {
   QuadratureRule<2> rule;
   rule.degree = degree;
   if (type == CellType::quadrilateral) {
@@ -44,7 +110,6 @@ QuadratureRule<2> cell_quadrature(CellType type, int degree) {
       }
     return rule;
   }
-  require(type == CellType::triangle, "cell_quadrature: unsupported cell type " + to_string(type));
   if (degree <= 6) {
     // Symmetric rules with fewer points than the collapsed Gauss rule (Strang–Fix / Dunavant):
     // every quadrature point costs one evaluation of the map, so this is what matters for WarpedGeometry.
@@ -108,6 +173,22 @@ QuadratureRule<2> cell_quadrature(CellType type, int degree) {
     }
   return rule;
 }
+
+}  // namespace
+
+template <int dim>
+QuadratureRule<dim> cell_quadrature(CellType type, int degree) {
+  require(degree >= 0, "cell_quadrature: negative degree");
+  require(cell_dimension(type) == dim, "cell_quadrature<" + std::to_string(dim) + ">: " + to_string(type) +
+                                           " cells have another dimension");
+  if constexpr (dim == 2)
+    return rule_2d(type, degree);
+  else
+    return type == CellType::hexahedron ? hexahedron_rule(degree) : tetrahedron_rule(degree);
+}
+
+template QuadratureRule<2> cell_quadrature<2>(CellType, int);
+template QuadratureRule<3> cell_quadrature<3>(CellType, int);
 
 int default_quadrature_degree(int order) {
   return 2 * order + 2;

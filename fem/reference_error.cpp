@@ -13,9 +13,9 @@ ErrorNorms error_against_reference(const PoissonProblem& coarse, const PoissonPr
   const VectorX ur = reference.distribution().gather_all(reference.solution());
   const Mesh<2>& rmesh = reference.mesh();
   const CellLocator locator(rmesh);
-  const LagrangeElement& ce = coarse.dofs().element();
-  const LagrangeElement& re = reference.dofs().element();
-  const LagrangeElement geo(rmesh.cell_type, 1);
+  const LagrangeElement<2>& ce = coarse.dofs().element();
+  const LagrangeElement<2>& re = reference.dofs().element();
+  const LagrangeElement<2> geo(rmesh.cell_type, 1);
   std::vector<double> ue(static_cast<std::size_t>(ce.num_dofs()));
   double local[2] = {0, 0};
   Points<2> xi(1, 2);

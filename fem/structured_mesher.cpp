@@ -1,5 +1,7 @@
 #include "fem/structured_mesher.hpp"
 
+#include <algorithm>
+#include <numeric>
 #include <unordered_map>
 
 #include "core/error.hpp"
@@ -127,6 +129,129 @@ Mesh<2> split_into_quadrilaterals(const Mesh<2>& tri) {
     q.facet_tags[2 * f] = q.facet_tags[2 * f + 1] = tri.facet_tags[f];
   }
   return q;
+}
+
+IndexTable find_boundary_facets(const Mesh<3>& mesh) {
+  mesh.require_whole("find_boundary_facets");
+  const auto& faces = cell_faces(mesh.cell_type);
+  const int nf = static_cast<int>(faces.size()), nvf = static_cast<int>(faces[0].size());
+  // Sort the facets by their sorted vertex ids: a facet met once is on the boundary.
+  const Index n = mesh.num_cells() * nf;
+  std::vector<std::array<TableIndex, 4>> keys(static_cast<std::size_t>(n), {-1, -1, -1, -1});
+  for (Index c = 0; c < mesh.num_cells(); ++c)
+    for (int f = 0; f < nf; ++f) {
+      auto& key = keys[static_cast<std::size_t>(c * nf + f)];
+      for (int k = 0; k < nvf; ++k) key[k] = mesh.cells(c, faces[f][k]);
+      std::sort(key.begin(), key.begin() + nvf);
+    }
+  std::vector<Index> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), Index{0});
+  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return keys[a] < keys[b]; });
+  std::vector<Index> boundary;  // cell * nf + local facet
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i + 1;
+    while (j < order.size() && keys[order[j]] == keys[order[i]]) ++j;
+    if (j - i > 2)
+      throw Error(
+          "the mesh is not conforming: a facet is shared by " + std::to_string(j - i) + " cells",
+          {.file = "", .key_path = "/mesh", .hint = "every interior facet must belong to exactly two cells"});
+    if (j - i == 1) boundary.push_back(order[i]);
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  IndexTable out(static_cast<Index>(boundary.size()), nvf);
+  for (std::size_t b = 0; b < boundary.size(); ++b)
+    for (int k = 0; k < nvf; ++k)
+      out(static_cast<Index>(b), k) = mesh.cells(boundary[b] / nf, faces[boundary[b] % nf][k]);
+  return out;
+}
+
+namespace {
+// Kuhn/Freudenthal split of the unit cube: one tetrahedron per ordering of
+// the axes, along the path 000 -> e_a -> e_a + e_b -> 111. Corners are
+// numbered by bits (x = 1, y = 2, z = 4); odd orderings are reflected, so two
+// vertices are swapped to keep every tetrahedron positively oriented.
+std::array<std::array<int, 4>, 6> kuhn_tetrahedra() {
+  std::array<std::array<int, 4>, 6> tets{};
+  std::array<int, 3> axes{0, 1, 2};
+  int t = 0;
+  do {
+    std::array<int, 4> tet{0, 1 << axes[0], (1 << axes[0]) | (1 << axes[1]), 7};
+    const bool even = (axes[0] + 1) % 3 == axes[1];  // cyclic orderings are even
+    if (!even) std::swap(tet[2], tet[3]);
+    tets[t++] = tet;
+  } while (std::next_permutation(axes.begin(), axes.end()));
+  return tets;
+}
+}  // namespace
+
+Mesh<3> structured_box_mesh(const Point<3>& lo, const Point<3>& hi, const std::array<int, 3>& n,
+                            CellType type) {
+  if (n[0] < 1 || n[1] < 1 || n[2] < 1)
+    throw Error("a structured box mesh needs at least one cell per direction",
+                {.file = "", .key_path = "/mesh/cells", .hint = "give [nx, ny, nz] >= [1, 1, 1]"});
+  if (!(hi.array() > lo.array()).all())
+    throw Error(
+        "a structured box mesh needs a box with hi > lo in every coordinate",
+        {.file = "", .key_path = "/mesh", .hint = "give the lower corner first and a positive extent"});
+  if (type != CellType::tetrahedron && type != CellType::hexahedron)
+    throw Error("a structured box mesh is made of tetrahedra or hexahedra, not " + to_string(type) + " cells",
+                {.file = "", .key_path = "/mesh/cell_type", .hint = "use tetrahedron or hexahedron"});
+  const Index nx = n[0], ny = n[1], nz = n[2];
+  const Index num_vertices = (nx + 1) * (ny + 1) * (nz + 1);
+  const Index num_boxes = nx * ny * nz;
+  Mesh<3> m;
+  m.cell_type = type;
+  m.vertices.resize(checked_table_size(num_vertices, "structured_box_mesh vertices"), 3);
+  auto vid = [&](Index i, Index j, Index k) {
+    return static_cast<TableIndex>((k * (ny + 1) + j) * (nx + 1) + i);
+  };
+  for (Index k = 0; k <= nz; ++k)
+    for (Index j = 0; j <= ny; ++j)
+      for (Index i = 0; i <= nx; ++i) {
+        const Index idx[3] = {i, j, k};
+        for (int d = 0; d < 3; ++d)
+          // Exact ends, so boundary vertices lie exactly on the box faces.
+          m.vertices(vid(i, j, k), d) = idx[d] == n[d] ? hi(d) : lo(d) + (hi(d) - lo(d)) * idx[d] / n[d];
+      }
+  // Corner c (bits x = 1, y = 2, z = 4) of box (i, j, k).
+  auto corner = [&](Index i, Index j, Index k, int c) {
+    return vid(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2));
+  };
+  if (type == CellType::hexahedron) {
+    static const int hex_corners[8] = {0, 1, 3, 2, 4, 5, 7, 6};  // VTK hexahedron order
+    m.cells.resize(checked_table_size(num_boxes, "structured_box_mesh cells"), 8);
+    for (Index k = 0; k < nz; ++k)
+      for (Index j = 0; j < ny; ++j)
+        for (Index i = 0; i < nx; ++i)
+          for (int v = 0; v < 8; ++v) m.cells((k * ny + j) * nx + i, v) = corner(i, j, k, hex_corners[v]);
+  } else {
+    const auto tets = kuhn_tetrahedra();
+    m.cells.resize(checked_table_size(6 * num_boxes, "structured_box_mesh cells"), 4);
+    for (Index k = 0; k < nz; ++k)
+      for (Index j = 0; j < ny; ++j)
+        for (Index i = 0; i < nx; ++i)
+          for (int t = 0; t < 6; ++t)
+            for (int v = 0; v < 4; ++v)
+              m.cells(6 * ((k * ny + j) * nx + i) + t, v) = corner(i, j, k, tets[t][v]);
+  }
+  m.boundary_facets = find_boundary_facets(m);
+  // Tag: the box face all vertices of the facet lie on (exact coordinates).
+  m.facet_tags.resize(static_cast<std::size_t>(m.num_boundary_facets()));
+  for (Index f = 0; f < m.num_boundary_facets(); ++f) {
+    int tag = -1;
+    for (int face = 0; face < 6 && tag < 0; ++face) {
+      const int d = face / 2;
+      const double plane = face % 2 == 0 ? lo(d) : hi(d);
+      bool on = true;
+      for (Index k = 0; k < m.boundary_facets.cols(); ++k)
+        on = on && m.vertices(m.boundary_facets(f, k), d) == plane;
+      if (on) tag = face;
+    }
+    require(tag >= 0, "structured_box_mesh: boundary facet off the box faces");
+    m.facet_tags[static_cast<std::size_t>(f)] = tag;
+  }
+  return m;
 }
 
 }  // namespace warpfem::fem

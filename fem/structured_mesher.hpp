@@ -1,7 +1,10 @@
 #pragma once
 // Meshes of simple parametrization domains that do not need a Delaunay mesher:
-// structured grids of rectangles, and quadrilateral meshes of any polygon by
-// splitting each triangle of a triangle mesh into three quadrilaterals.
+// structured grids of rectangles and of axis-aligned boxes, and quadrilateral
+// meshes of any polygon by splitting each triangle of a triangle mesh into
+// three quadrilaterals.
+
+#include <array>
 
 #include "core/polygon.hpp"
 #include "fem/mesh.hpp"
@@ -27,5 +30,18 @@ void tag_boundary_facets(Mesh<2>& mesh, const Polygon& polygon);
 
 /// All edges of cells that belong to only one cell, oriented counter-clockwise.
 IndexTable find_boundary_facets(const Mesh<2>& mesh);
+
+/// nx x ny x nz grid of the box [lo, hi]: hexahedra, or six tetrahedra per
+/// hexahedron (Kuhn/Freudenthal split along the diagonal from the low to the
+/// high corner, conforming because every box is split the same way). Cells
+/// are positively oriented. Boundary facets (quadrilaterals or triangles,
+/// outward) are tagged with the box face they lie on: 0 x = lo.x, 1 x = hi.x,
+/// 2 y = lo.y, 3 y = hi.y, 4 z = lo.z, 5 z = hi.z.
+Mesh<3> structured_box_mesh(const Point<3>& lo, const Point<3>& hi, const std::array<int, 3>& cells,
+                            CellType type);
+
+/// All facets of cells that belong to only one cell, outward (cell_faces order
+/// of their cell), listed by cell then local facet.
+IndexTable find_boundary_facets(const Mesh<3>& mesh);
 
 }  // namespace warpfem::fem

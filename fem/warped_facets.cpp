@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "core/error.hpp"
 
 namespace warpfem::fem {
@@ -86,5 +88,6 @@ WarpedFacets<dim>::WarpedFacets(const Mesh<dim>& mesh, std::vector<Index> facets
 }
 
 template class WarpedFacets<2>;
+template class WarpedFacets<3>;
 
 }  // namespace warpfem::fem

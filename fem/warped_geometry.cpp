@@ -36,7 +36,7 @@ WarpedGeometry<dim>::WarpedGeometry(const Mesh<dim>& mesh, std::span<const Index
       rule_(rule),
       nq_(rule.size()),
       storage_(storage) {
-  const LagrangeElement geo(mesh.cell_type, 1);
+  const LagrangeElement<dim> geo(mesh.cell_type, 1);
   geo_values_ = geo.values(rule.points);
   geo_gradients_ = geo.gradients(rule.points);
   if (storage_ == GeometryStorage::streamed) return;
@@ -211,6 +211,8 @@ Points<dim> warp_nodes(const mapping::Map<dim>& map, const Points<dim>& x0, Vect
 }
 
 template class WarpedGeometry<2>;
+template class WarpedGeometry<3>;
 template Points<2> warp_nodes<2>(const mapping::Map<2>&, const Points<2>&, VectorX*);
+template Points<3> warp_nodes<3>(const mapping::Map<3>&, const Points<3>&, VectorX*);
 
 }  // namespace warpfem::fem

@@ -12,7 +12,7 @@ namespace warpfem::multigrid {
 struct ElasticityMultigrid::CoarseLevel {
   fem::DofMap dofs;
   fem::DofDistribution distribution;
-  CoarseLevel(MPI_Comm comm, const fem::Mesh<2>& mesh, const fem::LagrangeElement& element,
+  CoarseLevel(MPI_Comm comm, const fem::Mesh<2>& mesh, const fem::LagrangeElement<2>& element,
               const std::vector<int>& cell_owner)
       : dofs(mesh, element), distribution(comm, mesh, dofs, cell_owner) {}
 };
@@ -107,7 +107,7 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
                  .key_path = "/solver/multigrid/prolongation",
                  .hint = "use \"geometric\" prolongations for elasticity"});
   const int levels = hierarchy.num_levels();
-  const fem::LagrangeElement& element = finest.dofs().element();
+  const fem::LagrangeElement<2>& element = finest.dofs().element();
   // The coarse levels are partitioned like PoissonMultigridSolver's: nested, so
   // with a finest space built on the same partition (nested_partitions(...).back(),
   // as the elasticity app does) prolongation rows read other ranks' coarse

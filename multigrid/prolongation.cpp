@@ -20,8 +20,8 @@ constexpr double kZero = 1e-13;  // |φ| below this is a structural zero
 /// Coarse shape values at the fine nodes of each of the four children of a
 /// refined cell (fine nodes x coarse DOFs): the fine element's nodes mapped
 /// into the parent's reference cell by the child's P1/Q1 geometry.
-std::array<MatrixX, 4> child_tables(const fem::LagrangeElement& element) {
-  const fem::LagrangeElement geometry(element.cell_type(), 1);
+std::array<MatrixX, 4> child_tables(const fem::LagrangeElement<2>& element) {
+  const fem::LagrangeElement<2> geometry(element.cell_type(), 1);
   const MatrixX to_child = geometry.values(element.nodes());
   std::array<MatrixX, 4> tables;
   for (int k = 0; k < 4; ++k)

@@ -76,7 +76,7 @@ auto point_kernel(AtPoint point) {
 template <int dim, class Function>
 double integrate(const WarpedGeometry<dim>& geometry, Function&& g) {
   double sum = 0;
-  CellValues<dim> values(LagrangeElement(geometry.mesh().cell_type, 1), geometry, 0);
+  CellValues<dim> values(LagrangeElement<dim>(geometry.mesh().cell_type, 1), geometry, 0);
   integrate_cells(geometry, values,
                   point_kernel([&](const CellValues<dim>& v, Index q) { sum += v.JxW(q) * g(v.point(q)); }));
   return sum;

@@ -11,7 +11,7 @@ namespace warpfem::fem {
 NodalProjection::NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry<2>& geometry,
                                  const std::vector<int>& cell_owner)
     : geometry_(geometry),
-      dofs_(mesh, LagrangeElement(mesh.cell_type, 1)),
+      dofs_(mesh, LagrangeElement<2>(mesh.cell_type, 1)),
       dist_(cell_owner.empty() ? DofDistribution(comm, mesh, dofs_)
                                : DofDistribution(comm, mesh, dofs_, cell_owner)) {
   require(std::equal(dist_.local_cells().begin(), dist_.local_cells().end(), geometry_.cells().begin(),

@@ -21,7 +21,7 @@ class VectorSpace {
  public:
   /// `cell_owner`: the rank of every cell (empty: partition_cells()), e.g. the
   /// finest entry of fem::nested_partitions() for a multigrid hierarchy.
-  VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement& element, int components = 2,
+  VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement<2>& element, int components = 2,
               const std::vector<int>& cell_owner = {});
   VectorSpace(const VectorSpace&) = delete;
   VectorSpace& operator=(const VectorSpace&) = delete;

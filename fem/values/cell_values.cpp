@@ -3,7 +3,7 @@
 namespace warpfem::fem {
 
 template <int dim>
-CellValues<dim>::CellValues(const LagrangeElement& element, const WarpedGeometry<dim>& geometry,
+CellValues<dim>::CellValues(const LagrangeElement<dim>& element, const WarpedGeometry<dim>& geometry,
                             unsigned update)
     : geometry_(&geometry),
       update_(update),
@@ -20,5 +20,6 @@ CellValues<dim>::CellValues(const LagrangeElement& element, const WarpedGeometry
 }
 
 template class CellValues<2>;
+template class CellValues<3>;
 
 }  // namespace warpfem::fem

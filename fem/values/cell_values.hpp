@@ -26,7 +26,7 @@ class CellValues {
   using Gradients = Eigen::Matrix<double, dim, Eigen::Dynamic>;
 
   /// Values of `element` at the quadrature points of `geometry`.
-  CellValues(const LagrangeElement& element, const WarpedGeometry<dim>& geometry, unsigned update);
+  CellValues(const LagrangeElement<dim>& element, const WarpedGeometry<dim>& geometry, unsigned update);
 
   /// Cell i of `chunk`.
   void reinit(const GeometryChunk<dim>& chunk, Index i) {

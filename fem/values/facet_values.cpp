@@ -5,7 +5,7 @@
 namespace warpfem::fem {
 
 template <int dim>
-FacetValues<dim>::FacetValues(const LagrangeElement& cell_element, const WarpedFacets<dim>& facets)
+FacetValues<dim>::FacetValues(const LagrangeElement<dim>& cell_element, const WarpedFacets<dim>& facets)
     : facets_(&facets) {
   const int order = cell_element.order();
   const auto& rule = facets.rule();
@@ -19,10 +19,11 @@ FacetValues<dim>::FacetValues(const LagrangeElement& cell_element, const WarpedF
   } else {
     const CellType face =
         cell_element.cell_type() == CellType::tetrahedron ? CellType::triangle : CellType::quadrilateral;
-    N_ = LagrangeElement(face, order).values(rule.points);
+    N_ = LagrangeElement<2>(face, order).values(rule.points);
   }
 }
 
 template class FacetValues<2>;
+template class FacetValues<3>;
 
 }  // namespace warpfem::fem

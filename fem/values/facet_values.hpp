@@ -12,7 +12,7 @@ namespace warpfem::fem {
 template <int dim>
 class FacetValues {
  public:
-  FacetValues(const LagrangeElement& cell_element, const WarpedFacets<dim>& facets);
+  FacetValues(const LagrangeElement<dim>& cell_element, const WarpedFacets<dim>& facets);
 
   void reinit(Index i) {
     position_ = i;

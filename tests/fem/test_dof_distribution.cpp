@@ -23,7 +23,7 @@ namespace {
 /// On every rank of MPI_COMM_WORLD (this file also runs under mpiexec -n 2 as
 /// test_mpi_dof_distribution): every owned row is the brute-force coupling.
 void expect_sparsity_is_the_cell_coupling(const fem::Mesh<2>& mesh, int order) {
-  const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, order));
+  const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, order));
   const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
   std::vector<PetscInt> row_ptr, cols;
   dist.sparsity(mesh, dofs, row_ptr, cols);
@@ -91,7 +91,7 @@ TEST(Sparsity, RowsAreTheSortedCellCouplingOfQuadrilaterals) {
 TEST(DofDistribution, GivenCellOwnersAreCheckedAndUsed) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
   const fem::Mesh<2> mesh = fem::mesh_polygon(square, {.max_edge_length = 0.3});
-  const fem::DofMap dofs(mesh, fem::LagrangeElement(mesh.cell_type, 2));
+  const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 2));
   const std::vector<int> all_mine(static_cast<std::size_t>(mesh.num_cells()), 0);
   const fem::DofDistribution given(MPI_COMM_SELF, mesh, dofs, all_mine), morton(MPI_COMM_SELF, mesh, dofs);
   EXPECT_EQ(given.local_cells(), morton.local_cells());
@@ -116,7 +116,7 @@ TEST(DofDistribution, NumbersDofsByFirstUseInTheCells) {
                                  .mesh;
   for (const fem::Mesh<2>* mesh : {&triangles, &quads})
     for (int order : {1, 2}) {
-      const fem::DofMap dofs(*mesh, fem::LagrangeElement(mesh->cell_type, order));
+      const fem::DofMap dofs(*mesh, fem::LagrangeElement<2>(mesh->cell_type, order));
       const fem::DofDistribution dist(MPI_COMM_SELF, *mesh, dofs);
       std::vector<char> seen(static_cast<std::size_t>(dofs.num_dofs()), 0);
       PetscInt next = 0;
@@ -136,12 +136,12 @@ TEST(DofMap, FirstOrderDofsAreTheMeshVerticesWithoutACopy) {
   const fem::Mesh<2> triangles = fem::mesh_polygon(square, {.max_edge_length = 0.3});
   const fem::Mesh<2> quads = fem::split_into_quadrilaterals(triangles);
   for (const fem::Mesh<2>* mesh : {&triangles, &quads}) {
-    const fem::DofMap p1(*mesh, fem::LagrangeElement(mesh->cell_type, 1));
+    const fem::DofMap p1(*mesh, fem::LagrangeElement<2>(mesh->cell_type, 1));
     EXPECT_EQ(p1.num_dofs(), mesh->num_vertices());
     EXPECT_EQ(&p1.cell_dofs(), &mesh->cells);  // documented: P1/Q1 refer to the mesh
     EXPECT_EQ(&p1.dof_points(), &mesh->vertices);
     // Order 2 numbers its own table: vertices first, then one DOF per edge.
-    const fem::DofMap p2(*mesh, fem::LagrangeElement(mesh->cell_type, 2));
+    const fem::DofMap p2(*mesh, fem::LagrangeElement<2>(mesh->cell_type, 2));
     EXPECT_EQ(p2.cell_dofs().leftCols(mesh->cells.cols()), mesh->cells);
     EXPECT_EQ(p2.dof_points().topRows(mesh->num_vertices()), mesh->vertices);
   }

@@ -28,7 +28,7 @@ TEST(Quadrature, GaussLegendreIsExactToDegree2nMinus1) {
 
 TEST(Quadrature, TriangleRulesIntegrateMonomialsExactly) {
   for (int degree = 0; degree <= 10; ++degree) {
-    const auto rule = cell_quadrature(CellType::triangle, degree);
+    const auto rule = cell_quadrature<2>(CellType::triangle, degree);
     EXPECT_GT(rule.weights.minCoeff(), 0.0);
     // Inside the cell: WarpedGeometry evaluates the map at these points.
     for (Index q = 0; q < rule.size(); ++q) {
@@ -47,7 +47,7 @@ TEST(Quadrature, TriangleRulesIntegrateMonomialsExactly) {
 }
 
 TEST(Quadrature, QuadrilateralRulesIntegrateTensorMonomials) {
-  const auto rule = cell_quadrature(CellType::quadrilateral, 5);
+  const auto rule = cell_quadrature<2>(CellType::quadrilateral, 5);
   for (int a = 0; a <= 5; ++a)
     for (int b = 0; b <= 5; ++b) {
       double s = 0;
@@ -61,12 +61,12 @@ class LagrangeElementTest : public ::testing::TestWithParam<std::pair<CellType, 
 
 TEST_P(LagrangeElementTest, KroneckerPropertyPartitionOfUnityAndGradients) {
   const auto [type, order] = GetParam();
-  const LagrangeElement el(type, order);
+  const LagrangeElement<2> el(type, order);
   // Nodal (Kronecker) property.
   const MatrixX at_nodes = el.values(el.nodes());
   EXPECT_TRUE(at_nodes.isApprox(MatrixX::Identity(el.num_dofs(), el.num_dofs()), 1e-14));
   // Partition of unity, linear precision and gradients vs central differences at interior points.
-  const auto rule = cell_quadrature(type, 4);
+  const auto rule = cell_quadrature<2>(type, 4);
   const MatrixX phi = el.values(rule.points);
   const auto grad = el.gradients(rule.points);
   for (Index q = 0; q < rule.size(); ++q) {

@@ -63,11 +63,11 @@ TEST_P(ValuesSeam, GradientsFollowTheChainRuleWithAnIndependentJacobian) {
   const auto [type, order] = GetParam();
   const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = composite();
-  const fem::LagrangeElement element(type, order);
-  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), fem::cell_quadrature(type, 4), *map);
+  const fem::LagrangeElement<2> element(type, order);
+  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), fem::cell_quadrature<2>(type, 4), *map);
   fem::CellValues<2> values(
       element, geometry, fem::CellValues<2>::update_gradients | fem::CellValues<2>::update_reference_points);
-  const fem::LagrangeElement linear(type, 1);
+  const fem::LagrangeElement<2> linear(type, 1);
   const auto dG = linear.gradients(geometry.rule().points);
   const auto dphi = element.gradients(geometry.rule().points);
   double worst = 0, worst_point = 0;
@@ -102,9 +102,9 @@ TEST_P(ValuesSeam, FacetGeometryClosesUpWithTheCellGeometry) {
   const auto [type, order] = GetParam();
   const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = composite();
-  const fem::WarpedGeometry<2> cells(mesh, all_cells(mesh), fem::cell_quadrature(type, 6), *map);
+  const fem::WarpedGeometry<2> cells(mesh, all_cells(mesh), fem::cell_quadrature<2>(type, 6), *map);
   const fem::WarpedFacets<2> facets(mesh, all_facets(mesh), fem::gauss_legendre(4), *map);
-  const fem::LagrangeElement element(type, order);
+  const fem::LagrangeElement<2> element(type, order);
   fem::FacetValues<2> values(element, facets);
   double length = 0, flux = 0;
   Point<2> normal_sum = Point<2>::Zero();
@@ -126,7 +126,7 @@ TEST_P(ValuesSeam, FacetShapeValuesAreTheTraceOfTheCellElement) {
   const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   const fem::WarpedFacets<2> facets(mesh, all_facets(mesh), fem::gauss_legendre(3), *map);
-  const fem::LagrangeElement element(type, order);
+  const fem::LagrangeElement<2> element(type, order);
   fem::FacetValues<2> values(element, facets);
   ASSERT_EQ(values.num_dofs(), order + 1);
   // Partition of unity, and the facet's vertex functions interpolate its end points.
@@ -153,12 +153,12 @@ TEST_P(AffineValues, InterpolantOfALinearFunctionHasItsGradient) {
   const int order = GetParam();
   const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
-  const fem::LagrangeElement element(type, order);
-  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), fem::cell_quadrature(type, 2), *map);
+  const fem::LagrangeElement<2> element(type, order);
+  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), fem::cell_quadrature<2>(type, 2), *map);
   fem::CellValues<2> values(element, geometry, fem::CellValues<2>::update_gradients);
   const Point<2> a(0.3, -1.7);
   std::vector<double> u(static_cast<std::size_t>(element.num_dofs()));
-  const fem::LagrangeElement linear(type, 1);
+  const fem::LagrangeElement<2> linear(type, 1);
   const MatrixX G = linear.values(element.nodes());
   double worst = 0;
   fem::integrate_cells(geometry, values,

@@ -45,7 +45,7 @@ TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
   // 90 x 90 x 2 triangles x 6 points = 97,200 points: more than one streamed chunk.
   const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 90, 90, fem::CellType::triangle);
   const auto map = concave_composite();
-  const auto rule = fem::cell_quadrature(mesh.cell_type, 4);
+  const auto rule = fem::cell_quadrature<2>(mesh.cell_type, 4);
   const fem::WarpedGeometry<2> cached(mesh, all_cells(mesh), rule, *map);
   const fem::WarpedGeometry<2> streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
   ASSERT_GT(cached.num_cells() * cached.points_per_cell(), fem::WarpedGeometry<2>::chunk_points());
@@ -83,7 +83,7 @@ TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
 TEST(WarpedGeometryStorage, StreamedGeometryHasNoArrays) {
   const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 4, 4, fem::CellType::quadrilateral);
   const auto map = concave_composite();
-  const fem::WarpedGeometry<2> g(mesh, all_cells(mesh), fem::cell_quadrature(mesh.cell_type, 4), *map,
+  const fem::WarpedGeometry<2> g(mesh, all_cells(mesh), fem::cell_quadrature<2>(mesh.cell_type, 4), *map,
                               fem::GeometryStorage::streamed);
   EXPECT_THROW(g.JxW(), Error);
   EXPECT_THROW(g.physical_points(), Error);
@@ -97,7 +97,7 @@ TEST(WarpedGeometryStorage, FoldingMapIsReportedByTheFirstStreamedPass) {
   const Polygon dart = Polygon::checked({{-1, 0}, {0, -1}, {-0.6, 0}, {0, 1}}, "dart");
   const auto map = std::make_shared<const mapping::BarycentricMap>(diamond, dart);
   const fem::Mesh<2> mesh = fem::mesh_polygon(diamond, {.max_edge_length = 0.1});
-  const auto rule = fem::cell_quadrature(mesh.cell_type, 2);
+  const auto rule = fem::cell_quadrature<2>(mesh.cell_type, 2);
   EXPECT_THROW(fem::WarpedGeometry<2>(mesh, all_cells(mesh), rule, *map), Error);
   const fem::WarpedGeometry<2> streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
   try {

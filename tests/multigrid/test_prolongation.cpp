@@ -56,7 +56,7 @@ double prolongation_error(const Case& c, const Polynomial& g) {
   };
   double worst = 0;
   for (int l = 1; l < h.num_levels(); ++l) {
-    const fem::LagrangeElement element(c.type, c.order);
+    const fem::LagrangeElement<2> element(c.type, c.order);
     const fem::DofMap cdofs(h.levels[l - 1], element), fdofs(h.levels[l], element);
     const fem::DofDistribution cdist = distribute(l - 1, cdofs), fdist = distribute(l, fdofs);
     const petsc::Matrix P = multigrid::assemble_prolongation(h, l, {.dofs = &cdofs, .distribution = &cdist},
