@@ -57,7 +57,7 @@ int FatalErrorHandler::fail(const std::string& message) {
   if (!arrived) {
     // Only this rank failed: the others are busy or wait for it in a collective call.
     log::write(log::Level::error, message, true);
-    log::write(log::Level::error, "stopping all ranks (the error occurred on this rank only)", true);
+    log::write(log::Level::warning, "stopping all ranks: the error occurred on this rank only", true);
     MPI_Abort(MPI_COMM_WORLD, 1);
     return 1;
   }

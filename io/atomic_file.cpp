@@ -87,9 +87,17 @@ std::string temporary_path(const std::string& directory, const std::string& file
 void ensure_directory(const std::string& directory) {
   if (directory.empty()) return;
   std::error_code ec;
+  // A file (not a folder) at that path, or on the way to it, is the common case: say so.
+  for (fs::path p = directory; !p.empty(); p = p.parent_path()) {
+    if (fs::exists(p, ec) && !fs::is_directory(p, ec))
+      throw Error(
+          "cannot create output directory: " + p.string() + " is a file",
+          {.file = directory, .key_path = "", .hint = "choose another /output/directory or move the file"});
+    if (p == p.parent_path()) break;
+  }
   fs::create_directories(directory, ec);
   if (ec || !fs::is_directory(directory)) {
-    const std::string reason = ec ? ec.message() : "a file of that name is in the way";
+    const std::string reason = ec ? ec.message() : "it is not a folder";
     throw Error("cannot create output directory: " + reason,
                 {.file = directory, .key_path = "", .hint = "choose a writable /output/directory"});
   }
