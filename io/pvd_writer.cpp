@@ -92,9 +92,8 @@ void PvdWriter::add(double time, const std::string& file) {
   // Relative to the index, so that the series can be moved as a folder.
   const fs::path p(file);
   const fs::path inside = p.lexically_relative(directory_);
-  const std::string relative = p.parent_path().empty() || inside.empty() || *inside.begin() == ".."
-                                   ? p.string()
-                                   : inside.string();
+  const std::string relative =
+      p.parent_path().empty() || inside.empty() || *inside.begin() == ".." ? p.string() : inside.string();
   entries_.emplace_back(time, relative);
   int rank = 0;
   MPI_Comm_rank(comm_, &rank);
