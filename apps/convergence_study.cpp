@@ -1,11 +1,11 @@
 #include "apps/convergence_study.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
 
+#include "apps/external_program.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/petsc/linear_solve.hpp"
@@ -16,7 +16,9 @@
 #include "fem/poisson.hpp"
 #include "fem/reference_error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/collective_error.hpp"
 #include "io/expression.hpp"
+#include "io/png_image.hpp"
 #include "mapping/make_map.hpp"
 
 namespace warpfem::apps {
@@ -69,17 +71,19 @@ fem::PoissonData poisson_data(const io::RunConfig& cfg) {
   return data;
 }
 
-void write_plot(const StudySpec& spec, bool exact, const std::string& dir, std::string& plot_file) {
-  // gnuplot is optional: without it the script is still written for later use.
+/// The gnuplot script of the error plot. Paths are not written into it: gnuplot receives
+/// them as arguments (`gnuplot -c study_errors.gp <png> <csv>`), so no file name can be
+/// misread as gnuplot syntax, and the script stays usable after the folder is moved.
+std::string plot_script(const StudySpec& spec, bool exact) {
   std::ostringstream gp;
-  const std::string png = (fs::path(dir) / "study_errors.png").string();
-  // Enhanced text for the 10^{k} tick labels only; titles are taken literally.
-  gp << "set terminal pngcairo size 900,650 font ',11' enhanced\nset output '" << png << ".tmp'\n"
+  gp << "# usage: gnuplot -c study_errors.gp [study_errors.png] [study.csv]\n"
+     << "png = ARGC >= 1 ? ARG1 : 'study_errors.png'\ncsv = ARGC >= 2 ? ARG2 : 'study.csv'\n"
+     // Enhanced text for the 10^{k} tick labels only; titles are taken literally.
+     << "set terminal pngcairo size 900,650 font ',11' enhanced\nset output png\n"
      << "set logscale xy\nset format y '10^{%L}'\nset grid\nset key bottom left\n"
      << "set xlabel 'degrees of freedom'\nset ylabel 'error'\n"
      << "set title 'Convergence: warped (exact geometry) vs standard FEM'\n"
      << "set datafile separator ','\nplot ";
-  const std::string csv = (fs::path(dir) / "study.csv").string();
   bool first = true;
   int style = 1;
   for (const auto& d : spec.discretizations) {
@@ -87,26 +91,46 @@ void write_plot(const StudySpec& spec, bool exact, const std::string& dir, std::
     // column 9: r(u_h) = | ‖u_h‖/‖u_ref‖ − 1 |, defined for every discretization.
     for (const auto& [column, label] : {std::pair{5, "L2 error"}, std::pair{9, "r(u_h)"}}) {
       if (column == 5 && !exact && d != "warped") continue;
-      gp << (first ? "" : ", \\\n     ") << "'" << csv << "' using (strcol(1) eq '" << d
-         << "' ? $4 : 1/0):" << column << " with linespoints lw 2 pt " << style << " title '" << d << " "
-         << label << "' noenhanced";
+      gp << (first ? "" : ", \\\n     ") << "csv using (strcol(1) eq '" << d << "' ? $4 : 1/0):" << column
+         << " with linespoints lw 2 pt " << style << " title '" << d << " " << label << "' noenhanced";
       first = false;
       ++style;
     }
   }
-  gp << "\n";
+  gp << "\nset output\n";
+  return gp.str();
+}
+
+/// Writes study_errors.gp and, if gnuplot is installed, study_errors.png (atomically, and
+/// only if gnuplot succeeded and the PNG is complete). gnuplot is optional: without it the
+/// script is still written for later use.
+void write_plot(const StudySpec& spec, bool exact, const std::string& dir, std::string& plot_file) {
   const std::string script = (fs::path(dir) / "study_errors.gp").string();
-  io::write_text_atomically(script, gp.str());
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    log::warning("gnuplot not found: wrote ", script, " but no PNG (install gnuplot-nox)");
-    return;
+  io::write_text_atomically(script, plot_script(spec, exact));
+  const std::string png = (fs::path(dir) / "study_errors.png").string();
+  const std::string csv = (fs::path(dir) / "study.csv").string();
+  const std::string tmp = io::temporary_path(dir, "study_errors.png");
+  try {
+    const ProgramResult r = run_program({"gnuplot", "-c", script, tmp, csv});
+    if (!r.started) {
+      log::warning("gnuplot not found: wrote ", script, " but no PNG (install gnuplot-nox)");
+      return;
+    }
+    if (!r.succeeded())
+      throw Error(r.timed_out ? "gnuplot did not finish within its time limit"
+                              : "gnuplot failed (exit code " + std::to_string(r.exit_code) + ")",
+                  {.file = png,
+                   .key_path = "",
+                   .hint = "see gnuplot's message above, run gnuplot -c " + script +
+                           " by hand, or set /study/plot to false"});
+    io::check_png_complete(tmp, png);
+    io::sync_file(tmp, png);
+    io::rename_into_place(tmp, png);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
   }
-  const std::string command = "gnuplot '" + script + "' 2>&1";
-  if (std::system(command.c_str()) != 0 || !fs::exists(png + ".tmp")) {
-    log::warning("gnuplot failed on ", script, "; no PNG written");
-    return;
-  }
-  fs::rename(png + ".tmp", png);
   plot_file = png;
 }
 
@@ -226,52 +250,57 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     }
   }
 
+  if (!write_files) return result;
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  if (!write_files || rank != 0) return result;
-  const std::string dir = cfg.output.directory;
-  io::ensure_directory(dir);
-  std::ostringstream csv;
-  csv << "discretization,level,h,dofs,l2_error,l2_rate,h1_error,h1_rate,r_uh,area,area_error,condition_"
-         "number,iterations,seconds\n";
-  csv << std::setprecision(10);
-  for (const auto& r : result.rows)
-    csv << r.discretization << ',' << r.level << ',' << r.h << ',' << r.dofs << ',' << r.l2 << ','
-        << r.l2_rate << ',' << r.h1 << ',' << r.h1_rate << ',' << r.norm_ratio_error << ',' << r.area << ','
-        << r.area_error << ',' << r.condition_number << ',' << r.iterations << ',' << r.seconds << '\n';
-  result.csv_file = (fs::path(dir) / "study.csv").string();
-  io::write_text_atomically(result.csv_file, csv.str());
+  // Rank 0 writes the files; a failure there ends the study on every rank.
+  io::run_collectively(comm, [&] {
+    if (rank != 0) return;
+    const std::string dir = cfg.output.directory;
+    io::prepare_output_directory(dir);
+    std::ostringstream csv;
+    csv << "discretization,level,h,dofs,l2_error,l2_rate,h1_error,h1_rate,r_uh,area,area_error,condition_"
+           "number,iterations,seconds\n";
+    csv << std::setprecision(10);
+    for (const auto& r : result.rows)
+      csv << r.discretization << ',' << r.level << ',' << r.h << ',' << r.dofs << ',' << r.l2 << ','
+          << r.l2_rate << ',' << r.h1 << ',' << r.h1_rate << ',' << r.norm_ratio_error << ',' << r.area << ','
+          << r.area_error << ',' << r.condition_number << ',' << r.iterations << ',' << r.seconds << '\n';
+    result.csv_file = (fs::path(dir) / "study.csv").string();
+    io::write_text_atomically(result.csv_file, csv.str());
 
-  std::ostringstream md;
-  md << "# Convergence study: " << cfg.file << "\n\n"
-     << "Map: " << f->describe()
-     << ". Elements: " << (hierarchy.levels[0].cell_type == fem::CellType::triangle ? "P" : "Q") << order
-     << ". Errors against "
-     << (exact ? "the exact solution `" + cfg.poisson.exact_solution + "`"
-               : "the warped solution on level " + std::to_string(hierarchy.num_levels() - 1))
-     << ". Exact area of the domain: " << exact_area << ".\n\n"
-     << "| discretization | level | h | DOFs | L2 error | rate | H1 error | rate | r(u_h) | area error | "
-        "cond(L) | CG its |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& r : result.rows)
-    md << "| " << r.discretization << " | " << r.level << " | " << sci(r.h, 2) << " | " << r.dofs << " | "
-       << sci(r.l2) << " | " << (r.l2_rate != 0 ? fixed(r.l2_rate) : "") << " | " << sci(r.h1) << " | "
-       << (r.h1_rate != 0 ? fixed(r.h1_rate) : "") << " | " << sci(r.norm_ratio_error) << " | "
-       << sci(r.area_error) << " | " << (r.condition_number > 0 ? sci(r.condition_number, 2) : "-") << " | "
-       << r.iterations << " |\n";
-  md << "\nWarped: elements of the simple mesh warped by f (exact geometry). Standard: straight elements "
-        "through the "
-        "mapped coarse vertices, kept under refinement (the domain stays the coarse polygonal "
-        "approximation). "
-        "Standard recovered: straight elements through the mapped vertices of each level (boundary vertices "
-        "moved "
-        "onto the exact boundary).\n";
-  result.markdown_file = (fs::path(dir) / "study.md").string();
-  if (spec.plot) write_plot(spec, exact, dir, result.plot_file);
-  if (!result.plot_file.empty()) md << "\n![errors](study_errors.png)\n";
-  io::write_text_atomically(result.markdown_file, md.str());
-  log::info("wrote ", result.csv_file, ", ", result.markdown_file,
-            result.plot_file.empty() ? "" : ", " + result.plot_file);
+    std::ostringstream md;
+    md << "# Convergence study: " << cfg.file << "\n\n"
+       << "Map: " << f->describe()
+       << ". Elements: " << (hierarchy.levels[0].cell_type == fem::CellType::triangle ? "P" : "Q") << order
+       << ". Errors against "
+       << (exact ? "the exact solution `" + cfg.poisson.exact_solution + "`"
+                 : "the warped solution on level " + std::to_string(hierarchy.num_levels() - 1))
+       << ". Exact area of the domain: " << exact_area << ".\n\n"
+       << "| discretization | level | h | DOFs | L2 error | rate | H1 error | rate | r(u_h) | area error | "
+          "cond(L) | CG its |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : result.rows)
+      md << "| " << r.discretization << " | " << r.level << " | " << sci(r.h, 2) << " | " << r.dofs << " | "
+         << sci(r.l2) << " | " << (r.l2_rate != 0 ? fixed(r.l2_rate) : "") << " | " << sci(r.h1) << " | "
+         << (r.h1_rate != 0 ? fixed(r.h1_rate) : "") << " | " << sci(r.norm_ratio_error) << " | "
+         << sci(r.area_error) << " | " << (r.condition_number > 0 ? sci(r.condition_number, 2) : "-") << " | "
+         << r.iterations << " |\n";
+    md << "\nWarped: elements of the simple mesh warped by f (exact geometry). Standard: straight elements "
+          "through the "
+          "mapped coarse vertices, kept under refinement (the domain stays the coarse polygonal "
+          "approximation). "
+          "Standard recovered: straight elements through the mapped vertices of each level (boundary "
+          "vertices "
+          "moved "
+          "onto the exact boundary).\n";
+    result.markdown_file = (fs::path(dir) / "study.md").string();
+    if (spec.plot) write_plot(spec, exact, dir, result.plot_file);
+    if (!result.plot_file.empty()) md << "\n![errors](study_errors.png)\n";
+    io::write_text_atomically(result.markdown_file, md.str());
+    log::info("wrote ", result.csv_file, ", ", result.markdown_file,
+              result.plot_file.empty() ? "" : ", " + result.plot_file);
+  });
   return result;
 }
 

@@ -1,6 +1,5 @@
 #include "apps/elasticity_run.hpp"
 
-#include <cstdio>
 #include <iomanip>
 #include <memory>
 
@@ -73,9 +72,7 @@ class ElasticityOutput {
     MPI_Comm_rank(comm_, &rank);
     vtk.cell_fields.push_back(
         {"rank", 1, std::vector<double>(static_cast<std::size_t>(mesh_.cells.rows()), rank)});
-    char suffix[32];
-    std::snprintf(suffix, sizeof suffix, "_%06d", index);
-    const std::string file = io::write_vtk(comm_, vtk, cfg_.output.directory, cfg_.output.name + suffix);
+    const std::string file = io::write_vtk(comm_, vtk, cfg_.output.directory, pvd_.step_name(index));
     pvd_.add(time, file);
     last_index_ = index;
     return file;

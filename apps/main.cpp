@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/fatal_error.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
-#include "core/log.hpp"
 
 namespace {
 
@@ -37,21 +37,18 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
   warpfem::Environment env(argc, argv);
+  warpfem::apps::FatalErrorHandler fatal;
   try {
     if (command == "run") return warpfem::apps::run_command(args);
     if (command == "study") return warpfem::apps::study_command(args);
     if (command == "map") return warpfem::apps::map_command(args);
     if (command == "warp-image") return warpfem::apps::warp_image_command(args);
-    std::cerr << "error: unknown command \"" << command << "\"\n\n" << kUsage;
+    if (warpfem::Environment::rank() == 0)
+      std::cerr << "error: unknown command \"" << command << "\"\n\n" << kUsage;
     return 2;
   } catch (const warpfem::Error& e) {
-    // Config and input errors are found identically on every rank: report them once.
-    if (warpfem::Environment::rank() == 0 || e.context().file.empty()) warpfem::log::error(e.what());
-    if (warpfem::Environment::size() > 1 && e.context().file.empty()) MPI_Abort(MPI_COMM_WORLD, 1);
-    return 1;
+    return fatal.fail(e.what());
   } catch (const std::exception& e) {
-    warpfem::log::error("internal error: ", e.what());
-    if (warpfem::Environment::size() > 1) MPI_Abort(MPI_COMM_WORLD, 1);
-    return 1;
+    return fatal.fail(std::string("internal error: ") + e.what());
   }
 }

@@ -15,6 +15,7 @@
 #include "fem/output_mesh.hpp"
 #include "fem/polygon_mesher.hpp"
 #include "io/atomic_file.hpp"
+#include "io/collective_error.hpp"
 #include "io/run_config.hpp"
 #include "io/vtk_writer.hpp"
 #include "mapping/adaptive_partition.hpp"
@@ -158,7 +159,9 @@ int map_command(const std::vector<std::string>& args) {
     csv << "x,y,fx,fy,det_J\n" << std::setprecision(17);
     for (Index p = 0; p < x0.rows(); ++p)
       csv << x0(p, 0) << ',' << x0(p, 1) << ',' << x(p, 0) << ',' << x(p, 1) << ',' << det(p) << '\n';
-    if (Environment::rank() == 0) io::write_text_atomically(points_out, csv.str());
+    io::run_collectively(MPI_COMM_WORLD, [&] {
+      if (Environment::rank() == 0) io::write_text_atomically(points_out, csv.str());
+    });
     log::info("mapped ", x0.rows(), " points: ", points_out);
   }
 

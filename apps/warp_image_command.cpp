@@ -8,6 +8,8 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
+#include "io/collective_error.hpp"
+#include "io/png_image.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 
@@ -81,7 +83,9 @@ int warp_image_command(const std::vector<std::string>& args) {
   log::info("warped ", r.pixels, " pixels by inverse mapping (", format_seconds(watch.seconds()),
             "), max |f(x) - y| = ", r.max_residual);
   if (r.unconverged > 0) log::warning(r.unconverged, " pixels did not converge to the tolerance");
-  if (Environment::rank() == 0) io::write_png(output, out);
+  io::run_collectively(MPI_COMM_WORLD, [&] {
+    if (Environment::rank() == 0) io::write_png(output, out);
+  });
   log::info("wrote ", output);
   return 0;
 }

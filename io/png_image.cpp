@@ -7,7 +7,9 @@
 #include <vtkPointData.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
@@ -60,8 +62,34 @@ void write_png(const std::string& path, const Image& image) {
     writer->Write();
     if (writer->GetErrorCode() != 0)
       throw Error("VTK could not write the PNG",
-                  {.file = path, .key_path = "", .hint = "check disk space and permissions"});
+                  {.file = path,
+                   .key_path = "",
+                   .hint = "check free disk space and permissions; the previous file, if any, is unchanged"});
+    check_png_complete(tmp, path);
   });
+}
+
+void check_png_complete(const std::string& path, const std::string& reported_path) {
+  static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  // The last chunk of every PNG: length 0, type "IEND", its fixed CRC.
+  static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+  unsigned char head[8] = {}, tail[12] = {};
+  bool complete = size >= 8 + 12;
+  if (complete) {
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    in.seekg(size - 12);
+    in.read(reinterpret_cast<char*>(tail), sizeof tail);
+    complete = in && std::equal(head, head + 8, signature) && std::equal(tail, tail + 12, iend);
+  }
+  if (!complete)
+    throw Error(
+        "the written PNG is incomplete (" + std::to_string(std::max<std::streamoff>(size, 0)) + " bytes)",
+        {.file = reported_path,
+         .key_path = "",
+         .hint = "check free disk space; the previous file, if any, is unchanged"});
 }
 
 }  // namespace warpfem::io

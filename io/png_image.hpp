@@ -20,7 +20,12 @@ struct Image {
 
 /// Reads any PNG (gray, RGB, RGBA; converted to RGBA); throws warpfem::Error naming the file.
 Image read_png(const std::string& path);
-/// Writes an RGBA PNG atomically.
+/// Writes an RGBA PNG atomically; throws warpfem::Error naming `path` if any write fails
+/// (the previous file, if any, is then left as it was).
 void write_png(const std::string& path, const Image& image);
+
+/// Throws warpfem::Error naming `reported_path` unless the file at `path` starts with the PNG
+/// signature and ends with an IEND chunk: catches PNGs a writer cut short (e.g. on a full disk).
+void check_png_complete(const std::string& path, const std::string& reported_path);
 
 }  // namespace warpfem::io

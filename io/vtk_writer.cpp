@@ -1,10 +1,10 @@
 #include "io/vtk_writer.hpp"
 
-#include <unistd.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkIdTypeArray.h>
 #include <vtkMPI.h>
 #include <vtkMPICommunicator.h>
@@ -20,6 +20,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/collective_error.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;
@@ -62,10 +63,26 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VtkOutput& output) {
   return grid;
 }
 
-void check_written(int ok, const std::string& path) {
-  if (!ok)
-    throw Error("VTK could not write the file",
-                {.file = path, .key_path = "", .hint = "check disk space and permissions"});
+/// VTK's writers report most failures (a full disk included) through the error code and
+/// may still return 1 from Write(), so both are checked.
+void check_written(vtkXMLWriter& writer, int ok, const std::string& path) {
+  if (!ok || writer.GetErrorCode() != vtkErrorCode::NoError) {
+    const unsigned long code = writer.GetErrorCode();
+    throw Error(std::string("VTK could not write the file (") +
+                    (code != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(code) : "no data") +
+                    ")",
+                {.file = path,
+                 .key_path = "",
+                 .hint = "check free disk space and permissions; the previous file, if any, is unchanged"});
+  }
+}
+
+std::string broadcast_string(MPI_Comm comm, std::string s) {
+  unsigned long size = s.size();
+  MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG, 0, comm);
+  s.resize(size);
+  MPI_Bcast(s.data(), static_cast<int>(size), MPI_CHAR, 0, comm);
+  return s;
 }
 
 }  // namespace
@@ -77,7 +94,6 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   auto grid = make_grid(output);
-  if (rank == 0) ensure_directory(directory);
 
   if (size == 1) {
     const std::string path = (fs::path(directory) / (name + ".vtu")).string();
@@ -87,28 +103,26 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
       writer->SetFileName(tmp.c_str());
       writer->SetDataModeToAppended();
       writer->EncodeAppendedDataOff();
-      check_written(writer->Write(), path);
+      const int ok = writer->Write();
+      check_written(*writer, ok, path);
     });
     return path;
   }
 
   // Parallel: VTK's parallel writer fills a private staging directory (pieces in
-  // <staging>/<name>/, summary <staging>/<name>.pvtu); then every rank moves its
-  // piece into place and rank 0 moves the summary last.
-  int pid = rank == 0 ? static_cast<int>(::getpid()) : 0;
-  MPI_Bcast(&pid, 1, MPI_INT, 0, comm);
-  const fs::path staging = fs::path(directory) / ("." + name + ".tmp-" + std::to_string(pid));
-  int error = 0;
-  if (rank == 0) {
-    std::error_code ec;
-    fs::create_directories(staging / name, ec);
-    fs::create_directories(fs::path(directory) / name, ec);
-    error = ec ? 1 : 0;
-  }
-  MPI_Bcast(&error, 1, MPI_INT, 0, comm);
-  if (error)
-    throw Error("cannot create output directory",
-                {.file = directory, .key_path = "", .hint = "choose a writable /output/directory"});
+  // <staging>/<name>/, summary <staging>/<name>.pvtu). Only when every rank has written
+  // and synced its piece are the pieces moved into place, and the summary last: a failure
+  // anywhere leaves the previous output untouched. Every step's outcome is agreed on by
+  // all ranks, so a failure on one rank ends the write on every rank.
+  const std::string tag = broadcast_string(comm, rank == 0 ? process_tag() : std::string());
+  const fs::path staging = temporary_path(directory, name, tag);
+  const std::string path = (fs::path(directory) / (name + ".pvtu")).string();
+  run_collectively(comm, [&] {
+    if (rank != 0) return;
+    prepare_output_directory(directory);
+    ensure_directory((fs::path(directory) / name).string());
+    ensure_directory((staging / name).string());
+  });
 
   MPI_Comm dup = comm;
   vtkMPICommunicatorOpaqueComm opaque(&dup);
@@ -117,33 +131,45 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
   vtkNew<vtkMPIController> controller;
   controller->SetCommunicator(vtk_comm);
 
-  vtkNew<vtkXMLPUnstructuredGridWriter> writer;
-  writer->SetController(controller);
-  writer->SetInputData(grid);
-  writer->SetFileName((staging / (name + ".pvtu")).string().c_str());
-  writer->SetNumberOfPieces(size);
-  writer->SetStartPiece(rank);
-  writer->SetEndPiece(rank);
-  writer->SetUseSubdirectory(true);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();
-  int ok = writer->Write();
-  int all_ok = 0;
-  MPI_Allreduce(&ok, &all_ok, 1, MPI_INT, MPI_MIN, comm);
   const std::string piece = name + "_" + std::to_string(rank) + ".vtu";
-  std::error_code ec;
-  if (all_ok) fs::rename(staging / name / piece, fs::path(directory) / name / piece, ec);
-  int moved = (all_ok && !ec) ? 1 : 0, all_moved = 0;
-  MPI_Allreduce(&moved, &all_moved, 1, MPI_INT, MPI_MIN, comm);
-  const std::string path = (fs::path(directory) / (name + ".pvtu")).string();
-  if (rank == 0) {
-    if (all_moved) fs::rename(staging / (name + ".pvtu"), path, ec);
-    fs::remove_all(staging, ec);
+  const fs::path staged_piece = staging / name / piece;
+  const fs::path staged_summary = staging / (name + ".pvtu");
+  try {
+    run_collectively(comm, [&] {
+      vtkNew<vtkXMLPUnstructuredGridWriter> writer;
+      writer->SetController(controller);
+      writer->SetInputData(grid);
+      writer->SetFileName(staged_summary.string().c_str());
+      writer->SetNumberOfPieces(size);
+      writer->SetStartPiece(rank);
+      writer->SetEndPiece(rank);
+      writer->SetUseSubdirectory(true);
+      writer->SetDataModeToAppended();
+      writer->EncodeAppendedDataOff();
+      const int ok = writer->Write();
+      check_written(*writer, ok, rank == 0 ? path : (fs::path(directory) / name / piece).string());
+      sync_file(staged_piece.string(), (fs::path(directory) / name / piece).string());
+      if (rank == 0) sync_file(staged_summary.string(), path);
+    });
+    run_collectively(comm, [&] {
+      rename_into_place(staged_piece.string(), (fs::path(directory) / name / piece).string());
+    });
+    run_collectively(comm, [&] {
+      if (rank == 0) rename_into_place(staged_summary.string(), path);
+    });
+  } catch (...) {
+    MPI_Barrier(comm);
+    if (rank == 0) {
+      std::error_code ec;
+      fs::remove_all(staging, ec);
+    }
+    throw;
   }
   MPI_Barrier(comm);
-  if (!all_moved)
-    throw Error("VTK could not write the parallel output",
-                {.file = path, .key_path = "", .hint = "check disk space and permissions"});
+  if (rank == 0) {
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+  }
   return path;
 }
 

@@ -1,6 +1,10 @@
 // The written VTU is read back with VTK's own reader.
 
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <vtkCellData.h>
 #include <vtkCellTypes.h>
 #include <vtkDataArray.h>
@@ -10,10 +14,14 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <fstream>
 
 #include "apps/poisson_run.hpp"
 #include "io/atomic_file.hpp"
+#include "io/png_image.hpp"
+#include "io/pvd_writer.hpp"
 
 using namespace warpfem;
 
@@ -90,4 +98,168 @@ TEST(AtomicFile, FailedWriteLeavesOldFileIntact) {
   std::string content;
   in >> content;
   EXPECT_EQ(content, "old");
+}
+
+namespace {
+// A full disk, simulated without root: RLIMIT_FSIZE makes every write past `bytes` fail
+// (EFBIG, with SIGXFSZ ignored) exactly where ENOSPC would, in our code and inside VTK.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &saved_);
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = saved_;
+    limit.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &saved_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+
+ private:
+  rlimit saved_{};
+  void (*old_handler_)(int) = nullptr;
+};
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::vector<std::string> hidden_entries(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().filename().string()[0] == '.') names.push_back(entry.path().filename().string());
+  return names;
+}
+
+}  // namespace
+
+TEST(AtomicFile, FullDiskKeepsThePreviousVtuAndThrows) {
+  const std::string dir = "output/test_full_disk_vtu";
+  std::filesystem::remove_all(dir);
+  auto cfg = small_config(dir);
+  const auto first = apps::run_poisson(cfg, MPI_COMM_SELF);
+  const std::string good = file_bytes(first.output_file);
+  ASSERT_GT(good.size(), 2048u);
+  cfg.mesh.max_edge_length = 0.1;  // a different, larger result
+  {
+    const FileSizeLimit full(2048);
+    EXPECT_THROW(
+        {
+          try {
+            apps::run_poisson(cfg, MPI_COMM_SELF);
+          } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("solution.vtu"), std::string::npos) << e.what();
+            throw;
+          }
+        },
+        Error);
+  }
+  EXPECT_EQ(file_bytes(first.output_file), good);
+  EXPECT_TRUE(hidden_entries(dir).empty());
+}
+
+TEST(AtomicFile, FullDiskKeepsThePreviousTextAndPng) {
+  const std::string dir = "output/test_full_disk_text";
+  std::filesystem::remove_all(dir);
+  const std::string text = dir + "/table.csv", png = dir + "/picture.png";
+  io::write_text_atomically(text, "a,b\n1,2\n");
+  io::Image image;
+  image.width = image.height = 8;
+  image.rgba.assign(8 * 8 * 4, 200);
+  io::write_png(png, image);
+  const std::string good_png = file_bytes(png);
+  {
+    const FileSizeLimit full(1024);
+    EXPECT_THROW(io::write_text_atomically(text, std::string(5000, 'x')), Error);
+    io::Image noise;
+    noise.width = noise.height = 64;  // incompressible: far more than 1024 bytes
+    noise.rgba.resize(64 * 64 * 4);
+    unsigned state = 12345;
+    for (auto& b : noise.rgba) b = static_cast<std::uint8_t>((state = state * 1103515245u + 12345u) >> 24);
+    EXPECT_THROW(io::write_png(png, noise), Error);
+  }
+  EXPECT_EQ(file_bytes(text), "a,b\n1,2\n");
+  EXPECT_EQ(file_bytes(png), good_png);
+  EXPECT_TRUE(hidden_entries(dir).empty());
+}
+
+TEST(AtomicFile, TruncatedPngIsRecognized) {
+  const std::string dir = "output/test_png_complete";
+  io::Image image;
+  image.width = image.height = 16;
+  image.rgba.assign(16 * 16 * 4, 7);
+  io::write_png(dir + "/full.png", image);
+  EXPECT_NO_THROW(io::check_png_complete(dir + "/full.png", "full.png"));
+  const std::string bytes = file_bytes(dir + "/full.png");
+  io::write_text_atomically(dir + "/cut.png", bytes.substr(0, bytes.size() - 5));
+  EXPECT_THROW(io::check_png_complete(dir + "/cut.png", "cut.png"), Error);
+}
+
+TEST(AtomicFile, OutputDirectoryBlockedByAFileIsReportedByName) {
+  const std::string dir = "output/test_blocked_dir";
+  std::filesystem::remove_all(dir);
+  io::write_text_atomically(dir + "/blocker", "a file where the output directory should be");
+  auto cfg = small_config(dir + "/blocker");
+  try {
+    apps::run_poisson(cfg, MPI_COMM_SELF);
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.context().file, dir + "/blocker");
+    EXPECT_NE(std::string(e.what()).find("cannot create output directory"), std::string::npos) << e.what();
+  }
+}
+
+TEST(AtomicFile, StaleTemporariesOfDeadProcessesAreRemoved) {
+  const std::string dir = "output/test_stale";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  ASSERT_GT(child, 0);
+  waitpid(child, nullptr, 0);  // `child` is now the id of a process that no longer exists
+  const std::string tag = io::process_tag();
+  const std::string host = tag.substr(0, tag.rfind('-'));
+  const std::string dead = io::temporary_path(dir, "solution.vtu", host + "-" + std::to_string(child));
+  const std::string dead_staging = io::temporary_path(dir, "solution", host + "-" + std::to_string(child));
+  const std::string alive = io::temporary_path(dir, "solution.vtu", tag);
+  const std::string alive_parent = io::temporary_path(dir, "x.vtu", host + "-" + std::to_string(getppid()));
+  const std::string other_host =
+      io::temporary_path(dir, "solution.vtu", "otherhost-" + std::to_string(child));
+  for (const auto& p : {dead, alive, alive_parent, other_host}) std::ofstream(p) << "partial";
+  std::filesystem::create_directories(dead_staging + "/solution");
+  std::ofstream(dead_staging + "/solution/solution_0.vtu") << "partial";
+  std::ofstream(dir + "/result.vtu") << "final";
+
+  EXPECT_EQ(io::remove_stale_temporaries(dir), 2);
+  EXPECT_FALSE(std::filesystem::exists(dead));
+  EXPECT_FALSE(std::filesystem::exists(dead_staging));
+  for (const auto& p : {alive, alive_parent, other_host, dir + "/result.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(p)) << p;
+}
+
+TEST(PvdWriter, ANewSeriesReplacesTheStepsOfAnEarlierRun) {
+  const std::string dir = "output/test_pvd_restart";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/gear_000004");
+  for (const char* f :
+       {"gear_000000.vtu", "gear_000005.vtu", "gear_000010.pvtu", "gear_000004/gear_000004_0.vtu", "gear.pvd",
+        "gear_notes.txt", "gearbox_000001.vtu", "other_000001.vtu"})
+    std::ofstream(dir + "/" + f) << "old";
+  io::PvdWriter pvd(MPI_COMM_SELF, dir, "gear");
+  EXPECT_EQ(pvd.step_name(3), "gear_000003");
+  std::ofstream(dir + "/gear_000000.vtu") << "new";
+  pvd.add(0.0, dir + "/gear_000000.vtu");
+  EXPECT_EQ(file_bytes(dir + "/gear_000000.vtu"), "new");
+  for (const char* gone : {"gear_000005.vtu", "gear_000010.pvtu", "gear_000004"})
+    EXPECT_FALSE(std::filesystem::exists(dir + "/" + gone)) << gone;
+  for (const char* kept : {"gear_notes.txt", "gearbox_000001.vtu", "other_000001.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + kept)) << kept;
+  EXPECT_NE(file_bytes(dir + "/gear.pvd").find("file=\"gear_000000.vtu\""), std::string::npos);
+  // Later steps of the same run keep the earlier ones.
+  std::ofstream(dir + "/gear_000001.vtu") << "new";
+  pvd.add(0.1, dir + "/gear_000001.vtu");
+  EXPECT_TRUE(std::filesystem::exists(dir + "/gear_000000.vtu"));
 }
