@@ -1,6 +1,8 @@
 // warpfem: parametric finite elements on exactly warped curved domains.
 
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,16 @@ int main(int argc, char** argv) {
     // Config and input errors are found identically on every rank: report them once.
     if (warpfem::Environment::rank() == 0 || e.context().file.empty()) warpfem::log::error(e.what());
     if (warpfem::Environment::size() > 1 && e.context().file.empty()) MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the user gave (or its directory) cannot be used: not an internal error.
+    warpfem::log::error("cannot access \"", e.path1().string(), "\": ", e.code().message(),
+                        " (fix: check the path, its permissions and the free disk space)");
+    if (warpfem::Environment::size() > 1) MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  } catch (const std::bad_alloc&) {
+    warpfem::log::error("out of memory (fix: use a coarser mesh or fewer refinements, or more memory)");
+    if (warpfem::Environment::size() > 1) MPI_Abort(MPI_COMM_WORLD, 1);
     return 1;
   } catch (const std::exception& e) {
     warpfem::log::error("internal error: ", e.what());
