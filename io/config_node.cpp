@@ -44,10 +44,6 @@ std::string type_name(const nlohmann::json& v) {
   return "an object";
 }
 
-}  // namespace
-
-namespace {
-
 constexpr std::size_t kExcerptLength = 60;
 
 /// Appends `value` to `out` until it holds more than kExcerptLength

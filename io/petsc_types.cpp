@@ -30,11 +30,12 @@ std::string get_petsc_type(const ConfigNode& node, const std::string& key, const
   if (names.empty() || std::find(names.begin(), names.end(), value) != names.end()) return value;
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  const std::string guess = closest_match(value, names);
   throw node.error(key,
                    std::string("unknown PETSc ") +
                        (kind == PetscTypeKind::ksp ? "Krylov method" : "preconditioner") + " \"" + value +
                        "\"",
-                   "use one of " + list);
+                   (guess.empty() ? "" : "did you mean \"" + guess + "\"? ") + "use one of " + list);
 }
 
 }  // namespace warpfem::io

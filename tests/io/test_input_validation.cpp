@@ -232,7 +232,7 @@ TEST(InputValidation, UnknownSolverTypesNameTheKeyAndTheChoices) {
   j["solver"] = {{"ksp_type", "cgg"}};
   std::string m = run_error(j);
   expect_contains(m, "config.json: /solver/ksp_type: unknown PETSc Krylov method \"cgg\"");
-  expect_contains(m, "use one of ");
+  expect_contains(m, "(fix: did you mean \"cg\"? use one of ");
   expect_contains(m, " cg, ");
   j["solver"] = {{"pc_type", "jacobbi"}};
   m = run_error(j);
