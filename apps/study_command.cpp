@@ -34,9 +34,10 @@ int study_command(const std::vector<std::string>& args) {
   StudySpec spec = parse_study_spec(io::ConfigNode(study_json, path, "/study"));
   io::RunConfig cfg = io::parse_run_config(json, path);
   // The study refines levels - 1 times more, and the reference solution further.
-  io::check_discretization_size(io::ConfigNode(json, path), cfg.mesh, cfg.map,
-                                cfg.mesh.refinements + spec.levels - 1 + spec.reference_levels,
-                                cfg.poisson.order, 1, cfg.limits, "/study/levels");
+  io::check_discretization_size(
+      io::ConfigNode(json, path), cfg.mesh, cfg.map,
+      io::poisson_discretization(cfg, cfg.mesh.refinements + spec.levels - 1 + spec.reference_levels),
+      cfg.limits, "/study/levels");
   if (!output_dir.empty()) cfg.output.directory = output_dir;
   log::set_level(log::parse_level(cfg.verbosity));
   Environment::insert_petsc_options(cfg.solver.petsc_options, path + ": /solver/petsc_options");

@@ -252,7 +252,9 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
   cfg.limits = parse_limits(root);
   root.finish();
   check_map_size(root, cfg.map, cfg.limits);
-  check_discretization_size(root, cfg.mesh, cfg.map, cfg.mesh.refinements, p.order, 2, cfg.limits);
+  check_discretization_size(root, cfg.mesh, cfg.map,
+                            {.refinements = cfg.mesh.refinements, .order = p.order, .components = 2},
+                            cfg.limits);
   if (transient) check_transient_size(root, cfg);
   return cfg;
 }

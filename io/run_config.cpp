@@ -346,8 +346,19 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   cfg.limits = parse_limits(root);
   root.finish();
   check_map_size(root, cfg.map, cfg.limits);
-  check_discretization_size(root, cfg.mesh, cfg.map, cfg.mesh.refinements, cfg.poisson.order, 1, cfg.limits);
+  check_discretization_size(root, cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements),
+                            cfg.limits);
   return cfg;
+}
+
+Discretization poisson_discretization(const RunConfig& cfg, int refinements) {
+  return {.refinements = refinements,
+          .order = cfg.poisson.order,
+          .components = 1,
+          .cached_bytes_per_cell = cfg.poisson.geometry == "cached"
+                                       ? cached_geometry_bytes_per_cell(cfg.mesh.cell_type, cfg.poisson.order,
+                                                                        cfg.poisson.quadrature_degree)
+                                       : 0.0};
 }
 
 RunConfig load_run_config(const std::string& path) {

@@ -57,6 +57,9 @@ struct RunConfig {
   SizeLimits limits;  ///< "limits": memory and file caps of the size checks
 };
 
+/// What the size checks count for `cfg` refined `refinements` times.
+Discretization poisson_discretization(const RunConfig& cfg, int refinements);
+
 /// Loads and validates a run config; throws warpfem::Error naming the file and field.
 RunConfig load_run_config(const std::string& path);
 /// Same, from already parsed JSON (for tests); `file` is used in messages and to resolve relative paths.

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "fem/quadrature.hpp"
+
 namespace warpfem::io {
 namespace {
 
@@ -39,6 +41,14 @@ std::string estimate_text(double value) {
   return buffer;
 }
 
+/// Memory in GiB with three significant digits ("0.381 GiB").
+std::string gib_text(double bytes) {
+  if (!(bytes <= 1e300)) return "more than 1e+300 bytes";
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.3g GiB", bytes / kGiB);
+  return buffer;
+}
+
 SizeLimits parse_limits(const ConfigNode& root) {
   SizeLimits limits;
   limits.memory_bytes = physical_memory_bytes();
@@ -58,8 +68,12 @@ double delaunay_cells_lower_bound(const Polygon& polygon, double h) {
   return std::max(area / (std::sqrt(3.0) / 4 * h * h), boundary);
 }
 
-SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, int refinements, int order,
-                           int components) {
+double cached_geometry_bytes_per_cell(fem::CellType cell, int order, int degree) {
+  const int q = degree > 0 ? degree : fem::default_quadrature_degree(order);
+  return 56.0 * static_cast<double>(fem::cell_quadrature(cell, q).size());
+}
+
+SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, const Discretization& d) {
   SizeEstimate e;
   const Polygon& meshed = mesh.type == "pullback" && map.target ? *map.target : *map.source;
   const double h =
@@ -71,18 +85,17 @@ SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& ma
     e.coarse_cells = delaunay_cells_lower_bound(meshed, h);
     if (mesh.cell_type == fem::CellType::quadrilateral) e.coarse_cells *= 3;  // each triangle split in 3
   }
-  e.cells = e.coarse_cells * std::pow(4.0, refinements);
-  const ElementCounts c = element_counts(mesh.cell_type, order);
-  e.dofs = e.cells * c.dofs_per_cell * components;
-  const double matrix = e.dofs * c.nonzeros_per_row * components * 12.0 * (4.0 / 3.0);
-  e.bytes = matrix + 4 * 8.0 * e.dofs + e.cells * c.nodes_per_cell * 8.0;
+  e.cells = e.coarse_cells * std::pow(4.0, d.refinements);
+  const ElementCounts c = element_counts(mesh.cell_type, d.order);
+  e.dofs = e.cells * c.dofs_per_cell * d.components;
+  const double matrix = e.dofs * c.nonzeros_per_row * d.components * 12.0 * (4.0 / 3.0);
+  e.bytes = matrix + 4 * 8.0 * e.dofs + e.cells * (c.nodes_per_cell * 8.0 + d.cached_bytes_per_cell);
   return e;
 }
 
 void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const mapping::MapSpec& map,
-                               int refinements, int order, int components, const SizeLimits& limits,
-                               const std::string& key) {
-  const SizeEstimate e = estimate_size(mesh, map, refinements, order, components);
+                               const Discretization& d, const SizeLimits& limits, const std::string& key) {
+  const SizeEstimate e = estimate_size(mesh, map, d);
   std::string culprit = key;
   if (culprit.empty())
     culprit = mesh.refinements > 0        ? "/mesh/refinements"
@@ -97,9 +110,8 @@ void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh
                  .key_path = culprit,
                  .hint = "use fewer refinements or larger cells (" + culprit + ")"});
   if (limits.memory_bytes > 0 && !(e.bytes <= limits.memory_bytes))
-    throw Error(what + ", needing at least " + estimate_text(e.bytes / kGiB) +
-                    " GiB of memory, more than the " + estimate_text(limits.memory_bytes / kGiB) +
-                    " GiB available",
+    throw Error(what + ", needing at least " + gib_text(e.bytes) + " of memory, more than the " +
+                    gib_text(limits.memory_bytes) + " available",
                 {.file = root.file(),
                  .key_path = culprit,
                  .hint = "use fewer refinements or larger cells (" + culprit +
@@ -113,8 +125,8 @@ void check_map_size(const ConfigNode& root, const mapping::MapSpec& map, const S
   const double bytes = 2 * 8.0 * n * n;
   if (limits.memory_bytes > 0 && bytes > limits.memory_bytes)
     throw Error(map.harmonic_method + " with " + std::to_string(map.boundary_nodes) +
-                    " boundary nodes needs dense matrices of at least " + estimate_text(bytes / kGiB) +
-                    " GiB, more than the " + estimate_text(limits.memory_bytes / kGiB) + " GiB available",
+                    " boundary nodes needs dense matrices of at least " + gib_text(bytes) +
+                    ", more than the " + gib_text(limits.memory_bytes) + " available",
                 {.file = root.file(),
                  .key_path = "/map/boundary_nodes",
                  .hint = "use fewer boundary nodes (256 is the default), or \"harmonic_method\": \"fem\""});
@@ -126,8 +138,8 @@ void check_grid_size(const ConfigNode& root, const Polygon& polygon, double h, c
   const double bytes = 60.0 * cells;
   if (limits.memory_bytes > 0 && !(bytes <= limits.memory_bytes))
     throw Error("a grid with edges <= " + estimate_text(h) + " would have at least " + estimate_text(cells) +
-                    " cells, needing at least " + estimate_text(bytes / kGiB) + " GiB, more than the " +
-                    estimate_text(limits.memory_bytes / kGiB) + " GiB available",
+                    " cells, needing at least " + gib_text(bytes) + ", more than the " +
+                    gib_text(limits.memory_bytes) + " available",
                 {.file = root.file(), .key_path = key, .hint = "use a larger edge length"});
 }
 

@@ -31,8 +31,9 @@ double physical_memory_bytes();
 /// split every boundary edge into pieces <= h) times 4 per refinement, the
 /// DOFs they carry (the interior ratio DOFs/cell of the element), and memory
 /// for the matrix (nonzeros per row of the element, 12 bytes each, one third
-/// more for the multigrid levels), four vectors and the cell connectivity.
-/// Factorization fill-in, geometry caches and solver workspaces come on top.
+/// more for the multigrid levels), four vectors, the cell connectivity and
+/// the cached geometry of the finest level. Factorization fill-in, the
+/// geometry of coarse levels and solver workspaces come on top.
 struct SizeEstimate {
   double coarse_cells = 0;  ///< 0 when unknown (gmsh files are not read here)
   double cells = 0;
@@ -40,14 +41,26 @@ struct SizeEstimate {
   double bytes = 0;
 };
 
-/// `components` is 1 for Poisson, 2 for elasticity.
-SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, int refinements, int order,
-                           int components);
+/// What is discretized: `components` is 1 for Poisson, 2 for elasticity;
+/// `cached_bytes_per_cell` is the geometry kept per finest-level cell (0 when
+/// it is streamed).
+struct Discretization {
+  int refinements = 0;
+  int order = 1;
+  int components = 1;
+  double cached_bytes_per_cell = 0;
+};
+
+/// The geometry Poisson caches per cell: x, J⁻ᵀ and w det J (56 bytes) at
+/// every point of the cell quadrature of `degree` (0: the order's default).
+double cached_geometry_bytes_per_cell(fem::CellType cell, int order, int degree);
+
+SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, const Discretization& d);
 
 /// Throws (naming `key`, or the mesh key that drives the size when empty) if
 /// the estimate exceeds the memory limit or PETSc's index range.
 void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const mapping::MapSpec& map,
-                               int refinements, int order, int components, const SizeLimits& limits,
+                               const Discretization& d, const SizeLimits& limits,
                                const std::string& key = "");
 
 /// Dense boundary-element / fundamental-solution systems of harmonic maps.
