@@ -1,6 +1,8 @@
 // warpfem: parametric finite elements on exactly warped curved domains.
 
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,12 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const warpfem::Error& e) {
     return fatal.fail(e.what());
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the user gave (or its directory) cannot be used: not an internal error.
+    return fatal.fail("cannot access \"" + e.path1().string() + "\": " + e.code().message() +
+                      " (fix: check the path, its permissions and the free disk space)");
+  } catch (const std::bad_alloc&) {
+    return fatal.fail("out of memory (fix: use a coarser mesh or fewer refinements, or more memory)");
   } catch (const std::exception& e) {
     return fatal.fail(std::string("internal error: ") + e.what());
   }

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "apps/command_line.hpp"
 #include "apps/commands.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
@@ -120,6 +121,8 @@ int map_command(const std::vector<std::string>& args) {
       output_dir = value("--output-dir");
     else if (config_path.empty() && args[i].rfind("-", 0) != 0)
       config_path = args[i];
+    else
+      check_flag(args[i], {"--config", "--points", "--out", "--output-dir"}, kMapUsage);
   }
   if (config_path.empty()) throw Error("missing --config", {.file = "", .key_path = "", .hint = kMapUsage});
   if (points_in.empty() != points_out.empty())
@@ -135,7 +138,11 @@ int map_command(const std::vector<std::string>& args) {
   const double edge = out.get_double("grid_edge_length", 0.0, 0.0);
   const bool write_vtk = out.get_bool("vtk", true);
   out.finish();
+  const io::SizeLimits limits = io::parse_limits(root);
   root.finish();
+  io::check_map_size(root, spec, limits);
+  if (edge > 0 && write_vtk)
+    io::check_grid_size(root, *spec.source, edge, limits, "/output/grid_edge_length");
   if (!output_dir.empty()) directory = output_dir;
 
   Stopwatch watch;

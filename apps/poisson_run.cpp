@@ -1,8 +1,12 @@
 #include "apps/poisson_run.hpp"
 
+#include <petscvec.h>
+
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
+#include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
 #include "fem/mesh_factory.hpp"
@@ -72,6 +76,18 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
             result.num_dofs, " DOFs on ", size, " rank(s), ",
             problem.geometry().num_cells() * problem.geometry().points_per_cell(),
             " warped quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
+
+  // A NaN or inf load would only surface as a diverging multigrid smoother.
+  PetscReal rhs_norm = 0;
+  PetscCallAbort(comm, VecNorm(problem.rhs(), NORM_INFINITY, &rhs_norm));
+  if (!std::isfinite(rhs_norm))
+    throw Error(
+        "the assembled load vector contains NaN or inf: the source term (or a boundary value) is not "
+        "finite somewhere in the domain",
+        {.file = cfg.file,
+         .key_path = "/problem/source",
+         .hint = "check /problem/source, /problem/dirichlet and /problem/neumann for division by zero "
+                 "or sqrt/log of negative values on the target domain"});
 
   if (use_mg) {
     result.solve = mg->solve().linear;

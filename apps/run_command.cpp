@@ -1,5 +1,6 @@
 #include <petscsys.h>
 
+#include "apps/command_line.hpp"
 #include "apps/commands.hpp"
 #include "apps/elasticity_run.hpp"
 #include "apps/poisson_run.hpp"
@@ -21,8 +22,10 @@ int run_command(const std::vector<std::string>& args) {
       if (i + 1 >= args.size())
         throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
       output_dir = args[++i];
+    } else {
+      // Everything else is a PETSc option, already read by PetscInitialize.
+      check_flag(args[i], {"--output-dir"}, usage);
     }
-    // Everything else is a PETSc option, already read by PetscInitialize.
   }
   if (io::problem_type(io::ConfigNode::parse_file(config_path), config_path) == "elasticity")
     return run_elasticity_command(config_path, output_dir);

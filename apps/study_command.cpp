@@ -2,6 +2,7 @@
 
 #include <petscsys.h>
 
+#include "apps/command_line.hpp"
 #include "apps/commands.hpp"
 #include "apps/convergence_study.hpp"
 #include "core/environment.hpp"
@@ -17,18 +18,26 @@ int study_command(const std::vector<std::string>& args) {
                 {.file = "", .key_path = "", .hint = usage});
   const std::string path = args[0];
   std::string output_dir;
-  for (std::size_t i = 1; i < args.size(); ++i)
+  for (std::size_t i = 1; i < args.size(); ++i) {
     if (args[i] == "--output-dir") {
       if (i + 1 >= args.size())
         throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
       output_dir = args[++i];
+    } else {
+      check_flag(args[i], {"--output-dir"}, usage);
     }
+  }
   nlohmann::json json = io::ConfigNode::parse_file(path);
   if (!json.is_object()) throw Error("expected a JSON object", {.file = path, .key_path = "/", .hint = ""});
   const nlohmann::json study_json = json.contains("study") ? json["study"] : nlohmann::json::object();
   json.erase("study");
   StudySpec spec = parse_study_spec(io::ConfigNode(study_json, path, "/study"));
   io::RunConfig cfg = io::parse_run_config(json, path);
+  // The study refines levels - 1 times more, and the reference solution further.
+  io::check_discretization_size(
+      io::ConfigNode(json, path), cfg.mesh, cfg.map,
+      io::poisson_discretization(cfg, cfg.mesh.refinements + spec.levels - 1 + spec.reference_levels),
+      cfg.limits, "/study/levels");
   if (!output_dir.empty()) cfg.output.directory = output_dir;
   log::set_level(log::parse_level(cfg.verbosity));
   Environment::insert_petsc_options(cfg.solver.petsc_options, path + ": /solver/petsc_options");

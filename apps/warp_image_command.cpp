@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "apps/command_line.hpp"
 #include "apps/commands.hpp"
 #include "apps/image_warp.hpp"
 #include "core/environment.hpp"
@@ -30,6 +31,8 @@ int warp_image_command(const std::vector<std::string>& args) {
       input = value();
     else if (args[i] == "--output")
       output = value();
+    else
+      check_flag(args[i], {"--config", "--input", "--output"}, usage);
   }
   if (config_path.empty()) throw Error("missing --config", {.file = "", .key_path = "", .hint = usage});
   const nlohmann::json json = io::ConfigNode::parse_file(config_path);
@@ -62,7 +65,9 @@ int warp_image_command(const std::vector<std::string>& args) {
   const int width = static_cast<int>(image.get_int("width", 0, 0, 65536));
   const int height = static_cast<int>(image.get_int("height", 0, 0, 65536));
   image.finish();
+  const io::SizeLimits limits = io::parse_limits(root);
   root.finish();
+  io::check_map_size(root, spec, limits);
   if (input.empty())
     throw Error("no input image", {.file = config_path,
                                    .key_path = "/image/input",
@@ -78,6 +83,11 @@ int warp_image_command(const std::vector<std::string>& args) {
   io::Image out;
   out.width = width > 0 ? width : in.width;
   out.height = height > 0 ? height : in.height;
+  if (static_cast<std::uint64_t>(out.width) * static_cast<std::uint64_t>(out.height) > io::kMaxImagePixels)
+    throw Error(
+        "an output of " + std::to_string(out.width) + " x " + std::to_string(out.height) +
+            " pixels is more than the limit of " + std::to_string(io::kMaxImagePixels),
+        {.file = config_path, .key_path = "/image/width", .hint = "choose a smaller width and height"});
   watch.reset();
   const WarpReport r = warp_image(in, *map, *spec.source, *spec.target, out, background);
   log::info("warped ", r.pixels, " pixels by inverse mapping (", format_seconds(watch.seconds()),

@@ -22,6 +22,10 @@ warpfem_require(PETSC_FOUND "PETSc >= 3.18 (pkg-config module PETSc)" "petsc-dev
 find_package(VTK 9 QUIET COMPONENTS CommonCore CommonDataModel IOXML IOParallelXML IOImage ParallelMPI)
 warpfem_require(VTK_FOUND "VTK 9 (CommonCore, CommonDataModel, IOXML, IOParallelXML, IOImage, ParallelMPI)" "libvtk9-dev")
 
+# libpng reads PNG inputs: it reports damaged files where VTK's reader crashes.
+find_package(PNG 1.6 QUIET)
+warpfem_require(PNG_FOUND "libpng >= 1.6" "libpng-dev")
+
 find_package(CGAL 5 QUIET)
 warpfem_require(CGAL_FOUND "CGAL >= 5" "libcgal-dev")
 

@@ -4,6 +4,8 @@
 #include <CGAL/Polygon_2_algorithms.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "core/error.hpp"
@@ -18,8 +20,24 @@ KPoint to_cgal(const Point<2>& p) {
   return KPoint(p.x(), p.y());
 }
 
+// Limits of validate(). The mesher's in-circle predicates take fourth powers
+// of coordinate differences, which stay far from overflow below 1e30; below
+// the size limits (absolute, and relative to the largest coordinate) the
+// vertices are barely distinct doubles and areas underflow.
+constexpr double kMaxCoordinate = 1e30;
+constexpr double kMinExtent = 1e-30;
+constexpr double kMinRelativeExtent = 1e-9;
+constexpr double kMinRelativeArea = 1e-12;  ///< |signed area| / squared bounding-box size
+
+/// %g keeps tiny and huge values readable (std::to_string prints 1e-300 as 0.000000).
+std::string number_text(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", v);
+  return buffer;
+}
+
 std::string vertex_text(const Point<2>& p) {
-  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ")";
+  return "(" + number_text(p.x()) + ", " + number_text(p.y()) + ")";
 }
 }  // namespace
 
@@ -41,7 +59,25 @@ void Polygon::validate() const {
     if (!vertex(i).allFinite())
       throw Error(name_ + ": vertex " + std::to_string(i) + " is not a finite number",
                   {.file = "", .key_path = "", .hint = "give finite coordinates"});
+    if (vertex(i).cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw Error(
+          name_ + ": vertex " + std::to_string(i) + " " + vertex_text(vertex(i)) +
+              " lies beyond the supported coordinate range |x|, |y| <= " + number_text(kMaxCoordinate),
+          {.file = "", .key_path = "", .hint = "rescale the polygon (choose other length units)"});
   }
+  // Meshing and the maps take squares and products of coordinate differences:
+  // a polygon must be resolvable in double precision and its area representable.
+  const Point<2> extent = bbox_max() - bbox_min();
+  const double size = extent.maxCoeff();
+  const double magnitude = std::max(bbox_max().cwiseAbs().maxCoeff(), bbox_min().cwiseAbs().maxCoeff());
+  if (size < kMinExtent || size < kMinRelativeExtent * magnitude)
+    throw Error(name_ + " is degenerate or too small: its bounding box is " + number_text(extent.x()) +
+                    " x " + number_text(extent.y()) + " at coordinates up to " + number_text(magnitude),
+                {.file = "",
+                 .key_path = "",
+                 .hint = "the polygon's size must be at least " + number_text(kMinExtent) + " and at least " +
+                         number_text(kMinRelativeExtent) +
+                         " times its largest coordinate; rescale or move it nearer the origin"});
   for (Index i = 0; i < n; ++i) {
     if (to_cgal(vertex(i)) == to_cgal(vertex(i + 1)))
       throw Error(name_ + ": edge " + std::to_string(i) + " (vertices " + std::to_string(i) + " and " +
@@ -86,9 +122,14 @@ void Polygon::validate() const {
                      .hint = "move the vertices so that edges meet only at their shared endpoints"});
     }
   }
-  if (signed_area() <= 0)
+  const double area = signed_area();
+  if (area == 0 || std::abs(area) < kMinRelativeArea * size * size)
+    throw Error(name_ + " is degenerate: signed area " + number_text(area) + " for a bounding box of " +
+                    number_text(extent.x()) + " x " + number_text(extent.y()),
+                {.file = "", .key_path = "", .hint = "give a polygon that encloses an area"});
+  if (area < 0)
     throw Error(
-        name_ + " is oriented clockwise (signed area " + std::to_string(signed_area()) + ")",
+        name_ + " is oriented clockwise (signed area " + number_text(area) + ")",
         {.file = "", .key_path = "", .hint = "reverse the vertex order to make it counter-clockwise"});
 }
 

@@ -8,6 +8,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
+#include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 
@@ -32,6 +34,15 @@ double distance_to_segment(const Point<2>& p, const Point<2>& a, const Point<2>&
 
 Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
                      const std::vector<Point<2>>& interior_points) {
+  // CGAL compares squared lengths: a bound whose square underflows to 0 would mean "no bound".
+  const double h = options.max_edge_length;
+  if (h > 0 && !(h * h > 0 && std::isfinite(h))) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", h);
+    throw Error(
+        std::string("edge length bound ") + text + " cannot be used: its square is not a positive double",
+        {.file = "", .key_path = "/mesh/max_edge_length", .hint = "choose a larger edge length"});
+  }
   const Index n = polygon.size();
   Cdt cdt;
   std::vector<Cdt::Vertex_handle> corners;

@@ -1,9 +1,14 @@
 #include "io/config_node.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 namespace warpfem::io {
 namespace {
@@ -23,6 +28,13 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+/// The shortest text that reads back as `v` (std::to_string prints 1e-300 as 0.000000).
+std::string exact_number(double v) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, result.ptr);
+}
+
 std::string type_name(const nlohmann::json& v) {
   if (v.is_null()) return "null";
   if (v.is_boolean()) return "a boolean";
@@ -32,11 +44,84 @@ std::string type_name(const nlohmann::json& v) {
   return "an object";
 }
 
+constexpr std::size_t kExcerptLength = 60;
+
+/// Appends `value` to `out` until it holds more than kExcerptLength
+/// characters; recursion stops at a small depth, so deeply nested documents
+/// cannot exhaust the stack (nlohmann's dump() recurses without a limit).
+void append_excerpt(const nlohmann::json& value, std::string& out, int depth) {
+  if (out.size() > kExcerptLength) return;
+  if (!value.is_structured()) {
+    out += value.dump();
+    return;
+  }
+  const bool array = value.is_array();
+  out += array ? '[' : '{';
+  if (depth >= 8 && !value.empty()) {
+    out += "...";
+  } else {
+    bool first = true;
+    for (auto it = value.begin(); it != value.end() && out.size() <= kExcerptLength; ++it) {
+      if (!first) out += ',';
+      first = false;
+      if (!array) out += nlohmann::json(it.key()).dump() + ':';
+      append_excerpt(*it, out, depth + 1);
+    }
+  }
+  out += array ? ']' : '}';
+}
+
+/// The 1-based line of the `index`-th object key (0-based, in document
+/// order) of a JSON text with // and /* */ comments.
+std::size_t line_of_key(const std::string& text, std::size_t index) {
+  std::size_t line = 1, keys = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '/') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      for (i += 2; i + 1 < text.size() && !(text[i] == '*' && text[i + 1] == '/'); ++i)
+        if (text[i] == '\n') ++line;
+      ++i;
+    } else if (c == '"') {
+      const std::size_t start_line = line;
+      for (++i; i < text.size() && text[i] != '"'; ++i) {
+        if (text[i] == '\\')
+          ++i;
+        else if (text[i] == '\n')
+          ++line;
+      }
+      std::size_t j = i + 1;  // a string followed by ':' is a key
+      while (j < text.size() && std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+      if (j < text.size() && text[j] == ':' && keys++ == index) return start_line;
+    }
+  }
+  return line;
+}
+
+/// Limits of parse_file: configs nest a few levels; much deeper documents are
+/// refused before they are built.
+constexpr int kMaxJsonDepth = 64;
+
 }  // namespace
 
+std::string closest_match(const std::string& word, const std::vector<std::string>& candidates,
+                          std::size_t max_distance) {
+  std::string best;
+  std::size_t best_distance = max_distance + 1;
+  for (const auto& c : candidates) {
+    const std::size_t d = edit_distance(word, c);
+    if (d < best_distance) best = c, best_distance = d;
+  }
+  return best;
+}
+
 std::string json_excerpt(const nlohmann::json& value) {
-  std::string s = value.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  std::string s;
+  append_excerpt(value, s, 0);
+  if (s.size() > kExcerptLength) s = s.substr(0, kExcerptLength - 3) + "...";
   return s;
 }
 
@@ -48,13 +133,44 @@ ConfigNode::ConfigNode(const nlohmann::json& json, std::string file, std::string
 }
 
 nlohmann::json ConfigNode::parse_file(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw Error("is a directory, not a config file",
+                {.file = file, .key_path = "", .hint = "give the path of a .json file"});
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error("cannot open config file", {.file = file, .key_path = "", .hint = "check the path"});
+  if (!in)
+    throw Error("cannot open config file: " + std::generic_category().message(errno),
+                {.file = file, .key_path = "", .hint = "check the path and its permissions"});
   std::stringstream buffer;
   buffer << in.rdbuf();
+  if (in.bad())
+    throw Error("cannot read config file", {.file = file, .key_path = "", .hint = "check the file"});
   const std::string text = buffer.str();
+  // Duplicate keys: nlohmann keeps the last one silently, so the callback
+  // tracks the keys of every open object (keys[d]: the object at depth d).
+  std::vector<std::set<std::string>> keys(1);
+  std::size_t key_count = 0;
+  const auto callback = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if ((event == Event::object_start || event == Event::array_start) && depth >= kMaxJsonDepth)
+      throw Error(
+          "the document nests arrays and objects deeper than " + std::to_string(kMaxJsonDepth) + " levels",
+          {.file = file, .key_path = "", .hint = "a config nests a few levels; check the file"});
+    if (event == Event::object_start) {
+      keys.resize(static_cast<std::size_t>(depth) + 2);
+      keys[static_cast<std::size_t>(depth) + 1].clear();
+    } else if (event == Event::key) {
+      const std::string key = parsed.get<std::string>();
+      if (!keys[static_cast<std::size_t>(depth)].insert(key).second)
+        throw Error("duplicate key \"" + key + "\" at line " + std::to_string(line_of_key(text, key_count)) +
+                        " (JSON keeps only one of them)",
+                    {.file = file, .key_path = "", .hint = "remove one of the two \"" + key + "\" entries"});
+      ++key_count;
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text, nullptr, true, /*ignore_comments=*/true);
+    return nlohmann::json::parse(text, callback, true, /*ignore_comments=*/true);
   } catch (const nlohmann::json::parse_error& e) {
     const std::size_t pos = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
     const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + pos, '\n'));
@@ -66,6 +182,12 @@ nlohmann::json ConfigNode::parse_file(const std::string& file) {
     throw Error(
         "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + what,
         {.file = file, .key_path = "", .hint = "fix the JSON syntax (missing comma, quote or bracket?)"});
+  } catch (const nlohmann::json::exception& e) {
+    // Numbers beyond double range (1e999) and similar: invalid input, not an internal error.
+    std::string what = e.what();
+    if (const auto bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw Error("invalid JSON: " + what,
+                {.file = file, .key_path = "", .hint = "numbers must be finite doubles (|x| < 1.8e308)"});
   }
 }
 
@@ -130,10 +252,23 @@ double ConfigNode::get_double(const std::string& key, double fallback, double mi
   if (!v->is_number()) throw error(key, "expected a number, got " + json_excerpt(*v));
   const double value = v->get<double>();
   if (!(value >= min && value <= max)) {
-    std::string range = "in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
-    if (max == std::numeric_limits<double>::infinity()) range = ">= " + std::to_string(min);
+    std::string range = "in [" + exact_number(min) + ", " + exact_number(max) + "]";
+    if (max == std::numeric_limits<double>::infinity()) range = ">= " + exact_number(min);
     throw error(key, "expected a number " + range + ", got " + json_excerpt(*v));
   }
+  return value;
+}
+
+double ConfigNode::get_positive(const std::string& key, double fallback, double max) const {
+  const nlohmann::json* v = find(key);
+  if (!v) return fallback;
+  if (!v->is_number()) throw error(key, "expected a number, got " + json_excerpt(*v));
+  const double value = v->get<double>();
+  if (!(value > 0 && value <= max))
+    throw error(key,
+                "expected a number > 0" +
+                    (max == std::numeric_limits<double>::infinity() ? "" : " and <= " + exact_number(max)) +
+                    ", got " + json_excerpt(*v));
   return value;
 }
 

@@ -22,7 +22,8 @@ class ConfigNode {
   /// `json` must outlive the node. `path` is the JSON pointer of `json` ("" for the root).
   ConfigNode(const nlohmann::json& json, std::string file, std::string path = "");
 
-  /// Loads and parses a JSON file; syntax errors name the line and column.
+  /// Loads and parses a JSON file; syntax errors name the line and column,
+  /// duplicate keys the key and its line; nesting deeper than 64 levels is refused.
   static nlohmann::json parse_file(const std::string& file);
 
   /// True if `key` is present and not null (also marks it as a known key).
@@ -38,6 +39,9 @@ class ConfigNode {
   double get_double(const std::string& key, double fallback,
                     double min = -std::numeric_limits<double>::infinity(),
                     double max = std::numeric_limits<double>::infinity()) const;
+  /// A number > 0 (and <= max).
+  double get_positive(const std::string& key, double fallback,
+                      double max = std::numeric_limits<double>::infinity()) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
   /// A string that must be one of `choices`.
   std::string get_choice(const std::string& key, const std::string& fallback,
@@ -64,6 +68,10 @@ class ConfigNode {
   std::string path_;
   mutable std::set<std::string> used_;
 };
+
+/// The candidate nearest to `word` within `max_distance` edits ("" if none): for "did you mean".
+std::string closest_match(const std::string& word, const std::vector<std::string>& candidates,
+                          std::size_t max_distance = 2);
 
 /// Short rendering of a JSON value for messages ("two" -> "\"two\"", long arrays truncated).
 std::string json_excerpt(const nlohmann::json& value);

@@ -1,8 +1,11 @@
 #include "io/elasticity_config.hpp"
 
+#include <charconv>
+#include <cmath>
 #include <sstream>
 
 #include "io/expression.hpp"
+#include "io/petsc_types.hpp"
 
 namespace warpfem::io {
 namespace {
@@ -12,6 +15,12 @@ std::string number_text(double v) {
   os.precision(17);
   os << v;
   return os.str();
+}
+
+/// The shortest text that reads back as `v`, for messages.
+std::string shortest_text(double v) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
 }
 
 /// [e0, e1]: numbers or expression strings; null marks a free component if allowed.
@@ -50,6 +59,9 @@ std::vector<int> parse_edges(const ConfigNode& item, Index num_edges) {
   if (!e.is_array())
     throw item.error("edges", "expected \"all\" or an array of edge indices, got " + json_excerpt(e),
                      "edge i joins target vertices i and i+1");
+  if (e.empty())
+    throw item.error("edges", "an empty list selects no edge, so this condition would do nothing",
+                     "list edge indices, or omit the key (or use \"all\") to select all edges");
   for (std::size_t k = 0; k < e.size(); ++k) {
     if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_edges)
       throw item.error(
@@ -93,7 +105,18 @@ fem::Material parse_material(const ConfigNode& node) {
     throw node.error("lambda", "give either (E, nu) or (lambda, mu), not both", "remove one pair");
   const double density = node.get_double("density", 1.0, 0.0);
   fem::Material m;
+  // Lamé parameters come as a pair: a missing half would silently take an arbitrary default
+  // ((E, nu) has documented defaults 1 and 0.3).
+  const auto require_pair = [&](const char* a, const char* b) {
+    for (const auto& [given, missing] : {std::pair{a, b}, std::pair{b, a}})
+      if (node.has(given) && !node.has(missing))
+        throw node.error(
+            missing,
+            std::string("\"") + given + "\" is given without \"" + missing + "\": the material needs both",
+            std::string("add \"") + missing + "\" (or give the pair (E, nu) instead of (lambda, mu))");
+  };
   if (lame) {
+    require_pair("lambda", "mu");
     m.lambda = node.get_double("lambda", 1.0, 0.0);
     m.mu = node.get_double("mu", 1.0);
     if (!(m.mu > 0)) throw node.error("mu", "the shear modulus must be positive", "e.g. \"mu\": 1e3");
@@ -110,6 +133,26 @@ fem::Material parse_material(const ConfigNode& node) {
   m.density = density;
   node.finish();
   return m;
+}
+
+/// Time steps and output files of a transient run (each step is a nonlinear solve).
+void check_transient_size(const ConfigNode& root, const ElasticityConfig& cfg) {
+  const double steps = std::ceil(cfg.time.end / cfg.time.step);
+  if (steps > cfg.limits.time_steps)
+    throw root.error("time/step",
+                     "end " + shortest_text(cfg.time.end) + " / step " + shortest_text(cfg.time.step) +
+                         " makes " + estimate_text(steps) + " time steps, more than the limit of " +
+                         estimate_text(cfg.limits.time_steps),
+                     "use a larger \"step\", or raise \"limits\": {\"time_steps\": ...}");
+  if (!cfg.output.vtk) return;
+  const double files = std::ceil(steps / cfg.output.every) + 2;  // step files, the last step and the .pvd
+  if (files > cfg.limits.output_files)
+    throw root.error("output/every",
+                     "writing every " + std::to_string(cfg.output.every) + " of " + estimate_text(steps) +
+                         " time steps makes about " + estimate_text(files) +
+                         " output files, more than the limit of " + estimate_text(cfg.limits.output_files),
+                     "write less often (\"output\": {\"every\": ...}), or raise \"limits\": "
+                     "{\"output_files\": ...}");
 }
 
 }  // namespace
@@ -175,8 +218,8 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
     ls.finish();
   } else {
     const ConfigNode time = root.child("time");
-    cfg.time.step = time.get_double("step", cfg.time.step, 1e-300);
-    cfg.time.end = time.get_double("end", cfg.time.end, 1e-300);
+    cfg.time.step = time.get_positive("step", cfg.time.step);
+    cfg.time.end = time.get_positive("end", cfg.time.end);
     cfg.time.rho_infinity = time.get_double("rho_infinity", cfg.time.rho_infinity, 0.0, 1.0);
     cfg.time.damping = time.get_double("damping", cfg.time.damping, 0.0);
     if (cfg.time.step > cfg.time.end)
@@ -189,8 +232,8 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
   s.rtol = solver.get_double("rtol", s.rtol, 0.0, 1.0);
   s.atol = solver.get_double("atol", s.atol, 0.0);
   s.max_iterations = static_cast<int>(solver.get_int("max_iterations", s.max_iterations, 1, 10000));
-  s.ksp_type = solver.get_string("ksp_type", s.ksp_type);
-  s.pc_type = solver.get_string("pc_type", s.pc_type);
+  s.ksp_type = get_petsc_type(solver, "ksp_type", s.ksp_type, PetscTypeKind::ksp);
+  s.pc_type = get_petsc_type(solver, "pc_type", s.pc_type, PetscTypeKind::pc);
   s.factor_solver = solver.get_string("factor_solver", s.factor_solver);
   s.petsc_options = solver.get_string("petsc_options", "");
   solver.finish();
@@ -206,7 +249,13 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
   o.vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
   o.every = static_cast<int>(output.get_int("every", o.every, 1, 1000000));
   output.finish();
+  cfg.limits = parse_limits(root);
   root.finish();
+  check_map_size(root, cfg.map, cfg.limits);
+  check_discretization_size(root, cfg.mesh, cfg.map,
+                            {.refinements = cfg.mesh.refinements, .order = p.order, .components = 2},
+                            cfg.limits);
+  if (transient) check_transient_size(root, cfg);
   return cfg;
 }
 

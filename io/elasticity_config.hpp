@@ -74,6 +74,7 @@ struct ElasticityConfig {
   TimeSpec time;
   NewtonSpec solver;
   ElasticityOutputSpec output;
+  SizeLimits limits;  ///< "limits": memory, time step and file caps of the size checks
 };
 
 /// The value of /problem/type of a parsed config ("poisson" when absent); for dispatching.

@@ -10,6 +10,26 @@
 
 namespace warpfem::io {
 
+namespace {
+
+/// muParser accepts "x=3" (an assignment to the variable x) as an expression
+/// whose value is 3: a "=" that is not part of ==, <=, >= or != is refused.
+bool has_assignment(const std::string& text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '=') continue;
+    const char before = i > 0 ? text[i - 1] : ' ';
+    const char after = i + 1 < text.size() ? text[i + 1] : ' ';
+    if (after == '=') {
+      ++i;  // "==": skip both
+      continue;
+    }
+    if (before != '<' && before != '>' && before != '!') return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 struct Expression::Impl {
   mu::Parser parser;
   mutable double x = 0, y = 0, z = 0, t = 0;
@@ -25,8 +45,18 @@ Expression::Expression(const std::string& text, const std::string& file, const s
     p.DefineVar("y", &impl_->y);
     p.DefineVar("z", &impl_->z);
     p.DefineVar("t", &impl_->t);
+    if (has_assignment(text))
+      throw Error("expression \"" + text + "\" assigns a value (\"=\"): an expression only computes one",
+                  {.file = file,
+                   .key_path = key_path,
+                   .hint = "write the value itself, e.g. \"3\" for x=3; compare with \"==\""});
     p.SetExpr(text);
     const double value = p.Eval();  // forces parsing now, so errors surface at load time
+    if (p.GetNumResults() != 1)
+      throw Error(
+          "expression \"" + text + "\" is a list of " + std::to_string(p.GetNumResults()) +
+              " values (commas separate them): one value is needed",
+          {.file = file, .key_path = key_path, .hint = "give a single expression without top-level commas"});
     constant_ = p.GetUsedVar().empty();
     if (constant_ && !std::isfinite(value))
       throw Error("expression \"" + text + "\" is not a finite number",

@@ -1,8 +1,8 @@
 #include "io/png_image.hpp"
 
+#include <png.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
-#include <vtkPNGReader.h>
 #include <vtkPNGWriter.h>
 #include <vtkPointData.h>
 #include <vtkUnsignedCharArray.h>
@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <system_error>
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
@@ -17,36 +18,43 @@
 namespace warpfem::io {
 
 Image read_png(const std::string& path) {
-  if (!std::filesystem::exists(path))
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
     throw Error("image file does not exist", {.file = path, .key_path = "", .hint = "check the path"});
-  vtkNew<vtkPNGReader> reader;
-  if (!reader->CanReadFile(path.c_str()))
-    throw Error("not a PNG file", {.file = path, .key_path = "", .hint = "convert the image to PNG"});
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkImageData* data = reader->GetOutput();
-  int dims[3];
-  data->GetDimensions(dims);
-  const int comps = data->GetNumberOfScalarComponents();
-  if (dims[0] <= 0 || dims[1] <= 0 || comps < 1 || comps > 4 || data->GetScalarType() != VTK_UNSIGNED_CHAR)
-    throw Error("unsupported PNG (need 8-bit gray, gray+alpha, RGB or RGBA)",
-                {.file = path, .key_path = "", .hint = ""});
-  Image img;
-  img.width = dims[0];
-  img.height = dims[1];
-  img.rgba.resize(static_cast<std::size_t>(img.width) * img.height * 4);
-  const auto* src = static_cast<const std::uint8_t*>(data->GetScalarPointer());
-  for (std::size_t p = 0; p < static_cast<std::size_t>(img.width) * img.height; ++p) {
-    const std::uint8_t* s = src + p * comps;
-    std::uint8_t* d = &img.rgba[4 * p];
-    if (comps <= 2) {
-      d[0] = d[1] = d[2] = s[0];
-      d[3] = comps == 2 ? s[1] : 255;
-    } else {
-      d[0] = s[0], d[1] = s[1], d[2] = s[2];
-      d[3] = comps == 4 ? s[3] : 255;
-    }
+  if (std::filesystem::is_directory(path, ec))
+    throw Error("is a directory, not a PNG file", {.file = path, .key_path = "", .hint = "give a .png file"});
+  // libpng's simplified API checks the signature, chunk lengths, CRCs and the
+  // compressed data and reports failures in `message` (VTK's reader crashes
+  // on truncated or corrupt files).
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  const auto fail = [&](const std::string& what) {
+    const std::string detail = png.message[0] ? std::string(": ") + png.message : "";
+    png_image_free(&png);
+    return Error(what + detail, {.file = path,
+                                 .key_path = "",
+                                 .hint = "the file is damaged or not a PNG; "
+                                         "re-export it as PNG"});
+  };
+  if (!png_image_begin_read_from_file(&png, path.c_str())) throw fail("cannot read the PNG header");
+  const std::uint64_t pixels = std::uint64_t{png.width} * png.height;
+  if (png.width == 0 || png.height == 0) throw fail("the PNG is empty (0 pixels)");
+  if (pixels > kMaxImagePixels) {
+    png_image_free(&png);
+    throw Error("the PNG claims " + std::to_string(png.width) + " x " + std::to_string(png.height) +
+                    " pixels, more than the limit of " + std::to_string(kMaxImagePixels),
+                {.file = path, .key_path = "", .hint = "scale the image down"});
   }
+  png.format = PNG_FORMAT_RGBA;
+  Image img;
+  img.width = static_cast<int>(png.width);
+  img.height = static_cast<int>(png.height);
+  img.rgba.resize(static_cast<std::size_t>(pixels) * 4);
+  // A negative stride stores the bottom row first, as Image expects.
+  const auto stride = -static_cast<png_int_32>(PNG_IMAGE_ROW_STRIDE(png));
+  if (!png_image_finish_read(&png, nullptr, img.rgba.data(), stride, nullptr))
+    throw fail("cannot decode the PNG");
+  png_image_free(&png);
   return img;
 }
 

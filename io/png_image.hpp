@@ -1,5 +1,6 @@
 #pragma once
-// RGBA images read and written through VTK's PNG reader and writer.
+// RGBA images read through libpng (which reports damaged files instead of
+// crashing) and written through VTK's PNG writer.
 // Pixel (i, j) has its centre at (i + 0.5, j + 0.5): x to the right, y up
 // (VTK's image convention: row 0 is the bottom row of the picture).
 
@@ -18,7 +19,12 @@ struct Image {
   }
 };
 
-/// Reads any PNG (gray, RGB, RGBA; converted to RGBA); throws warpfem::Error naming the file.
+/// Largest image read_png accepts (checked from the header, before allocating):
+/// 2^28 pixels, 1 GiB as RGBA.
+inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 28;
+
+/// Reads any PNG (gray, RGB, RGBA, palette; converted to 8-bit RGBA); throws
+/// warpfem::Error naming the file if it is damaged, empty or above kMaxImagePixels.
 Image read_png(const std::string& path);
 /// Writes an RGBA PNG atomically; throws warpfem::Error naming `path` if any write fails
 /// (the previous file, if any, is then left as it was).

@@ -1,20 +1,37 @@
 #include "io/run_config.hpp"
 
+#include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "core/log.hpp"
 #include "io/expression.hpp"
+#include "io/petsc_types.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;
 
 namespace {
 
-/// Reads a polygon file: one vertex per line, "x,y" or "x y"; '#' starts a comment.
+/// Parses all of `token` as a finite double (from_chars: no locale, no
+/// silent prefix parsing, and out-of-range values are reported, not clamped).
+bool parse_finite(const std::string& token, double& value) {
+  const char* begin = token.data() + (token.size() > 1 && token[0] == '+' && token[1] != '-' ? 1 : 0);
+  const char* end = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(begin, end, value);
+  return ec == std::errc() && ptr == end && std::isfinite(value);
+}
+
+/// Reads a polygon file: one vertex per line, "x,y" or "x y"; '#' starts a
+/// comment. Every other non-blank line is an error naming the line.
 std::vector<Point<2>> read_polygon_file(const std::string& path, const ConfigNode& node,
                                         const std::string& key) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw node.error(key, "polygon file \"" + path + "\" is a directory", "give the path of a text file");
   std::ifstream in(path);
   if (!in)
     throw node.error(key, "cannot open polygon file \"" + path + "\"",
@@ -22,18 +39,24 @@ std::vector<Point<2>> read_polygon_file(const std::string& path, const ConfigNod
   std::vector<Point<2>> pts;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
-    if (auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
-    for (char& ch : line)
-      if (ch == ',' || ch == ';' || ch == '\t') ch = ' ';
-    std::istringstream ls(line);
-    double x, y;
-    if (!(ls >> x)) continue;  // blank line
-    std::string rest;
-    if (!(ls >> y) || (ls >> rest))
-      throw Error("line " + std::to_string(number) + ": expected two numbers \"x, y\"",
-                  {.file = path, .key_path = "", .hint = "write one vertex per line"});
+    std::string text = line;
+    if (auto hash = text.find('#'); hash != std::string::npos) text.erase(hash);
+    for (char& ch : text)
+      if (ch == ',' || ch == ';' || ch == '\t' || ch == '\r') ch = ' ';
+    std::istringstream ls(text);
+    std::vector<std::string> tokens;
+    for (std::string t; ls >> t;) tokens.push_back(t);
+    if (tokens.empty()) continue;  // blank or comment line
+    double x = 0, y = 0;
+    if (tokens.size() != 2 || !parse_finite(tokens[0], x) || !parse_finite(tokens[1], y))
+      throw Error(
+          "line " + std::to_string(number) + ": \"" + line +
+              "\" is not a vertex: expected two finite numbers \"x, y\"",
+          {.file = path, .key_path = "", .hint = "write one vertex per line; comments start with '#'"});
     pts.emplace_back(x, y);
   }
+  if (in.bad())
+    throw Error("cannot read the polygon file", {.file = path, .key_path = "", .hint = "check the file"});
   return pts;
 }
 
@@ -143,6 +166,9 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
       const nlohmann::json& e = item.raw("edges");
       if (e.is_string() && e.get<std::string>() == "all") {
       } else if (e.is_array()) {
+        if (e.empty())
+          throw item.error("edges", "an empty list selects no edge, so this condition would do nothing",
+                           "list edge indices, or omit the key (or use \"all\") to select all edges");
         for (std::size_t k = 0; k < e.size(); ++k) {
           if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_edges)
             throw item.error("edges/" + std::to_string(k),
@@ -241,12 +267,20 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   if (cfg.poisson.dirichlet.empty() && cfg.poisson.neumann.empty())
     throw problem.error("dirichlet", "no boundary condition given",
                         "add \"dirichlet\": [{\"edges\": \"all\", \"value\": 0}]");
+  if (cfg.poisson.dirichlet.empty())
+    throw problem.error(
+        "dirichlet",
+        "only Neumann conditions: the solution is determined up to a constant, and solvable only "
+        "if the source and the fluxes balance",
+        "prescribe the value on at least one edge, e.g. \"dirichlet\": [{\"edges\": [0], "
+        "\"value\": 0}]");
   problem.finish();
 
   const ConfigNode solver = root.child("solver");
   auto& lin = cfg.solver.linear;
-  lin.ksp_type = solver.get_string("ksp_type", lin.ksp_type);
-  lin.pc_type = solver.get_string("pc_type", "mg");  // geometric multigrid on the nested hierarchy
+  lin.ksp_type = get_petsc_type(solver, "ksp_type", lin.ksp_type, PetscTypeKind::ksp);
+  // Geometric multigrid on the nested hierarchy by default.
+  lin.pc_type = get_petsc_type(solver, "pc_type", "mg", PetscTypeKind::pc);
   lin.rtol = solver.get_double("rtol", lin.rtol, 0.0, 1.0);
   lin.atol = solver.get_double("atol", lin.atol, 0.0);
   lin.max_iterations = static_cast<int>(solver.get_int("max_iterations", lin.max_iterations, 1));
@@ -309,8 +343,22 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   cfg.output.vtk = output.get_bool("vtk", cfg.output.vtk);
   cfg.output.vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
   output.finish();
+  cfg.limits = parse_limits(root);
   root.finish();
+  check_map_size(root, cfg.map, cfg.limits);
+  check_discretization_size(root, cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements),
+                            cfg.limits);
   return cfg;
+}
+
+Discretization poisson_discretization(const RunConfig& cfg, int refinements) {
+  return {.refinements = refinements,
+          .order = cfg.poisson.order,
+          .components = 1,
+          .cached_bytes_per_cell = cfg.poisson.geometry == "cached"
+                                       ? cached_geometry_bytes_per_cell(cfg.mesh.cell_type, cfg.poisson.order,
+                                                                        cfg.poisson.quadrature_degree)
+                                       : 0.0};
 }
 
 RunConfig load_run_config(const std::string& path) {

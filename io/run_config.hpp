@@ -9,6 +9,7 @@
 #include "fem/functions.hpp"
 #include "fem/mesh_factory.hpp"
 #include "io/config_node.hpp"
+#include "io/size_limits.hpp"
 #include "mapping/map_spec.hpp"
 #include "multigrid/pcmg.hpp"
 
@@ -53,7 +54,11 @@ struct RunConfig {
   PoissonSpec poisson;
   SolverSpec solver;
   OutputSpec output;
+  SizeLimits limits;  ///< "limits": memory and file caps of the size checks
 };
+
+/// What the size checks count for `cfg` refined `refinements` times.
+Discretization poisson_discretization(const RunConfig& cfg, int refinements);
 
 /// Loads and validates a run config; throws warpfem::Error naming the file and field.
 RunConfig load_run_config(const std::string& path);

@@ -9,6 +9,7 @@ packages=(
   petsc-dev                # Mat/Vec/KSP/SNES/TS/PCMG (pulls in OpenMPI, hypre, MUMPS)
   mpi-default-dev mpi-default-bin
   libvtk9-dev              # VTU/PVTU/PVD writers and readers (never install paraview: it removes libvtk9-dev)
+  libpng-dev               # PNG input (reports damaged files)
   libcgal-dev              # exact predicates, constrained Delaunay meshing
   libtet1.5-dev            # TetGen
   nlohmann-json3-dev       # config files

@@ -1,0 +1,146 @@
+#include "io/size_limits.hpp"
+
+#include <petscsys.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "fem/quadrature.hpp"
+
+namespace warpfem::io {
+namespace {
+
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+
+struct ElementCounts {
+  double dofs_per_cell;     ///< scalar DOFs per cell in the interior of a large mesh
+  double nonzeros_per_row;  ///< average stencil of one scalar row
+  double nodes_per_cell;
+};
+
+ElementCounts element_counts(fem::CellType cell, int order) {
+  if (cell == fem::CellType::triangle) return order == 1 ? ElementCounts{0.5, 7, 3} : ElementCounts{2, 11, 6};
+  return order == 1 ? ElementCounts{1, 9, 4} : ElementCounts{4, 16, 9};
+}
+
+}  // namespace
+
+double physical_memory_bytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0.0;
+}
+
+std::string estimate_text(double value) {
+  if (!(value <= 1e300)) return "more than 1e+300";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, value < 1e6 ? "%.0f" : "%.3g", value);
+  return buffer;
+}
+
+/// Memory in GiB with three significant digits ("0.381 GiB").
+std::string gib_text(double bytes) {
+  if (!(bytes <= 1e300)) return "more than 1e+300 bytes";
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.3g GiB", bytes / kGiB);
+  return buffer;
+}
+
+SizeLimits parse_limits(const ConfigNode& root) {
+  SizeLimits limits;
+  limits.memory_bytes = physical_memory_bytes();
+  const ConfigNode node = root.child("limits");
+  if (node.has("memory_gb")) limits.memory_bytes = node.get_positive("memory_gb", 0) * kGiB;
+  limits.output_files = static_cast<double>(node.get_int("output_files", 10000, 1));
+  limits.time_steps = static_cast<double>(node.get_int("time_steps", 1000000, 1));
+  node.finish();
+  return limits;
+}
+
+double delaunay_cells_lower_bound(const Polygon& polygon, double h) {
+  const double area = std::abs(polygon.signed_area());
+  double boundary = 0;
+  for (Index i = 0; i < polygon.size(); ++i)
+    boundary += std::ceil((polygon.vertex(i + 1) - polygon.vertex(i)).norm() / h);
+  return std::max(area / (std::sqrt(3.0) / 4 * h * h), boundary);
+}
+
+double cached_geometry_bytes_per_cell(fem::CellType cell, int order, int degree) {
+  const int q = degree > 0 ? degree : fem::default_quadrature_degree(order);
+  return 56.0 * static_cast<double>(fem::cell_quadrature<2>(cell, q).size());
+}
+
+SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, const Discretization& d) {
+  SizeEstimate e;
+  const Polygon& meshed = mesh.type == "pullback" && map.target ? *map.target : *map.source;
+  const double h =
+      mesh.max_edge_length > 0 ? mesh.max_edge_length : 0.1 * (meshed.bbox_max() - meshed.bbox_min()).norm();
+  if (mesh.type == "structured") {
+    e.coarse_cells =
+        static_cast<double>(mesh.nx) * mesh.ny * (mesh.cell_type == fem::CellType::triangle ? 2 : 1);
+  } else if (mesh.type != "gmsh") {
+    e.coarse_cells = delaunay_cells_lower_bound(meshed, h);
+    if (mesh.cell_type == fem::CellType::quadrilateral) e.coarse_cells *= 3;  // each triangle split in 3
+  }
+  e.cells = e.coarse_cells * std::pow(4.0, d.refinements);
+  const ElementCounts c = element_counts(mesh.cell_type, d.order);
+  e.dofs = e.cells * c.dofs_per_cell * d.components;
+  const double matrix = e.dofs * c.nonzeros_per_row * d.components * 12.0 * (4.0 / 3.0);
+  e.bytes = matrix + 4 * 8.0 * e.dofs + e.cells * (c.nodes_per_cell * 8.0 + d.cached_bytes_per_cell);
+  return e;
+}
+
+void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const mapping::MapSpec& map,
+                               const Discretization& d, const SizeLimits& limits, const std::string& key) {
+  const SizeEstimate e = estimate_size(mesh, map, d);
+  std::string culprit = key;
+  if (culprit.empty())
+    culprit = mesh.refinements > 0        ? "/mesh/refinements"
+              : mesh.type == "structured" ? "/mesh/cells"
+                                          : "/mesh/max_edge_length";
+  const std::string what = "the discretization would have at least " + estimate_text(e.cells) +
+                           " cells and " + estimate_text(e.dofs) + " DOFs";
+  const double max_index = static_cast<double>(std::numeric_limits<PetscInt>::max());
+  if (!(e.dofs <= max_index))
+    throw Error(what + ", more than PETSc's largest index " + estimate_text(max_index),
+                {.file = root.file(),
+                 .key_path = culprit,
+                 .hint = "use fewer refinements or larger cells (" + culprit + ")"});
+  if (limits.memory_bytes > 0 && !(e.bytes <= limits.memory_bytes))
+    throw Error(what + ", needing at least " + gib_text(e.bytes) + " of memory, more than the " +
+                    gib_text(limits.memory_bytes) + " available",
+                {.file = root.file(),
+                 .key_path = culprit,
+                 .hint = "use fewer refinements or larger cells (" + culprit +
+                         "), or raise \"limits\": {\"memory_gb\": ...} on a machine with more memory"});
+}
+
+void check_map_size(const ConfigNode& root, const mapping::MapSpec& map, const SizeLimits& limits) {
+  if (map.type != "composite_harmonic" || map.harmonic_method == "fem") return;
+  // bem and mfs solve dense n x n systems (n boundary nodes or sites), one per harmonic map.
+  const double n = map.boundary_nodes;
+  const double bytes = 2 * 8.0 * n * n;
+  if (limits.memory_bytes > 0 && bytes > limits.memory_bytes)
+    throw Error(map.harmonic_method + " with " + std::to_string(map.boundary_nodes) +
+                    " boundary nodes needs dense matrices of at least " + gib_text(bytes) +
+                    ", more than the " + gib_text(limits.memory_bytes) + " available",
+                {.file = root.file(),
+                 .key_path = "/map/boundary_nodes",
+                 .hint = "use fewer boundary nodes (256 is the default), or \"harmonic_method\": \"fem\""});
+}
+
+void check_grid_size(const ConfigNode& root, const Polygon& polygon, double h, const SizeLimits& limits,
+                     const std::string& key) {
+  const double cells = delaunay_cells_lower_bound(polygon, h);
+  const double bytes = 60.0 * cells;
+  if (limits.memory_bytes > 0 && !(bytes <= limits.memory_bytes))
+    throw Error("a grid with edges <= " + estimate_text(h) + " would have at least " + estimate_text(cells) +
+                    " cells, needing at least " + gib_text(bytes) + ", more than the " +
+                    gib_text(limits.memory_bytes) + " available",
+                {.file = root.file(), .key_path = key, .hint = "use a larger edge length"});
+}
+
+}  // namespace warpfem::io
