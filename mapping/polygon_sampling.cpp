@@ -55,7 +55,6 @@ Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int leve
   // narrow wedge of directions (5 angles missed one of about 10° at the
   // re-entrant corner of a bent L), so the wedge gets 23 directions.
   constexpr int kCornerAngles = 23;
-  constexpr Real kTowardEnds[] = {0.25, 0.1, 0.04, 0.015, 0.006, 0.0025, 0.001};
   std::vector<Point<2>> pts;
   const Index n = polygon.size();
   auto keep = [&](const Point<2>& p) {
@@ -66,16 +65,11 @@ Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int leve
     const Point<2> e = b - a;
     const Real len = e.norm();
     const Point<2> normal(-e.y() / len, e.x() / len);  // inward for counter-clockwise order
-    // toward edge i: evenly along it, and geometrically toward both ends, where
-    // folds hugging the edge start (one on a dart sat at 4 % of the edge)
-    std::vector<Real> along;
-    for (int k = 0; k < per_edge; ++k) along.push_back((k + 0.5) / per_edge);
-    for (const Real s : kTowardEnds) {
-      along.push_back(s);
-      along.push_back(1 - s);
-    }
-    for (const Real s : along)
+    // toward edge i
+    for (int k = 0; k < per_edge; ++k) {
+      const Real s = (k + 0.5) / per_edge;
       for (int l = 1; l <= levels; ++l) keep(a + s * e + std::pow(10.0, -l) * len * normal);
+    }
     // into corner i: angles across the interior wedge from edge i (to b) counter-clockwise to c
     const CornerWedge wedge = corner_wedge(polygon, i);
     const Real rad = std::min(len, (c - a).norm());

@@ -3,8 +3,7 @@
 //
 // A regular grid alone misses the places where folds start: next to the
 // vertices and edges. bijectivity_sample() therefore adds points clustered
-// geometrically toward every edge (distances 10^-1 … 10^-6 of the edge length,
-// at evenly spaced places and at places 0.25 … 0.001 of the edge from its ends)
+// geometrically toward every edge (distances 10^-1 … 10^-6 of the edge length)
 // and into every corner (radii 10^-1 … 10^-6 of the shorter adjacent edge,
 // 23 directions across the interior wedge). Only points strictly inside are kept.
 
