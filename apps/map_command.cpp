@@ -1,6 +1,7 @@
 // warpfem map: build a map from a config, explain why it is bijective, write
 // the warped source grid, and optionally map the user's own points.
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -24,6 +25,7 @@
 #include "mapping/distortion.hpp"
 #include "mapping/make_map.hpp"
 #include "mapping/polygon_sampling.hpp"
+#include "mapping/source_points.hpp"
 
 namespace warpfem::apps {
 namespace {
@@ -67,8 +69,9 @@ Points<2> read_points_csv(const std::string& path) {
   return out;
 }
 
-void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec) {
+void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec, const mapping::MapCheck& check) {
   const Polygon& source = *spec.source;
+  if (check.samples > 0) log::info("check passed: ", check.summary());
   if (const auto* composite = dynamic_cast<const mapping::CompositeMeanValueMap*>(&map)) {
     const mapping::CompositeReport r = mapping::analyze_composite(*composite, spec.sample_resolution);
     std::ostringstream times;
@@ -86,8 +89,6 @@ void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec) {
     const mapping::CompositeMeanValueMap g = composite->backward();
     log::info("backward map g (thesis §4.3): max |x - g(f(x))| = ",
               fmt(mapping::round_trip_error(map, g, sample)), " over ", sample.rows(), " samples");
-    if (!(r.composite_min_det > 0))
-      log::warning("the map folds (min det J_f <= 0); use \"partition\": \"adaptive\" for a bijective map");
     return;
   }
   const Points<2> sample = mapping::bijectivity_sample(source, spec.sample_resolution);
@@ -98,7 +99,37 @@ void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec) {
   log::info("min det J_f = ", fmt(s.min_det), " on ", s.samples, " samples; distortion: conformal mean ",
             fmt(s.conformal.mean), " max ", fmt(s.conformal.max), "; isometric mean ", fmt(s.isometric.mean),
             " max ", fmt(s.isometric.max));
-  if (!(s.min_det > 0)) log::warning("the map folds (min det J_f <= 0): it is not bijective");
+}
+
+/// f, J_f and the inverse residual at the user's points; throws listing up to
+/// ten points where f cannot be evaluated or folds (never writes such values).
+void map_user_points(const mapping::Map<2>& map, const Points<2>& x0, const std::string& file, Points<2>& x,
+                     VectorX& det) {
+  Jacobians<2> J;
+  VectorX residual;
+  map.eval_with_residual(x0, x, J, residual);
+  det = mapping::jacobian_determinants<2>(J);
+  const Real tolerance = map.inverse_tolerance();
+  std::ostringstream bad;
+  Index count = 0;
+  for (Index p = 0; p < x0.rows(); ++p) {
+    std::string why;
+    if (!(residual(p) <= tolerance))
+      why =
+          "the inverse does not converge (residual " + fmt(residual(p), 3) + " > " + fmt(tolerance, 3) + ")";
+    else if (!x.row(p).allFinite() || !std::isfinite(det(p)))
+      why = "f or J_f is not finite";
+    else if (det(p) <= 0)
+      why = "det J_f = " + fmt(det(p), 3) + " <= 0";
+    if (why.empty()) continue;
+    if (count++ < 10)
+      bad << (count > 1 ? "; " : "") << "point " << p + 1 << " (" << fmt(x0(p, 0), 10) << ", "
+          << fmt(x0(p, 1), 10) << "): " << why;
+  }
+  if (count == 0) return;
+  if (count > 10) bad << " (" << count << " of " << x0.rows() << " points; the first ten are listed)";
+  throw Error("the map cannot be evaluated at these points: " + bad.str(),
+              {.file = file, .key_path = "", .hint = "no output written; see the map check in the log"});
 }
 
 }  // namespace
@@ -146,22 +177,22 @@ int map_command(const std::vector<std::string>& args) {
   if (!output_dir.empty()) directory = output_dir;
 
   Stopwatch watch;
-  const mapping::MapPtr<2> map = mapping::make_map(spec);  // errors name spec.origin = the config file
-  log::info("map: ", map->describe(), " (built in ", format_seconds(watch.seconds()), ")");
-  report_map(*map, spec);
+  mapping::MapCheck check;
+  // errors, including a refused (folding) map, name spec.origin = the config file
+  const mapping::MapPtr<2> map = mapping::make_map(spec, &check);
+  log::info("map: ", map->describe(), " (built and checked in ", format_seconds(watch.seconds()), ")");
+  report_map(*map, spec, check);
 
   if (!points_in.empty()) {
-    const Points<2> x0 = read_points_csv(points_in);
-    for (Index p = 0; p < x0.rows(); ++p)
-      if (spec.source->side_of(x0.row(p).transpose()) < 0)
-        throw Error(
-            "point " + std::to_string(p + 1) + " (" + fmt(x0(p, 0), 10) + ", " + fmt(x0(p, 1), 10) +
-                ") lies outside the source polygon",
-            {.file = points_in, .key_path = "", .hint = "the map is defined on the source polygon only"});
+    Points<2> x0 = read_points_csv(points_in);
+    const mapping::SourcePointsReport accepted = mapping::accept_source_points(*spec.source, x0, points_in);
+    if (accepted.snapped > 0)
+      log::info(
+          accepted.snapped,
+          " points within 1e-12 of the diameter outside the source polygon were moved onto its boundary");
     Points<2> x;
-    Jacobians<2> J;
-    map->eval_with_jacobian(x0, x, J);
-    const VectorX det = mapping::jacobian_determinants<2>(J);
+    VectorX det;
+    map_user_points(*map, x0, points_in, x, det);
     std::ostringstream csv;
     csv << "x,y,fx,fy,det_J\n" << std::setprecision(17);
     for (Index p = 0; p < x0.rows(); ++p)

@@ -7,6 +7,7 @@
 #include "mapping/barycentric_map.hpp"
 #include "mapping/composite_mean_value_map.hpp"
 #include "mapping/harmonic/make_harmonic_map.hpp"
+#include "mapping/map_check.hpp"
 #include "mapping/spec_context.hpp"
 
 namespace warpfem::mapping {
@@ -19,10 +20,7 @@ const Polygon& require_polygon(const MapSpec& spec, const std::optional<Polygon>
   return *p;
 }
 
-}  // namespace
-
-MapPtr<2> make_map(const MapSpec& spec) {
-  if (spec.type == "identity") return std::make_shared<IdentityMap<2>>();
+MapPtr<2> build_map(const MapSpec& spec) {
   if (spec.type == "composite_harmonic") return make_harmonic_map(spec);
   if (spec.type != "composite_mean_value" && spec.type != "barycentric")
     throw Error(
@@ -83,6 +81,23 @@ MapPtr<2> make_map(const MapSpec& spec) {
               {.file = spec.origin,
                .key_path = "/map/partition",
                .hint = "use \"adaptive\", \"greedy\", \"uniform\" or \"explicit\""});
+}
+
+}  // namespace
+
+MapPtr<2> make_map(const MapSpec& spec, MapCheck* check) {
+  if (spec.type == "identity") return std::make_shared<IdentityMap<2>>();
+  try {
+    MapPtr<2> map = build_map(spec);
+    const MapCheck c = check_map(*map, spec);
+    require_passed(c, spec);
+    if (check) *check = c;
+    return map;
+  } catch (const Error& e) {
+    // e.g. a failed inverse while the intermediate polygon is optimized
+    if (e.context().file.empty()) throw e.in_file(spec.origin);
+    throw;
+  }
 }
 
 }  // namespace warpfem::mapping

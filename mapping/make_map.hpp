@@ -1,11 +1,15 @@
 #pragma once
 #include "mapping/map.hpp"
+#include "mapping/map_check.hpp"
 #include "mapping/map_spec.hpp"
 
 namespace warpfem::mapping {
 
-/// Builds the 2D map a spec describes; throws warpfem::Error naming
-/// spec.origin and the offending field when the spec is inconsistent.
-MapPtr<2> make_map(const MapSpec& spec);
+/// Builds the 2D map a spec describes and runs the fold check (map_check.hpp)
+/// on it: a map with det J_f ≤ 0, a non-finite value or a failed inverse on
+/// the check sample is never returned. Throws warpfem::Error naming
+/// spec.origin and the offending field when the spec is inconsistent or the
+/// map is refused. `check`, if given, receives the check's numbers.
+MapPtr<2> make_map(const MapSpec& spec, MapCheck* check = nullptr);
 
 }  // namespace warpfem::mapping

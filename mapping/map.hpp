@@ -26,6 +26,21 @@ class Map {
     jacobian(x0, J);
   }
 
+  /// Like eval_with_jacobian, and residual(p) = |g(y) − z| of the inverse that f
+  /// solves to evaluate at point p (0 for maps that solve none). A point with
+  /// residual(p) > inverse_tolerance() is a failed evaluation: its x and J are
+  /// not f there. Unlike eval(), this does not throw for such points, so a check
+  /// can count them.
+  virtual void eval_with_residual(const Points<dim>& x0, Points<dim>& x, Jacobians<dim>& J,
+                                  VectorX& residual) const {
+    eval_with_jacobian(x0, x, J);
+    residual.setZero(x0.rows());
+  }
+
+  /// Largest inverse residual of a successful evaluation (absolute, in the
+  /// units of the inverted map's image; 0 for maps that solve no inverse).
+  virtual Real inverse_tolerance() const { return 0; }
+
   /// One line describing the map for logs ("identity", "composite mean value, 12 steps", ...).
   virtual std::string describe() const = 0;
 

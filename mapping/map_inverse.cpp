@@ -1,6 +1,7 @@
 #include "mapping/map_inverse.hpp"
 
 #include <Eigen/LU>
+#include <cmath>
 #include <vector>
 
 namespace warpfem::mapping {
@@ -9,6 +10,12 @@ template <int dim>
 InverseReport invert(const Map<dim>& f, const Points<dim>& y, Points<dim>& x, const InverseOptions& options) {
   const Index n = y.rows();
   InverseReport report;
+  Real scale = options.scale;
+  if (!(scale > 0) && n > 0) scale = (y.colwise().maxCoeff() - y.colwise().minCoeff()).norm();
+  if (!(scale > 0) && n > 0) scale = y.cwiseAbs().maxCoeff();  // one point, or all equal
+  if (!(scale > 0)) scale = 1;
+  const Real tol = options.tolerance * scale;
+  report.tolerance = tol;
   std::vector<Index> active(static_cast<std::size_t>(n));
   for (Index p = 0; p < n; ++p) active[p] = p;
   VectorX residual(n);
@@ -39,7 +46,7 @@ InverseReport invert(const Map<dim>& f, const Points<dim>& y, Points<dim>& x, co
       for (Index k = 0; k < m; ++k) {
         if (done[k]) continue;
         const double rn = (ft.row(k) - y.row(active[k])).norm();
-        if (rn < rnorm(k) || rnorm(k) <= options.tolerance * (1 + y.row(active[k]).norm())) {
+        if (rn < rnorm(k) || rnorm(k) <= tol) {
           done[k] = 1;
           x.row(active[k]) = trial.row(k);
         } else {
@@ -53,7 +60,7 @@ InverseReport invert(const Map<dim>& f, const Points<dim>& y, Points<dim>& x, co
     for (Index k = 0; k < m; ++k) {
       const double rn = (ft.row(k) - y.row(active[k])).norm();
       residual(active[k]) = rn;
-      if (rn > options.tolerance * (1 + y.row(active[k]).norm())) next.push_back(active[k]);
+      if (!(rn <= tol)) next.push_back(active[k]);
     }
     active.swap(next);
   }
@@ -63,7 +70,14 @@ InverseReport invert(const Map<dim>& f, const Points<dim>& y, Points<dim>& x, co
     residual = (fx - y).rowwise().norm();
   }
   report.converged = n - static_cast<Index>(active.size());
-  report.max_residual = n > 0 ? residual.maxCoeff() : 0.0;
+  for (Index p = 0; p < n; ++p) {
+    if (std::isnan(residual(p))) {  // a NaN is the worst there is
+      report.worst = p, report.max_residual = residual(p);
+      break;
+    }
+    if (report.worst < 0 || residual(p) > report.max_residual)
+      report.worst = p, report.max_residual = residual(p);
+  }
   return report;
 }
 

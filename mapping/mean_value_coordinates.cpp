@@ -10,11 +10,22 @@
 namespace warpfem::mapping {
 namespace {
 
-/// Below this distance (relative to the polygon scale) a point is the vertex.
+/// Below this distance, relative to the shorter edge at the vertex, a point is
+/// the vertex. Relative to the local edges (not the whole polygon) so that one
+/// far-away vertex does not make small features snap.
 constexpr Real kSnap = 1e-13;
+
+Real shorter_edge_at(const PolygonArrays& P, Index j) {
+  const Index n = P.size();
+  const Index jn = (j + 1) % n, jp = (j + n - 1) % n;
+  return std::min(std::hypot(P.x[jn] - P.x[j], P.y[jn] - P.y[j]),
+                  std::hypot(P.x[jp] - P.x[j], P.y[jp] - P.y[j]));
+}
 
 /// Gradient at a vertex: the coordinates are only continuous there, so we take
 /// the one-sided value from a point a tiny step inside along the interior bisector.
+/// The step is far above the snap distance and above the rounding of the
+/// vertex's coordinates, so the point is never the vertex itself.
 Point<2> nudge_inside(const PolygonArrays& P, Index j) {
   const Index n = P.size();
   const Index jn = (j + 1) % n, jp = (j + n - 1) % n;
@@ -30,7 +41,8 @@ Point<2> nudge_inside(const PolygonArrays& P, Index j) {
   } else if (cr < 0) {
     d = -d;  // reflex corner: the bisector of the two edges points outside
   }
-  return v + 1e-7 * std::min(la, lb) * d.normalized();
+  const Real ulp_floor = 64 * std::numeric_limits<Real>::epsilon() * v.cwiseAbs().maxCoeff();
+  return v + std::max(1e-7 * std::min(la, lb), ulp_floor) * d.normalized();
 }
 
 /// Normalizes scaled weights w̃ (with gradients) into φ, ∇φ. The dominant weight
@@ -61,10 +73,37 @@ void normalize(Index n, const Real* w, const Real* gx, const Real* gy, Real* phi
   dy[d] = (S * gy[d] - w[d] * Sy) * iW * iW;
 }
 
+/// The robust formula at a point that is not a vertex (r_j > 0 for every j).
+void off_vertex_coordinates(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx, Real* dy,
+                            std::vector<Real>& work);
+
 }  // namespace
 
 void mean_value_coordinates_at(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx, Real* dy,
                                std::vector<Real>& work) {
+  const Index n = P.size();
+  Index j = 0;
+  Real rj = std::numeric_limits<Real>::infinity();
+  for (Index k = 0; k < n; ++k) {
+    const Real r = std::hypot(P.x[k] - x, P.y[k] - y);
+    if (r < rj) j = k, rj = r;
+  }
+  if (rj <= kSnap * shorter_edge_at(P, j)) {  // at a vertex: Kronecker delta
+    if (dx) {
+      const Point<2> q = nudge_inside(P, j);
+      off_vertex_coordinates(P, q.x(), q.y(), phi, dx, dy, work);
+    }
+    std::fill(phi, phi + n, Real{0});
+    phi[j] = 1;
+    return;
+  }
+  off_vertex_coordinates(P, x, y, phi, dx, dy, work);
+}
+
+namespace {
+
+void off_vertex_coordinates(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx, Real* dy,
+                            std::vector<Real>& work) {
   const Index n = P.size();
   work.resize(static_cast<std::size_t>(14 * n));
   Real* sx = work.data();
@@ -84,15 +123,6 @@ void mean_value_coordinates_at(const PolygonArrays& P, Real x, Real y, Real* phi
     sy[k] = P.y[k] - y;
     r[k] = std::hypot(sx[k], sy[k]);
     if (r[k] < r[j]) j = k;
-  }
-  if (r[j] <= kSnap * P.scale) {  // at a vertex: Kronecker delta
-    if (grad) {
-      const Point<2> q = nudge_inside(P, j);
-      mean_value_coordinates_at(P, q.x(), q.y(), phi, dx, dy, work);
-    }
-    std::fill(phi, phi + n, Real{0});
-    phi[j] = 1;
-    return;
   }
   // Edge quantities, with the stable choice of the tan(α/2) formula.
   Index kstar = 0;
@@ -150,8 +180,6 @@ void mean_value_coordinates_at(const PolygonArrays& P, Real x, Real y, Real* phi
   }
   normalize(n, w, gw, gw + n, phi, dx, dy);
 }
-
-namespace {
 
 /// Evaluates blocks of points and writes φ (and ∇φ) columns of the output matrices.
 template <bool kGrad>

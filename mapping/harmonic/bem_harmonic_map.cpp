@@ -14,7 +14,6 @@ constexpr Real kInv2Pi = 0.5 / std::numbers::pi;
 constexpr int kMaxDepth = 60;
 constexpr int kFarPoints = 4;  // Gauss points per element at ≥ kFarDistance element lengths
 constexpr Real kFarDistance = 4;
-constexpr Real kJacobianOffset = 0.25;  // near ∂Ω, J_φ is taken this many element lengths inside
 
 /// Geometry of boundary element e (scaled): from node e to node e+1.
 struct Element {
@@ -285,50 +284,26 @@ void BemHarmonicMap::eval_point(const Point<2>& x, Point<2>& phi, Matrix<2>* J) 
   const Real scale = coords_->scale;
   Real dist = 0;
   const BoundaryPoint bp = closest_boundary_point(domain(), x, &dist);
-  const bool snap = dist / scale < coords_->snap;
-  const Real offset = kJacobianOffset * coords_->element_length[static_cast<std::size_t>(bp.edge)] * scale;
-  if (!snap) representation((x - coords_->center) / scale, phi, dist < offset ? nullptr : J);
-  if (snap) phi = boundary_value(image(), speeds(), bp);
-  if (!J || (!snap && dist >= offset)) {
+  if (dist / scale >= coords_->snap) {
+    representation((x - coords_->center) / scale, phi, J);  // φ and J_φ of the same point
     if (J) *J /= scale;
     return;
   }
-  // J_φ a quarter element inside: push the point away from ∂Ω until it is that
-  // far — along the normal next to an edge, along the bisector next to a corner
-  // (far enough that both edges are `offset` away) — never leaving Ω.
+  phi = boundary_value(image(), speeds(), bp);
+  if (!J) return;
+  // On ∂Ω the representation's gradient is singular; J_φ is its limit from
+  // inside, taken one snap distance inside (along the bisector at a corner).
   const Polygon& P = domain();
   auto inward = [&](Index i) {
     const Point<2> e = P.vertex(i + 1) - P.vertex(i);
     return Point<2>(-e.y(), e.x()).normalized();
   };
-  auto from_corner = [&](Index v) {  // point on the interior bisector of vertex v, `offset` from both edges
-    const Point<2> e0 = P.vertex(v) - P.vertex(v - 1), e1 = P.vertex(v + 1) - P.vertex(v);
-    const Real turn = std::atan2(e0.x() * e1.y() - e0.y() * e1.x(), e0.dot(e1));
-    const Real half = 0.5 * (std::numbers::pi - turn);
-    return Point<2>(P.vertex(v) +
-                    offset / std::max(std::sin(half), Real{0.02}) * (inward(v - 1) + inward(v)).normalized());
-  };
-  Point<2> q = x;
-  Real d = dist;
-  BoundaryPoint b = bp;
-  for (int k = 0; k < 8 && d < 0.9 * offset; ++k) {
-    const Point<2> p = boundary_position(P, b);
-    const bool at_vertex = b.t <= 0 || b.t >= 1;
-    const Index corner = b.t < 0.5 ? b.edge : b.edge + 1;
-    Point<2> candidate =
-        at_vertex ? from_corner(corner)
-                  : Point<2>(p + offset * (d > 1e-6 * offset ? Point<2>((q - p) / d) : inward(b.edge)));
-    Real dc = 0;
-    BoundaryPoint bc = closest_boundary_point(P, candidate, &dc);
-    if (P.side_of(candidate) <= 0 || dc <= d) {  // thin part: try the bisector of the nearer corner
-      candidate = from_corner(corner);
-      bc = closest_boundary_point(P, candidate, &dc);
-      if (P.side_of(candidate) <= 0 || dc <= d) break;
-    }
-    q = candidate;
-    d = dc;
-    b = bc;
-  }
+  const Real step = 2 * coords_->snap * scale;
+  const bool at_vertex = bp.t <= 0 || bp.t >= 1;
+  const Index v = bp.t < 0.5 ? bp.edge : bp.edge + 1;
+  const Point<2> base = boundary_position(P, bp);
+  const Point<2> q = at_vertex ? Point<2>(P.vertex(v) + step * (inward(v - 1) + inward(v)).normalized())
+                               : Point<2>(base + step * inward(bp.edge));
   Point<2> unused;
   representation((q - coords_->center) / scale, unused, J);
   *J /= scale;

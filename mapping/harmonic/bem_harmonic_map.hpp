@@ -10,10 +10,10 @@
 // H_ji so constants are reproduced exactly. Integrals use Gauss–Legendre panels, bisected toward x until each
 // panel is no closer to x than its length; the log-singular self-integrals are done analytically. Evaluation
 // at x costs O(m · points) and J_φ is analytic; points within snap distance of ∂Ω take the boundary data.
-// Closer to ∂Ω than a quarter of the local element length h, J_φ is taken at
-// the point h/4 inside along the same normal ray: there the discrete solution's
-// gradient carries log|dist| singularities from the kinks of the hat density
-// ∂φ/∂n, which are artefacts of the discretization, not of φ.
+// J_φ is the gradient of the representation at x itself, so φ and J_φ describe
+// the same map: next to ∂Ω it carries the log|dist| singularities of the kinks
+// of the hat density ∂φ/∂n, which the fold checks must see. Only on ∂Ω (within
+// snap distance), where it is singular, it is the limit from just inside.
 // Everything is computed in coordinates scaled to a unit bounding-box diagonal,
 // which keeps the single-layer matrix away from its capacity-1 singularity.
 

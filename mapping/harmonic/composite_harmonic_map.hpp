@@ -4,6 +4,11 @@
 // y = φ1⁻¹(φ0(x)) (harmonic_inverse.hpp) and J_f(x) = J_φ1(y)⁻¹ · J_φ0(x).
 // f maps vertex i of Ω0 to vertex i of Ω1; with fem (or exactly on ∂Ω0 for
 // bem) it maps the edges onto each other as the boundary data prescribe.
+//
+// The inverse φ1⁻¹ can fail: the bem/mfs φ1 misses ∂Λ slightly, so points of Λ
+// next to its boundary may have no preimage. Every evaluation knows its inverse
+// residual; eval() and the Jacobians throw warpfem::Error naming the point when
+// it exceeds inverse_tolerance(), eval_with_residual() reports it per point.
 
 #include <memory>
 #include <string>
@@ -23,7 +28,14 @@ class CompositeHarmonicMap final : public Map<2> {
   void eval(const Points<2>& x0, Points<2>& x) const override;
   void jacobian(const Points<2>& x0, Jacobians<2>& J) const override;
   void eval_with_jacobian(const Points<2>& x0, Points<2>& x, Jacobians<2>& J) const override;
+  void eval_with_residual(const Points<2>& x0, Points<2>& x, Jacobians<2>& J,
+                          VectorX& residual) const override;
+  /// kInverseTolerance · diameter(Λ).
+  Real inverse_tolerance() const override;
   std::string describe() const override;
+
+  /// A failed inverse: residual above this fraction of Λ's diameter.
+  static constexpr Real kInverseTolerance = 1e-9;
 
   /// f⁻¹ = φ0⁻¹ ∘ φ1 (builds the inverse of φ0).
   CompositeHarmonicMap inverse() const;
@@ -31,12 +43,13 @@ class CompositeHarmonicMap final : public Map<2> {
   const HarmonicMap& phi0() const { return *phi0_; }
   const HarmonicMap& phi1() const { return *phi1_; }
   const Polygon& intermediate() const { return phi0_->image(); }
-  /// Largest Newton residual |φ1(y) − φ0(x)| over the batch (0 for fem): how
+  /// Largest inverse residual |φ1(y) − φ0(x)| over the batch: how
   /// well the inverse was found. Re-evaluates f; eval() keeps no state.
   Real max_inverse_residual(const Points<2>& x0) const;
 
  private:
-  Real run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J) const;  // returns the max residual
+  /// Evaluates; residual(p) per point. Throws on the first failed inverse unless `residual` is given.
+  void run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J, VectorX* residual) const;
 
   HarmonicMapPtr phi0_, phi1_;
   Real seed_h_;

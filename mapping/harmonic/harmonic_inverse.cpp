@@ -47,6 +47,11 @@ HarmonicInverse::Result HarmonicInverse::apply(const Point<2>& z, Point<2>& y, M
       hit.bary[2] * row(m.vertices, T0[2]);
   Result result;
   if (phi_->is_piecewise_linear()) {
+    // φ is linear on the triangle: the residual is how far z lies outside it
+    // (nonzero only when z is outside the image mesh and the hit was clamped).
+    const Point<2> image = hit.bary[0] * row(images_, T0[0]) + hit.bary[1] * row(images_, T0[1]) +
+                           hit.bary[2] * row(images_, T0[2]);
+    result.residual = (image - z).norm();
     if (J)
       *J = affine_jacobian(row(m.vertices, T0[0]), row(m.vertices, T0[1]), row(m.vertices, T0[2]),
                            row(images_, T0[0]), row(images_, T0[1]), row(images_, T0[2]));

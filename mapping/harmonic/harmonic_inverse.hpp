@@ -24,7 +24,7 @@ class HarmonicInverse {
   HarmonicInverse(HarmonicMapPtr phi, Real seed_max_edge_length);
 
   struct Result {
-    Real residual = 0;  ///< |φ(y) − z| reached (0 for fem)
+    Real residual = 0;  ///< |φ(y) − z| reached (fem: distance of z from the located triangle's image)
     int iterations = 0;
   };
 

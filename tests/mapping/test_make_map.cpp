@@ -32,6 +32,7 @@ Error error_of(const MapSpec& s) {
 
 TEST(MakeMap, BuildsEveryPartitionKind) {
   MapSpec s = dart_spec();
+  s.target = test::dart(0.5);  // mild enough for few uniform steps and one barycentric step
   s.partition = "uniform";
   s.steps = 7;
   auto u = std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(s));
@@ -42,11 +43,38 @@ TEST(MakeMap, BuildsEveryPartitionKind) {
   auto e = std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(s));
   ASSERT_TRUE(e);
   EXPECT_EQ(e->times(), s.times);
+  s.target = test::dart();
   s.partition = "adaptive";
   s.vertex_path = "intrinsic";
   EXPECT_GT(std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(s))->steps(), 1);
   s.type = "barycentric";
+  s.target = test::dart(0.5);
   EXPECT_NE(make_map(s)->describe().find("mean_value"), std::string::npos);
+}
+
+TEST(MakeMap, RefusesEveryMapThatFoldsOnItsCheckSample) {
+  // Thesis §2.1.2: one mean value step (and 7 uniform steps) fold on the dart.
+  MapSpec s = dart_spec();
+  s.type = "barycentric";
+  Error e = error_of(s);
+  EXPECT_EQ(e.context().file, "dart.json");
+  EXPECT_EQ(e.context().key_path, "/map");
+  EXPECT_NE(std::string(e.what()).find("det J_f <= 0"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("composite_mean_value"), std::string::npos) << e.what();
+
+  s = dart_spec();
+  s.partition = "uniform";
+  s.steps = 7;
+  e = error_of(s);
+  EXPECT_NE(std::string(e.what()).find("not bijective"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("\"partition\": \"adaptive\""), std::string::npos) << e.what();
+
+  MapCheck check;
+  s.partition = "adaptive";
+  make_map(s, &check);
+  EXPECT_TRUE(check.passed());
+  EXPECT_GT(check.samples, 1000);
+  EXPECT_GT(check.min_det, 0);
 }
 
 TEST(MakeMap, ErrorsNameTheFileAndKey) {

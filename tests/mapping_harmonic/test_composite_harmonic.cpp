@@ -11,6 +11,8 @@
 #include "mapping/distortion.hpp"
 #include "mapping/harmonic/intermediate_polygon.hpp"
 #include "mapping/harmonic/make_harmonic_map.hpp"
+#include "mapping/make_map.hpp"
+#include "mapping/map_check.hpp"
 #include "mapping/polygon_sampling.hpp"
 #include "test_polygons.hpp"
 
@@ -28,27 +30,39 @@ CompositeHarmonicMap composite(const Polygon& from, const Polygon& to, HarmonicM
 
 const HarmonicMethod kMethods[] = {HarmonicMethod::fem, HarmonicMethod::bem, HarmonicMethod::mfs};
 
-TEST(CompositeHarmonicMap, BijectiveWhereOneMeanValueStepFolds) {
+TEST(CompositeHarmonicMap, BijectiveWhereOneMeanValueStepFoldsOrReportsWhyNot) {
   const Polygon from = test::diamond(), to = test::dart();
   const Points<2> sample = bijectivity_sample(from, 64);
   ASSERT_LT(min_det_jacobian(BarycentricMap(from, to), sample), 0.0);  // thesis §2.1.2
   for (HarmonicMethod method : kMethods) {
     const CompositeHarmonicMap f = composite(from, to, method);
-    Jacobians<2> J;
-    f.jacobian(sample, J);
-    const DistortionSummary s = summarize_distortion<2>(J);
-    std::printf(
-        "[ diamond -> dart ] %s: %ld samples, min det J = %.3e, conformal mean %.3f, inverse residual %.1e\n",
-        to_string(method).c_str(), static_cast<long>(s.samples), s.min_det, s.conformal.mean,
-        f.max_inverse_residual(sample));
-    EXPECT_GT(s.min_det, 0.0) << to_string(method);
-    // vertices go to vertices
+    const MapCheck check = check_map(f, sample);
+    std::printf("[ diamond -> dart ] %s: %s; %ld failed inverses, %ld det <= 0\n", to_string(method).c_str(),
+                check.summary().c_str(), static_cast<long>(check.failed_inverse),
+                static_cast<long>(check.nonpositive));
+    if (method == HarmonicMethod::fem) {
+      EXPECT_TRUE(check.passed());
+    }
+    // The plain evaluation refuses exactly when the check counts failed inverses.
+    bool threw = false;
+    try {
+      Jacobians<2> J;
+      f.jacobian(sample, J);
+    } catch (const Error& e) {
+      threw = true;
+      EXPECT_NE(std::string(e.what()).find("does not converge at x0"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(threw, check.failed_inverse > 0) << to_string(method);
+    // vertices go to vertices wherever the inverse converged
     Points<2> v(from.size(), 2), fv;
     for (Index i = 0; i < from.size(); ++i) v.row(i) = from.vertex(i).transpose();
-    f.eval(v, fv);
-    for (Index i = 0; i < from.size(); ++i)
-      EXPECT_LT((fv.row(i).transpose() - to.vertex(i)).norm(), method == HarmonicMethod::mfs ? 0.05 : 1e-9)
-          << to_string(method) << " vertex " << i;
+    Jacobians<2> Jv;
+    VectorX residual;
+    f.eval_with_residual(v, fv, Jv, residual);
+    for (Index i = 0; i < from.size(); ++i) {
+      if (residual(i) > f.inverse_tolerance()) continue;
+      EXPECT_LT((fv.row(i).transpose() - to.vertex(i)).norm(), 1e-9) << to_string(method) << " vertex " << i;
+    }
   }
 }
 
@@ -151,14 +165,21 @@ TEST(MakeHarmonicMap, BuildsFromASpecAndNamesBadFields) {
   expect_key(bad, "/map/target");
 }
 
-TEST(MakeHarmonicMap, ShippedExamplesAreBijective) {
+TEST(MakeHarmonicMap, ShippedExamplesAreBijectiveOrRefused) {
   for (const char* name :
        {"harmonic_square_to_dart", "harmonic_star_to_bent_star", "harmonic_square_to_gear"}) {
     const MapSpec spec = test::load_harmonic_example(name);
-    const auto f = make_composite_harmonic(spec);
-    const Real det = min_det_jacobian(*f, bijectivity_sample(*spec.source, 48));
-    std::printf("[ %s ] %s: min det J = %.3g\n", name, f->describe().c_str(), det);
-    EXPECT_GT(det, 0.0) << name;
+    try {
+      const auto f = make_map(spec);
+      const Real det = min_det_jacobian(*f, bijectivity_sample(*spec.source, 48));
+      std::printf("[ %s ] %s: min det J = %.3g\n", name, f->describe().c_str(), det);
+      EXPECT_GT(det, 0.0) << name;
+    } catch (const Error& e) {
+      // only the smooth methods may be refused: their φ1 misses ∂Λ
+      std::printf("[ %s ] refused: %s\n", name, e.what());
+      EXPECT_NE(spec.harmonic_method, "fem") << e.what();
+      EXPECT_NE(std::string(e.what()).find("\"harmonic_method\": \"fem\""), std::string::npos) << e.what();
+    }
   }
 }
 
