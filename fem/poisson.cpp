@@ -127,8 +127,11 @@ void PoissonProblem::assemble() {
   const Index np = gradient_products_[0].rows();
   WARPFEM_PETSC_CHECK(VecSet(u_.get(), 0.0));
   petsc::MatrixAssembler assembler(A_.get(), b_.get());
-  std::vector<double> ke(static_cast<std::size_t>(n * n)), fe(static_cast<std::size_t>(n));
-  std::vector<PetscInt> idx(static_cast<std::size_t>(n));
+  // Local arrays, not heap vectors: the compiler then knows that they alias
+  // nothing else and keeps the cell loop as tight as a hand-written one.
+  constexpr int kMaxDofs = 10;  // kMaxPairs bounds n (n (n + 1) / 2 <= 64)
+  double ke[kMaxDofs * kMaxDofs], fe[kMaxDofs];
+  PetscInt idx[kMaxDofs];
   double packed[kMaxPairs];  // stiffness entries (a, b), a <= b, in gradient_products_' row order
   double s0 = 0, s1 = 0, s2 = 0;
   const ConstantFunction* constant_source = data_.source.target<ConstantFunction>();
@@ -145,7 +148,7 @@ void PoissonProblem::assemble() {
           [&](const CellValues<2>&) {
             s0 = s1 = s2 = 0;
             if (!constant_gradients_) std::fill(packed, packed + np, 0.0);
-            std::fill(fe.begin(), fe.end(), 0.0);
+            std::fill(fe, fe + n, 0.0);
             return true;
           },
           [&](const CellValues<2>& v, Index q) {
@@ -178,9 +181,9 @@ void PoissonProblem::assemble() {
             if (!fixed.empty()) {
               unsigned mask = 0;
               for (int k = 0; k < n; ++k) mask |= fixed[static_cast<std::size_t>(dofs[k])] ? 1u << k : 0u;
-              if (mask) eliminate_fixed(dofs, mask, ke.data(), fe.data());
+              if (mask) eliminate_fixed(dofs, mask, ke, fe);
             }
-            assembler.add(n, idx.data(), ke.data(), fe.data());
+            assembler.add(n, idx, ke, fe);
           }));
   // Dirichlet rows: the identity (their other entries received zeros only).
   for (const PetscInt row : dirichlet_rows_) assembler.set_diagonal(row, 1.0);

@@ -154,23 +154,15 @@ Index WarpedGeometry<dim>::chunk_points() {
 }
 
 template <int dim>
-void WarpedGeometry<dim>::for_each_chunk(const std::function<void(const GeometryChunk<dim>&)>& body) const {
-  if (storage_ == GeometryStorage::cached) {
-    body(GeometryChunk<dim>(0, num_cells(), nq_, x_.data(), JinvT_.data(), JxW_.data(), num_cells() * nq_));
-    return;
-  }
+void WarpedGeometry<dim>::compute_streamed_chunk(Index first, StreamBuffers& b) const {
   const Index cells_per_chunk = std::max<Index>(1, chunk_points() / std::max<Index>(1, nq_));
-  Scratch s;
-  std::vector<double> x, JinvT, JxW;
-  for (Index first = 0; first < num_cells(); first += cells_per_chunk) {
-    const Index last = std::min(num_cells(), first + cells_per_chunk);
-    const Index m = (last - first) * nq_;
-    x.resize(static_cast<std::size_t>(dim * m));
-    JinvT.resize(static_cast<std::size_t>(dim * dim * m));
-    JxW.resize(static_cast<std::size_t>(m));
-    compute(first, last, s, x.data(), JinvT.data(), JxW.data(), m);
-    body(GeometryChunk<dim>(first, last - first, nq_, x.data(), JinvT.data(), JxW.data(), m));
-  }
+  if (!b.scratch) b.scratch = std::make_shared<Scratch>();
+  b.last = std::min(num_cells(), first + cells_per_chunk);
+  const Index m = (b.last - first) * nq_;
+  b.x.resize(static_cast<std::size_t>(dim * m));
+  b.JinvT.resize(static_cast<std::size_t>(dim * dim * m));
+  b.JxW.resize(static_cast<std::size_t>(m));
+  compute(first, b.last, *b.scratch, b.x.data(), b.JinvT.data(), b.JxW.data(), m);
 }
 
 template <int dim>

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -64,6 +65,11 @@ class GeometryChunk {
   }
   /// w_q |det J|.
   double JxW(Index p) const { return w_[p]; }
+  /// The raw arrays (component / entry k at offset k · leading_dimension()).
+  const double* x_data() const { return x_; }
+  const double* inverse_transpose_data() const { return J_; }
+  const double* JxW_data() const { return w_; }
+  Index leading_dimension() const { return ld_; }
 
  private:
   Index first_, cells_, nq_;
@@ -102,7 +108,20 @@ class WarpedGeometry {
   /// Calls body(chunk) for consecutive chunks covering all cells, in order
   /// (cached: one chunk viewing the stored arrays; streamed: the map evaluated
   /// per chunk of chunk_points points). The map must outlive a streamed geometry.
-  void for_each_chunk(const std::function<void(const GeometryChunk<dim>&)>& body) const;
+  /// A template, so that the body (an assembly loop) inlines into its caller.
+  template <class Body>
+  void for_each_chunk(Body&& body) const {
+    if (storage_ == GeometryStorage::cached) {
+      body(GeometryChunk<dim>(0, num_cells(), nq_, x_.data(), JinvT_.data(), JxW_.data(), num_cells() * nq_));
+      return;
+    }
+    StreamBuffers b;
+    for (Index first = 0; first < num_cells(); first = b.last) {
+      compute_streamed_chunk(first, b);
+      body(GeometryChunk<dim>(first, b.last - first, nq_, b.x.data(), b.JinvT.data(), b.JxW.data(),
+                              (b.last - first) * nq_));
+    }
+  }
 
   /// The whole arrays (cached storage only; throws otherwise).
   const Points<dim>& physical_points() const {  ///< f(x0) in Ω1
@@ -133,6 +152,15 @@ class WarpedGeometry {
 
  private:
   /// Scratch of one chunk computation.
+  struct Scratch;
+  /// Arrays of one streamed chunk.
+  struct StreamBuffers {
+    std::vector<double> x, JinvT, JxW;
+    std::shared_ptr<Scratch> scratch;
+    Index last = 0;
+  };
+  /// Fills `b` for the cells [first, b.last) of one streamed chunk.
+  void compute_streamed_chunk(Index first, StreamBuffers& b) const;
   struct Scratch {
     Points<dim> x0, x;
     Jacobians<dim> JG, Jf;  ///< J_G one row per point, or per cell for (affine) simplices

@@ -17,6 +17,7 @@ CellValues<dim>::CellValues(const LagrangeElement<dim>& element, const WarpedGeo
       for (int d = 0; d < dim; ++d)
         reference_gradients_(d, q * n_ + k) = dN_[static_cast<std::size_t>(d)](q, k);
   grads_.resize(dim, nq_ * n_);
+  N_data_ = N_.data();
 }
 
 template class CellValues<2>;

@@ -27,12 +27,18 @@ class CellValues {
 
   /// Values of `element` at the quadrature points of `geometry`.
   CellValues(const LagrangeElement<dim>& element, const WarpedGeometry<dim>& geometry, unsigned update);
+  CellValues(const CellValues&) = delete;  // N_data_ points into N_ (a move keeps the buffer)
+  CellValues& operator=(const CellValues&) = delete;
+  CellValues(CellValues&&) = default;
 
   /// Cell i of `chunk`.
   void reinit(const GeometryChunk<dim>& chunk, Index i) {
-    chunk_ = &chunk;
     position_ = chunk.first_cell() + i;
-    base_ = chunk.at(i, 0);
+    const Index base = chunk.at(i, 0);
+    ld_ = chunk.leading_dimension();
+    x_ = chunk.x_data() + base;
+    J_ = chunk.inverse_transpose_data() + base;
+    w_ = chunk.JxW_data() + base;
     if (update_ & update_gradients) push_forward();
     if (update_ & update_reference_points) geometry_->cell_reference_geometry(position_, x0_, JG_);
   }
@@ -44,14 +50,23 @@ class CellValues {
   Index num_points() const { return nq_; }
   int num_dofs() const { return n_; }
 
-  double JxW(Index q) const { return chunk_->JxW(base_ + q); }
+  double JxW(Index q) const { return w_[q]; }
   /// x = f(x0) in Ω1.
-  Point<dim> point(Index q) const { return chunk_->point(base_ + q); }
-  Matrix<dim> inverse_transpose(Index q) const { return chunk_->inverse_transpose_matrix(base_ + q); }
+  Point<dim> point(Index q) const {
+    Point<dim> x;
+    for (int d = 0; d < dim; ++d) x[d] = x_[d * ld_ + q];
+    return x;
+  }
+  Matrix<dim> inverse_transpose(Index q) const {
+    Matrix<dim> m;
+    for (int r = 0; r < dim; ++r)
+      for (int c = 0; c < dim; ++c) m(r, c) = J_[(r * dim + c) * ld_ + q];
+    return m;
+  }
   /// Entry k (= dim · row + column) of J^{-T}, without building the matrix.
-  double inverse_transpose(Index q, int k) const { return chunk_->inverse_transpose(base_ + q, k); }
+  double inverse_transpose(Index q, int k) const { return J_[k * ld_ + q]; }
 
-  double shape_value(Index q, int k) const { return N_(q, k); }
+  double shape_value(Index q, int k) const { return N_data_[k * nq_ + q]; }
   /// (points x dofs) table of the shape values, the same for every cell.
   const MatrixX& shape_values() const { return N_; }
   /// ∂φ_k/∂ξ_d at reference point q (for kernels that fold J^{-T} into a metric).
@@ -107,12 +122,15 @@ class CellValues {
   unsigned update_;
   Index nq_;
   int n_;
-  MatrixX N_;                      // (points x dofs)
-  std::array<MatrixX, dim> dN_;    // reference gradients, (points x dofs) per direction
-  Gradients reference_gradients_;  // dim x (points · dofs): column q n + k is ∇̂φ_k(ξ_q)
-  Gradients grads_;                // the same, pushed forward
-  const GeometryChunk<dim>* chunk_ = nullptr;
-  Index position_ = 0, base_ = 0;
+  MatrixX N_;                       // (points x dofs)
+  std::array<MatrixX, dim> dN_;     // reference gradients, (points x dofs) per direction
+  Gradients reference_gradients_;   // dim x (points · dofs): column q n + k is ∇̂φ_k(ξ_q)
+  Gradients grads_;                 // the same, pushed forward
+  const double* N_data_ = nullptr;  // N_'s column-major data: (q, k) at k nq + q
+  // The current cell's arrays in the chunk (leading dimension ld_).
+  const double *x_ = nullptr, *J_ = nullptr, *w_ = nullptr;
+  Index ld_ = 0;
+  Index position_ = 0;
   Points<dim> x0_;
   Jacobians<dim> JG_;
 };
