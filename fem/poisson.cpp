@@ -135,6 +135,8 @@ void PoissonProblem::assemble() {
   double packed[kMaxPairs];  // stiffness entries (a, b), a <= b, in gradient_products_' row order
   double s0 = 0, s1 = 0, s2 = 0;
   const ConstantFunction* constant_source = data_.source.target<ConstantFunction>();
+  const double source_value = constant_source ? constant_source->value : 0.0;
+  const bool constant_gradients = constant_gradients_;
   const IndexTable& cell_dofs = dofs_.cell_dofs();
   const std::vector<char>& fixed = fixed_;
   // ∇φa·∇φb = ĝa^T M ĝb with the metric M = w det J J⁻¹J⁻ᵀ (3 numbers): the
@@ -147,7 +149,7 @@ void PoissonProblem::assemble() {
       make_kernel(
           [&](const CellValues<2>&) {
             s0 = s1 = s2 = 0;
-            if (!constant_gradients_) std::fill(packed, packed + np, 0.0);
+            if (!constant_gradients) std::fill(packed, packed + np, 0.0);
             std::fill(fe, fe + n, 0.0);
             return true;
           },
@@ -156,7 +158,7 @@ void PoissonProblem::assemble() {
                          j10 = v.inverse_transpose(q, 2), j11 = v.inverse_transpose(q, 3), wp = v.JxW(q);
             const double m0 = wp * (j00 * j00 + j10 * j10), m1 = wp * (j00 * j01 + j10 * j11),
                          m2 = wp * (j01 * j01 + j11 * j11);
-            if (constant_gradients_) {
+            if (constant_gradients) {
               s0 += m0, s1 += m1, s2 += m2;
             } else {
               const double *t0 = gradient_products_[0].col(q).data(),
@@ -164,11 +166,11 @@ void PoissonProblem::assemble() {
                            *t2 = gradient_products_[2].col(q).data();
               for (Index p = 0; p < np; ++p) packed[p] += m0 * t0[p] + m1 * t1[p] + m2 * t2[p];
             }
-            const double g = wp * (constant_source ? constant_source->value : data_.source(v.point(q), 0.0));
+            const double g = wp * (constant_source ? source_value : data_.source(v.point(q), 0.0));
             for (int k = 0; k < n; ++k) fe[k] += g * v.shape_value(q, k);
           },
           [&](const CellValues<2>& v) {
-            if (constant_gradients_) {
+            if (constant_gradients) {
               const double *t0 = constant_products_[0].data(), *t1 = constant_products_[1].data(),
                            *t2 = constant_products_[2].data();
               for (int k = 0; k < n * n; ++k) ke[k] = s0 * t0[k] + s1 * t1[k] + s2 * t2[k];
