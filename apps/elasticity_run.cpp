@@ -34,6 +34,7 @@ class ElasticityOutput {
     const int order = cfg.output.vtk_order > 0 ? cfg.output.vtk_order
                                                : std::max(cfg.problem.order, op.map().is_affine() ? 1 : 2);
     mesh_ = fem::make_output_mesh(mesh, op.space().nodes(), op.map(), order);
+    fem::log_untangling(comm, mesh_);
   }
 
   /// Writes step `index` at time (or load factor) `time`; returns the VTK file.
