@@ -102,6 +102,8 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
   const auto& cells = dist.local_cells();
   out.cells.resize(static_cast<Index>(cells.size()), nloc);
   out.cell_ids = cells;
+  out.source_cells.resize(cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) out.source_cells[i] = static_cast<Index>(i);
   // Nodes the local cells share: vertices by their number, edge nodes by their
   // edge's two vertex numbers (no mesh-wide numbering of edges, so the output
   // of a level stored only around this rank's cells works too); interior nodes
@@ -169,7 +171,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
     return false;
   };
   std::vector<std::vector<Index>> kept;
-  std::vector<Index> kept_ids;
+  std::vector<Index> kept_ids, kept_sources;
   std::vector<Region> pending;
   std::vector<std::vector<Index>> pending_nodes;
   std::array<Point<2>, 4> reference_vertices{};
@@ -184,6 +186,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
     } else {
       kept.push_back(std::move(nodes));
       kept_ids.push_back(cells[static_cast<std::size_t>(i)]);
+      kept_sources.push_back(i);
     }
   }
   std::unordered_map<XiKey, Index, XiKeyHash> by_xi;
@@ -248,6 +251,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
         if (tangled(next_nodes[r])) ++out.num_tangled_cells;
         kept.push_back(std::move(next_nodes[r]));
         kept_ids.push_back(cells[static_cast<std::size_t>(next[r].cell_index)]);
+        kept_sources.push_back(next[r].cell_index);
       }
     }
   }
@@ -258,6 +262,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
       for (int k = 0; k < nloc; ++k)
         out.cells(static_cast<Index>(r), k) = kept[r][static_cast<std::size_t>(k)];
     out.cell_ids = std::move(kept_ids);
+    out.source_cells = std::move(kept_sources);
   }
   return out;
 }
@@ -272,6 +277,12 @@ void log_untangling(MPI_Comm comm, const OutputMesh& out) {
     log::warning("output: ", counts[2],
                  " written cells still fold after four subdivisions and are drawn folded; the solution is "
                  "unaffected (f is strongly anisotropic there; a finer mesh or another map helps)");
+}
+
+std::vector<double> OutputMesh::cell_values(const VectorX& per_local_cell) const {
+  std::vector<double> values(source_cells.size());
+  for (std::size_t i = 0; i < source_cells.size(); ++i) values[i] = per_local_cell(source_cells[i]);
+  return values;
 }
 
 VectorX OutputMesh::interpolate(const DofMap& dofs, const DofDistribution& dist,

@@ -15,17 +15,22 @@ namespace warpfem::fem {
 struct OutputMesh {
   CellType cell_type = CellType::triangle;
   int order = 1;
-  Points<2> reference_points;   ///< node positions in Ω0
-  Points<2> points;             ///< node positions f(x0) in Ω1
-  VectorX map_det;              ///< det J_f at the nodes
-  IndexTable cells;             ///< local cells x nodes, VTK Lagrange node order
-  std::vector<Index> cell_ids;  ///< mesh cell id of every output cell
+  Points<2> reference_points;       ///< node positions in Ω0
+  Points<2> points;                 ///< node positions f(x0) in Ω1
+  VectorX map_det;                  ///< det J_f at the nodes
+  IndexTable cells;                 ///< local cells x nodes, VTK Lagrange node order
+  std::vector<Index> cell_ids;      ///< mesh cell id of every output cell
+  std::vector<Index> source_cells;  ///< index into the local cells of every output cell
   /// Mesh cells whose curved geometry folded and were written as smaller
   /// curved cells, and output cells still folded at the depth limit.
   Index num_mesh_cells = 0, num_subdivided_cells = 0, num_tangled_cells = 0;
 
   /// Values at the nodes of the FE function with coefficients `relevant_values`
   /// (ordered as dist.relevant_dofs()).
+  /// A per-local-cell field spread onto the output cells (pieces of a
+  /// subdivided cell get their cell's value).
+  std::vector<double> cell_values(const VectorX& per_local_cell) const;
+
   VectorX interpolate(const DofMap& dofs, const DofDistribution& dist, const VectorX& relevant_values) const;
 
  private:
