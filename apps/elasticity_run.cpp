@@ -34,6 +34,7 @@ class ElasticityOutput {
     const int order = cfg.output.vtk_order > 0 ? cfg.output.vtk_order
                                                : std::max(cfg.problem.order, op.map().is_affine() ? 1 : 2);
     mesh_ = fem::make_output_mesh(mesh, op.space().nodes(), op.map(), order);
+    fem::log_untangling(comm, mesh_);
   }
 
   /// Writes step `index` at time (or load factor) `time`; returns the VTK file.
@@ -61,13 +62,8 @@ class ElasticityOutput {
     vtk.point_fields.push_back(
         {"det_Jf", 1,
          std::vector<double>(mesh_.map_det.data(), mesh_.map_det.data() + mesh_.map_det.size())});
-    vtk.cell_fields.push_back(
-        {"det_F_min", 1,
-         std::vector<double>(cells.min_det_F.data(), cells.min_det_F.data() + cells.min_det_F.size())});
-    vtk.cell_fields.push_back(
-        {"von_mises_mean", 1,
-         std::vector<double>(cells.mean_von_mises.data(),
-                             cells.mean_von_mises.data() + cells.mean_von_mises.size())});
+    vtk.cell_fields.push_back({"det_F_min", 1, mesh_.cell_values(cells.min_det_F)});
+    vtk.cell_fields.push_back({"von_mises_mean", 1, mesh_.cell_values(cells.mean_von_mises)});
     int rank = 0;
     MPI_Comm_rank(comm_, &rank);
     vtk.cell_fields.push_back(

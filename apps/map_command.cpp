@@ -210,6 +210,7 @@ int map_command(const std::vector<std::string>& args) {
     const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 1));
     const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
     const fem::OutputMesh grid = fem::make_output_mesh(mesh, dist, *map, 2);
+    fem::log_untangling(MPI_COMM_WORLD, grid);
     Points<2> x;
     Jacobians<2> J;
     map->eval_with_jacobian(grid.reference_points, x, J);

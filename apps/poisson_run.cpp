@@ -123,6 +123,9 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
     const int order = cfg.output.vtk_order > 0 ? cfg.output.vtk_order
                                                : std::max(cfg.poisson.order, map->is_affine() ? 1 : 2);
     const fem::OutputMesh out = fem::make_output_mesh(mesh, problem.distribution(), *map, order);
+    fem::log_untangling(comm, out);
+    result.output_subdivided_cells = out.num_subdivided_cells;
+    result.output_folded_cells = out.num_tangled_cells;
     const VectorX u = out.interpolate(problem.dofs(), problem.distribution(),
                                       problem.distribution().gather_relevant(problem.solution()));
     io::VtkOutput vtk;

@@ -20,7 +20,9 @@ struct PoissonRunResult {
   std::optional<double> l2_error, h1_error;
   double area = 0;
   std::string output_file;  ///< VTU/PVTU path ("" if output disabled)
-  VectorX solution;         ///< every DOF in mesh order (only if requested)
+  /// This rank's mesh cells written subdivided, and written cells still folded.
+  Index output_subdivided_cells = 0, output_folded_cells = 0;
+  VectorX solution;  ///< every DOF in mesh order (only if requested)
 };
 
 struct PoissonRunOptions {
