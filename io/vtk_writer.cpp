@@ -32,7 +32,23 @@ int vtk_cell_type(fem::CellType type, int order) {
   return order == 1 ? VTK_HEXAHEDRON : VTK_LAGRANGE_HEXAHEDRON;
 }
 
+VtkCompression vtk_compression(const std::string& name) {
+  if (name == "none") return VtkCompression::none;
+  if (name == "lz4") return VtkCompression::lz4;
+  require(name == "zlib", "vtk_compression: unknown compressor \"" + name + "\"");
+  return VtkCompression::zlib;
+}
+
 namespace {
+
+int compressor_type(VtkCompression compression) {
+  switch (compression) {
+    case VtkCompression::lz4: return vtkXMLWriterBase::LZ4;
+    case VtkCompression::zlib: return vtkXMLWriterBase::ZLIB;
+    case VtkCompression::none: break;
+  }
+  return vtkXMLWriterBase::NONE;
+}
 
 vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
@@ -43,20 +59,34 @@ vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   return a;
 }
 
+// Points and connectivity are filled through raw pointers in one pass each: per-point
+// SetPoint and per-cell InsertNextCell calls cost as much as writing the file.
 vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VtkOutput& output) {
   const fem::OutputMesh& m = *output.mesh;
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(m.points.rows());
-  for (Index i = 0; i < m.points.rows(); ++i) points->SetPoint(i, m.points(i, 0), m.points(i, 1), 0.0);
-  grid->SetPoints(points);
-  vtkNew<vtkCellArray> cells;
-  std::vector<vtkIdType> ids(static_cast<std::size_t>(m.cells.cols()));
-  for (Index c = 0; c < m.cells.rows(); ++c) {
-    for (Index k = 0; k < m.cells.cols(); ++k) ids[k] = m.cells(c, k);
-    cells->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
+  vtkNew<vtkDoubleArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(m.points.rows());
+  double* xyz = coordinates->GetPointer(0);
+  for (Index i = 0; i < m.points.rows(); ++i) {
+    xyz[3 * i] = m.points(i, 0);
+    xyz[3 * i + 1] = m.points(i, 1);
+    xyz[3 * i + 2] = 0.0;
   }
+  vtkNew<vtkPoints> points;
+  points->SetData(coordinates);
+  grid->SetPoints(points);
+  const Index num_cells = m.cells.rows(), nodes = m.cells.cols();
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(num_cells + 1);
+  connectivity->SetNumberOfValues(num_cells * nodes);
+  vtkIdType* offset = offsets->GetPointer(0);
+  vtkIdType* ids = connectivity->GetPointer(0);
+  for (Index c = 0; c <= num_cells; ++c) offset[c] = c * nodes;
+  for (Index c = 0; c < num_cells; ++c)
+    for (Index k = 0; k < nodes; ++k) ids[c * nodes + k] = m.cells(c, k);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
   grid->SetCells(vtk_cell_type(m.cell_type, m.order), cells);
   for (const auto& f : output.point_fields) grid->GetPointData()->AddArray(make_array(f));
   for (const auto& f : output.cell_fields) grid->GetCellData()->AddArray(make_array(f));
@@ -103,6 +133,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
       writer->SetFileName(tmp.c_str());
       writer->SetDataModeToAppended();
       writer->EncodeAppendedDataOff();
+      writer->SetCompressorType(compressor_type(output.compression));
       const int ok = writer->Write();
       check_written(*writer, ok, path);
     });
@@ -146,6 +177,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
       writer->SetUseSubdirectory(true);
       writer->SetDataModeToAppended();
       writer->EncodeAppendedDataOff();
+      writer->SetCompressorType(compressor_type(output.compression));  // passed on to the pieces
       const int ok = writer->Write();
       check_written(*writer, ok, rank == 0 ? path : (fs::path(directory) / name / piece).string());
       sync_file(staged_piece.string(), (fs::path(directory) / name / piece).string());
