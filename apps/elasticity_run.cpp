@@ -56,6 +56,7 @@ class ElasticityOutput {
         mesh_.interpolate(projection_.dofs(), projection_.distribution(), projection_.project(cells.det_F));
     io::VtkOutput vtk;
     vtk.mesh = &mesh_;
+    vtk.compression = io::vtk_compression(cfg_.output.compression);
     vtk.point_fields.push_back({"displacement", 3, disp});
     vtk.point_fields.push_back({"von_mises", 1, std::vector<double>(vm.data(), vm.data() + vm.size())});
     vtk.point_fields.push_back({"det_F", 1, std::vector<double>(det.data(), det.data() + det.size())});

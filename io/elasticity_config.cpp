@@ -246,7 +246,7 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
     throw output.error("name", "expected a file name without '/', got \"" + o.name + "\"",
                        "use e.g. \"gear\"");
   o.vtk = output.get_bool("vtk", o.vtk);
-  o.vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
+  parse_vtk_options(output, o.vtk_order, o.compression, o.cells);
   o.every = static_cast<int>(output.get_int("every", o.every, 1, 1000000));
   output.finish();
   cfg.limits = parse_limits(root);

@@ -60,8 +60,10 @@ struct ElasticityOutputSpec {
   std::string directory = "output";
   std::string name = "elasticity";
   bool vtk = true;
-  int vtk_order = 0;  ///< 0: max(order, 2 if the map is not affine)
-  int every = 1;      ///< write every k-th load/time step (the last one is always written)
+  int vtk_order = 0;                 ///< 0: max(order, 2 if the map is not affine)
+  int every = 1;                     ///< write every k-th load/time step (the last one is always written)
+  std::string compression = "none";  ///< none | lz4 | zlib (VTK's data compressor)
+  std::string cells = "curved";      ///< curved | linear (linear: vertices only, vtk_order 1)
 };
 
 struct ElasticityConfig {

@@ -242,6 +242,23 @@ mapping::MapSpec parse_required_map(const ConfigNode& root) {
   return parse_map_spec(root.child("map"));
 }
 
+void parse_vtk_options(const ConfigNode& output, int& vtk_order, std::string& compression,
+                       std::string& cells) {
+  vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
+  compression = output.get_choice("compression", compression, {"none", "lz4", "zlib"});
+  cells = output.get_choice("cells", cells, {"curved", "linear"});
+  if (cells == "linear") {
+    if (vtk_order > 1)
+      throw output.error(
+          "vtk_order",
+          "\"cells\": \"linear\" writes straight cells through the vertices, but \"vtk_order\" "
+          "asks for order " +
+              std::to_string(vtk_order),
+          "remove \"vtk_order\", or use \"cells\": \"curved\"");
+    vtk_order = 1;
+  }
+}
+
 RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) {
   RunConfig cfg;
   cfg.file = file;
@@ -341,7 +358,7 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
     throw output.error("name", "expected a file name without '/', got \"" + cfg.output.name + "\"",
                        "use e.g. \"solution\"");
   cfg.output.vtk = output.get_bool("vtk", cfg.output.vtk);
-  cfg.output.vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
+  parse_vtk_options(output, cfg.output.vtk_order, cfg.output.compression, cfg.output.cells);
   output.finish();
   cfg.limits = parse_limits(root);
   root.finish();

@@ -43,7 +43,9 @@ struct OutputSpec {
   std::string directory = "output";
   std::string name = "solution";
   bool vtk = true;
-  int vtk_order = 0;  ///< 0: 2 for warped geometry (curved cells), else the element order
+  int vtk_order = 0;                 ///< 0: 2 for warped geometry (curved cells), else the element order
+  std::string compression = "none";  ///< none | lz4 | zlib (VTK's data compressor)
+  std::string cells = "curved";      ///< curved | linear (linear: vertices only, vtk_order 1)
 };
 
 struct RunConfig {
@@ -80,6 +82,11 @@ mapping::MapSpec parse_required_map(const ConfigNode& root);
 
 /// Reads the "mesh" object (shared by all run configs); `source` resolves relative file names.
 MeshSpec parse_mesh_spec(const ConfigNode& node);
+
+/// Reads "vtk_order", "compression" and "cells" of an "output" object (shared by
+/// `run` and elasticity configs); "cells": "linear" sets `vtk_order` to 1.
+void parse_vtk_options(const ConfigNode& output, int& vtk_order, std::string& compression,
+                       std::string& cells);
 
 /// Turns boundary specs into fem boundary conditions (parses the expressions).
 std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,

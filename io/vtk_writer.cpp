@@ -32,7 +32,23 @@ int vtk_cell_type(fem::CellType type, int order) {
   return order == 1 ? VTK_HEXAHEDRON : VTK_LAGRANGE_HEXAHEDRON;
 }
 
+VtkCompression vtk_compression(const std::string& name) {
+  if (name == "none") return VtkCompression::none;
+  if (name == "lz4") return VtkCompression::lz4;
+  require(name == "zlib", "vtk_compression: unknown compressor \"" + name + "\"");
+  return VtkCompression::zlib;
+}
+
 namespace {
+
+int compressor_type(VtkCompression compression) {
+  switch (compression) {
+    case VtkCompression::lz4: return vtkXMLWriterBase::LZ4;
+    case VtkCompression::zlib: return vtkXMLWriterBase::ZLIB;
+    case VtkCompression::none: break;
+  }
+  return vtkXMLWriterBase::NONE;
+}
 
 vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
@@ -54,7 +70,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VtkOutput& output) {
   vtkNew<vtkCellArray> cells;
   std::vector<vtkIdType> ids(static_cast<std::size_t>(m.cells.cols()));
   for (Index c = 0; c < m.cells.rows(); ++c) {
-    for (Index k = 0; k < m.cells.cols(); ++k) ids[k] = m.cells(c, k);
+    for (Index k = 0; k < m.cells.cols(); ++k) ids[static_cast<std::size_t>(k)] = m.cells(c, k);
     cells->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
   }
   grid->SetCells(vtk_cell_type(m.cell_type, m.order), cells);
@@ -103,6 +119,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
       writer->SetFileName(tmp.c_str());
       writer->SetDataModeToAppended();
       writer->EncodeAppendedDataOff();
+      writer->SetCompressorType(compressor_type(output.compression));
       const int ok = writer->Write();
       check_written(*writer, ok, path);
     });
@@ -146,6 +163,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
       writer->SetUseSubdirectory(true);
       writer->SetDataModeToAppended();
       writer->EncodeAppendedDataOff();
+      writer->SetCompressorType(compressor_type(output.compression));  // passed on to the pieces
       const int ok = writer->Write();
       check_written(*writer, ok, rank == 0 ? path : (fs::path(directory) / name / piece).string());
       sync_file(staged_piece.string(), (fs::path(directory) / name / piece).string());

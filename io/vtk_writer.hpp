@@ -13,6 +13,13 @@
 
 namespace warpfem::io {
 
+/// Compressor of the appended binary data. Off by default: a solution's doubles shrink
+/// little, and zlib costs more than building and writing the file together.
+enum class VtkCompression { none, lz4, zlib };
+
+/// The compressor named by a config value ("none", "lz4" or "zlib").
+VtkCompression vtk_compression(const std::string& name);
+
 struct VtkField {
   std::string name;
   int components = 1;
@@ -23,6 +30,7 @@ struct VtkOutput {
   const fem::OutputMesh* mesh = nullptr;
   std::vector<VtkField> point_fields;
   std::vector<VtkField> cell_fields;
+  VtkCompression compression = VtkCompression::none;
 };
 
 /// Writes `<directory>/<name>.vtu` (one rank) or `<directory>/<name>.pvtu` with

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/elasticity_config.hpp"
 #include "io/run_config.hpp"
 
 using namespace warpfem;
@@ -125,6 +126,50 @@ TEST(RunConfig, GeometryStorageIsAChoice) {
   const std::string m = error_of(j);
   expect_contains(m, "/problem/geometry: unknown value \"lazy\"");
   expect_contains(m, "\"streamed\"");
+}
+
+TEST(RunConfig, OutputCompressionAndCellsAreChoices) {
+  json j = valid_config();
+  const auto defaults = io::parse_run_config(j, "config.json").output;
+  EXPECT_EQ(defaults.compression, "none");
+  EXPECT_EQ(defaults.cells, "curved");
+  EXPECT_EQ(defaults.vtk_order, 0);
+  j["output"]["compression"] = "lz4";
+  j["output"]["cells"] = "linear";
+  const auto chosen = io::parse_run_config(j, "config.json").output;
+  EXPECT_EQ(chosen.compression, "lz4");
+  EXPECT_EQ(chosen.vtk_order, 1);  // linear cells: the vertices only
+  j["output"]["compression"] = "gzip";
+  std::string m = error_of(j);
+  expect_contains(m, "config.json: /output/compression: unknown value \"gzip\"");
+  expect_contains(m, "\"none\", \"lz4\", \"zlib\"");
+  j["output"]["compression"] = "zlib";
+  j["output"]["cells"] = "quadratic";
+  m = error_of(j);
+  expect_contains(m, "config.json: /output/cells: unknown value \"quadratic\"");
+  expect_contains(m, "\"curved\", \"linear\"");
+  j["output"]["cells"] = "linear";
+  j["output"]["vtk_order"] = 2;
+  expect_contains(error_of(j), "config.json: /output/vtk_order: \"cells\": \"linear\" writes straight cells");
+}
+
+TEST(ElasticityConfig, OutputCompressionAndCellsAreChoices) {
+  json j = json::parse(R"json({
+    "map": {"type": "identity", "source": [[0,0],[1,0],[1,1],[0,1]]},
+    "problem": {"type": "elasticity", "material": {"model": "neo_hookean", "E": 1000, "nu": 0.3},
+                "dirichlet": [{"edges": [0], "displacement": [0, 0]}]},
+    "output": {"compression": "zlib", "cells": "linear"}
+  })json");
+  const auto output = io::parse_elasticity_config(j, "block.json").output;
+  EXPECT_EQ(output.compression, "zlib");
+  EXPECT_EQ(output.vtk_order, 1);
+  j["output"]["compression"] = "bzip2";
+  try {
+    io::parse_elasticity_config(j, "block.json");
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    expect_contains(e.what(), "block.json: /output/compression: unknown value \"bzip2\"");
+  }
 }
 
 TEST(RunConfig, MultigridSettingsAreChoices) {

@@ -10,9 +10,11 @@
 #include <vtkDataArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
@@ -83,6 +85,119 @@ TEST(VtkOutput, QuadraticOutputUsesLagrangeCells) {
   EXPECT_EQ(grid->GetNumberOfPoints(), result.num_dofs);  // P2 nodes
   EXPECT_EQ(grid->GetCellType(0), VTK_LAGRANGE_TRIANGLE);
   EXPECT_EQ(grid->GetCell(0)->GetNumberOfPoints(), 6);
+}
+
+namespace {
+
+// A warped (non-affine) map, so curved output differs from linear output.
+io::RunConfig warped_config(const std::string& dir) {
+  const auto j = nlohmann::json::parse(R"json({
+    "verbosity": "warning",
+    "map": {"type": "barycentric", "source": [[0,0],[1,0],[1,1],[0,1]],
+            "target": [[0,0],[1.2,0],[1,1],[0.2,1]]},
+    "mesh": {"max_edge_length": 0.25},
+    "problem": {"source": "1", "dirichlet": [{"value": "x*y"}]}
+  })json");
+  io::RunConfig cfg = io::parse_run_config(j, "test.json");
+  cfg.output.directory = dir;
+  return cfg;
+}
+
+struct ReadBack {
+  vtkSmartPointer<vtkUnstructuredGrid> grid;
+  std::string header;  ///< the XML before the appended data
+};
+
+ReadBack read_vtu(const std::string& path) {
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  ReadBack r{vtkSmartPointer<vtkUnstructuredGrid>::New(), {}};
+  r.grid->ShallowCopy(reader->GetOutput());
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  while (std::getline(in, line) && line.find("<AppendedData") == std::string::npos) r.header += line + "\n";
+  return r;
+}
+
+double point_value(vtkUnstructuredGrid& grid, const char* field, vtkIdType point) {
+  vtkDataArray* a = grid.GetPointData()->GetArray(field);
+  return a ? a->GetTuple1(point) : NAN;
+}
+
+}  // namespace
+
+// Every compressor and cell choice reads back in VTK's reader with the same points,
+// connectivity and field values as the uncompressed curved output (compression is
+// lossless; linear cells are the curved cells' vertices).
+TEST(VtkOutput, EveryCompressionAndCellChoiceReadsBackTheSameData) {
+  const std::string dir = "output/test_vtk_choices";
+  std::filesystem::remove_all(dir);
+  auto cfg = warped_config(dir);
+  cfg.output.name = "reference";
+  const auto reference_run = apps::run_poisson(cfg, MPI_COMM_SELF);
+  const ReadBack reference = read_vtu(reference_run.output_file);
+  vtkUnstructuredGrid& ref = *reference.grid;
+  ASSERT_EQ(ref.GetNumberOfCells(), reference_run.num_cells);
+  ASSERT_EQ(ref.GetCellType(0), VTK_LAGRANGE_TRIANGLE);  // curved by default on a warped map
+  for (const char* field : {"u", "det_Jf"}) ASSERT_NE(ref.GetPointData()->GetArray(field), nullptr) << field;
+  EXPECT_EQ(reference.header.find("compressor="), std::string::npos) << "uncompressed by default";
+
+  for (const std::string compression : {"none", "lz4", "zlib"})
+    for (const std::string cells : {"curved", "linear"}) {
+      SCOPED_TRACE(compression + ", " + cells);
+      auto j = nlohmann::json::parse(R"json({"verbosity": "warning",
+        "map": {"type": "barycentric", "source": [[0,0],[1,0],[1,1],[0,1]],
+                "target": [[0,0],[1.2,0],[1,1],[0.2,1]]},
+        "mesh": {"max_edge_length": 0.25},
+        "problem": {"source": "1", "dirichlet": [{"value": "x*y"}]}})json");
+      j["output"] = {{"directory", dir},
+                     {"name", compression + "_" + cells},
+                     {"compression", compression},
+                     {"cells", cells}};
+      const auto run = apps::run_poisson(io::parse_run_config(j, "test.json"), MPI_COMM_SELF);
+      const ReadBack back = read_vtu(run.output_file);
+      vtkUnstructuredGrid& grid = *back.grid;
+      const std::string expected_compressor = compression == "lz4"    ? "vtkLZ4DataCompressor"
+                                              : compression == "zlib" ? "vtkZLibDataCompressor"
+                                                                      : "";
+      if (expected_compressor.empty())
+        EXPECT_EQ(back.header.find("compressor="), std::string::npos);
+      else
+        EXPECT_NE(back.header.find("compressor=\"" + expected_compressor + "\""), std::string::npos)
+            << back.header;
+      ASSERT_EQ(grid.GetNumberOfCells(), ref.GetNumberOfCells());
+      for (const char* field : {"u", "det_Jf"})
+        ASSERT_NE(grid.GetPointData()->GetArray(field), nullptr) << field;
+      if (cells == "curved")
+        ASSERT_EQ(grid.GetNumberOfPoints(), ref.GetNumberOfPoints());
+      else
+        ASSERT_EQ(grid.GetNumberOfPoints(), run.num_dofs);  // P1: one point per vertex
+      const int corners = 3;
+      double worst_point = 0, worst_u = 0, worst_det = 0;
+      for (vtkIdType c = 0; c < grid.GetNumberOfCells(); ++c) {
+        ASSERT_EQ(grid.GetCellType(c), cells == "curved" ? VTK_LAGRANGE_TRIANGLE : VTK_TRIANGLE);
+        vtkIdType n = 0, nref = 0;
+        const vtkIdType *ids = nullptr, *ref_ids = nullptr;
+        grid.GetCellPoints(c, n, ids);
+        ref.GetCellPoints(c, nref, ref_ids);
+        ASSERT_EQ(n, cells == "curved" ? nref : corners);
+        for (vtkIdType k = 0; k < n; ++k) {
+          double p[3], q[3];
+          grid.GetPoint(ids[k], p);
+          ref.GetPoint(ref_ids[k], q);
+          worst_point = std::max({worst_point, std::abs(p[0] - q[0]), std::abs(p[1] - q[1])});
+          worst_u =
+              std::max(worst_u, std::abs(point_value(grid, "u", ids[k]) - point_value(ref, "u", ref_ids[k])));
+          worst_det = std::max(worst_det, std::abs(point_value(grid, "det_Jf", ids[k]) -
+                                                   point_value(ref, "det_Jf", ref_ids[k])));
+        }
+      }
+      EXPECT_EQ(worst_point, 0.0);
+      EXPECT_EQ(worst_u, 0.0);
+      EXPECT_EQ(worst_det, 0.0);
+      ASSERT_NE(grid.GetCellData()->GetArray("rank"), nullptr);
+    }
 }
 
 TEST(AtomicFile, FailedWriteLeavesOldFileIntact) {
