@@ -1,9 +1,8 @@
 #include "fem/warped_facets.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <sstream>
-
-#include <Eigen/Geometry>
 
 #include "core/error.hpp"
 

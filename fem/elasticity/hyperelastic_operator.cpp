@@ -54,8 +54,8 @@ HyperelasticOperator::HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, m
       data_(std::move(data)),
       space_(comm, mesh, LagrangeElement<2>(mesh.cell_type, order), 2, cell_owner),
       geometry_(mesh, space_.nodes().local_cells(),
-                cell_quadrature<2>(mesh.cell_type,
-                                quadrature_degree > 0 ? quadrature_degree : default_quadrature_degree(order)),
+                cell_quadrature<2>(mesh.cell_type, quadrature_degree > 0 ? quadrature_degree
+                                                                         : default_quadrature_degree(order)),
                 *map_) {
   setup_constraints();
 }

@@ -7,8 +7,8 @@
 
 namespace warpfem::fem {
 
-VectorSpace::VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement<2>& element, int components,
-                         const std::vector<int>& cell_owner)
+VectorSpace::VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement<2>& element,
+                         int components, const std::vector<int>& cell_owner)
     : mesh_(mesh),
       components_(components),
       dofs_(mesh, element),

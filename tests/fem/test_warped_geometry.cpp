@@ -84,7 +84,7 @@ TEST(WarpedGeometryStorage, StreamedGeometryHasNoArrays) {
   const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 4, 4, fem::CellType::quadrilateral);
   const auto map = concave_composite();
   const fem::WarpedGeometry<2> g(mesh, all_cells(mesh), fem::cell_quadrature<2>(mesh.cell_type, 4), *map,
-                              fem::GeometryStorage::streamed);
+                                 fem::GeometryStorage::streamed);
   EXPECT_THROW(g.JxW(), Error);
   EXPECT_THROW(g.physical_points(), Error);
   EXPECT_THROW(g.inverse_transpose(), Error);
