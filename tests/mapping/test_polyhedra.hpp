@@ -1,7 +1,9 @@
 #pragma once
 // Polyhedra shared by the 3D mapping tests.
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <vector>
 
@@ -74,6 +76,55 @@ inline Real winding_number(const Polyhedron& P, const Point<3>& x) {
     omega += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
   }
   return omega / (4 * std::numbers::pi);
+}
+
+}  // namespace warpfem::mapping::test
+
+namespace warpfem::mapping::test {
+
+/// The cube [0, 1]³ with every side split into k x k squares, two triangles each.
+inline Polyhedron subdivided_cube(int k) {
+  std::vector<Point<3>> v;
+  std::map<std::array<int, 3>, Index> index;
+  const auto vertex = [&](std::array<int, 3> c) {
+    const auto it = index.find(c);
+    if (it != index.end()) return it->second;
+    v.emplace_back(Real(c[0]) / k, Real(c[1]) / k, Real(c[2]) / k);
+    return index[c] = static_cast<Index>(v.size()) - 1;
+  };
+  std::vector<Polyhedron::Triangle> t;
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          const int u = (a + 1) % 3, w = (a + 2) % 3;
+          const auto corner = [&](int di, int dj) {
+            std::array<int, 3> c{};
+            c[a] = side * k, c[u] = i + di, c[w] = j + dj;
+            return vertex(c);
+          };
+          // e_u × e_w = e_a: counter-clockwise in (u, w) faces +e_a (outward on side 1).
+          const Index q0 = corner(0, 0), q1 = corner(1, 0), q2 = corner(1, 1), q3 = corner(0, 1);
+          if (side == 1) {
+            t.push_back({q0, q1, q2});
+            t.push_back({q0, q2, q3});
+          } else {
+            t.push_back({q0, q2, q1});
+            t.push_back({q0, q3, q2});
+          }
+        }
+  return Polyhedron::checked(v, t, "subdivided cube");
+}
+
+/// The cube's vertices rotated about the vertical axis through its centre by `angle` · z.
+inline Polyhedron twisted(const Polyhedron& cube, Real angle) {
+  std::vector<Point<3>> v;
+  for (const auto& p : cube.vertices()) {
+    const Real a = angle * p.z(), c = std::cos(a), s = std::sin(a);
+    const Real x = p.x() - 0.5, y = p.y() - 0.5;
+    v.emplace_back(0.5 + c * x - s * y, 0.5 + s * x + c * y, p.z());
+  }
+  return Polyhedron::checked(v, cube.triangles(), "twisted cube");
 }
 
 }  // namespace warpfem::mapping::test
