@@ -91,7 +91,7 @@ namespace {
 
 TEST(PolyhedronCompositeMap, LinearPathThroughADegenerateCageIsRefusedNamingTheTime) {
   // A half turn moves opposite top vertices through each other at t = 1/2.
-  const Polyhedron cube = test::subdivided_cube(2);
+  const Polyhedron cube = test::subdivided_cube(3);
   try {
     build_polyhedron_composite(cube, test::twisted(cube, std::numbers::pi));
     ADD_FAILURE() << "a linear vertex path through a degenerate polyhedron was accepted";
