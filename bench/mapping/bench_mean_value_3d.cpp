@@ -240,9 +240,9 @@ int main(int argc, char** argv) {
   std::printf("values only, 1 thread        : %8.3f M points/s\n", v1 / 1e6);
   std::printf("scalar reference, 1 thread   : %8.3f M points/s (vectorized is x%.1f)\n", sc / 1e6, f1 / sc);
   const double rate = divide_sqrt_rate();
-  // Per point and triangle the kernel takes 3 sqrt and 7 divides, plus 1 sqrt
+  // Per point and triangle the kernel takes 3 sqrt and 4 divides, plus 1 sqrt
   // and 1 divide per vertex (n / m per triangle).
-  const double ops = 10 + 2.0 * static_cast<double>(P.vertex_count()) / m;
+  const double ops = 7 + 2.0 * static_cast<double>(P.vertex_count()) / m;
   std::printf(
       "divide+sqrt throughput: %.3g /s per core; kernel needs %.1f per point-triangle -> bound %.3f M "
       "points/s, reached %.0f %%\n",

@@ -14,7 +14,8 @@
 //   ∇w_i = (Σ_e (N_e · N_i) ∇k_e + K × N_i + d_i × m + w_i M) / D.
 // The loops over points are branch-free (selects), so the compiler vectorizes
 // them; atan is Cephes' rational approximation (relative error ~1e-17 on
-// [0, 0.66]) behind a half-angle reduction, since libm's atan does not vectorize.
+// [0, 0.66]) behind a half-angle reduction, since libm's atan does not vectorize;
+// its division shares one reciprocal with 1/L_e.
 //
 // Points where this loses accuracy are flagged for the robust path: within
 // kNearVertex of a vertex, |h| < kNearPlane · min_a r_a for a triangle's plane
@@ -32,22 +33,27 @@ inline constexpr double kNearPlane = 3e-4;
 inline constexpr double kNearLine = 1e-4;
 inline constexpr double kPolyhedronNearVertex = 1e-5;
 
-/// atan(y) for |y| <= 0.66: y + y z P(z) / Q(z), z = y² (Cephes' minimax coefficients).
-WARPFEM_KERNEL_INLINE double atan_small(double y) {
-  const double z = y * y;
-  const double p =
-      ((((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z - 7.500855792314704667340e1) * z -
-        1.228866684490136173410e2) *
-           z -
-       6.485021904942025371773e1) *
-      z;
-  const double q =
-      ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z + 4.328810604912902668951e2) *
-           z +
-       4.853903996359136964868e2) *
-          z +
-      1.945506571482613964425e2;
-  return y + y * p / q;
+/// atan(n / d) for |n / d| <= 0.66 as n R / d: y + y z P(z) / Q(z) with y = n / d,
+/// z = y² (Cephes' minimax coefficients), written homogeneously in u = n², v = d²
+/// (z P / Q = u P̃ / Q̃ with P̃ = v⁴ P(u/v), Q̃ = v⁵ Q(u/v)), so that the caller
+/// can fold the one division, by d Q̃, into its own. Returns R·Q̃ = Q̃ + u P̃ and Q̃.
+/// Coordinates are normalized (|n|, |d| of order 1), so the powers stay in range.
+WARPFEM_KERNEL_INLINE void atan_fraction(double n, double d, double& numer, double& denom) {
+  const double u = n * n, v = d * d, v2 = v * v, v3 = v2 * v, v4 = v2 * v2, v5 = v4 * v;
+  const double P = (((-8.750608600031904122785e-1 * u - 1.615753718733365076637e1 * v) * u -
+                     7.500855792314704667340e1 * v2) *
+                        u -
+                    1.228866684490136173410e2 * v3) *
+                       u -
+                   6.485021904942025371773e1 * v4;
+  const double Q = ((((u + 2.485846490142306297962e1 * v) * u + 1.650270098316988542046e2 * v2) * u +
+                     4.328810604912902668951e2 * v3) *
+                        u +
+                    4.853903996359136964868e2 * v4) *
+                       u +
+                   1.945506571482613964425e2 * v5;
+  numer = Q + u * P;
+  denom = Q;
 }
 
 /// Per-thread scratch: per vertex and point s, r, 1/r² and the accumulated
@@ -154,9 +160,11 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, 
         const bool big = L > 0.66 * den;
         const double num_y = big ? L - den : L;
         const double den_y = big ? L + den : den;
-        const double f = 1.0 / (L * den_y);
-        iL = den_y * f;
-        const double a = (big ? 0.78539816339744830962 : 0.0) + atan_small(num_y * L * f);
+        double R, Q;
+        atan_fraction(num_y, den_y, R, Q);
+        const double f = 1.0 / (L * den_y * Q);  // the one division: 1/L and atan(num_y/den_y)
+        iL = den_y * Q * f;
+        const double a = (big ? 0.78539816339744830962 : 0.0) + num_y * R * L * f;
         return (c >= 0.0 ? a : 1.57079632679489661923 - a) * iL;
       };
       double iL1, iL2, iL3;
