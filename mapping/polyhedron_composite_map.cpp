@@ -1,6 +1,7 @@
 #include "mapping/polyhedron_composite_map.hpp"
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -119,6 +120,43 @@ void PolyhedronCompositeMap::eval_with_jacobian(const Points<3>& x0, Points<3>& 
 void PolyhedronCompositeMap::step_determinants(const Points<3>& x0, MatrixX& det_steps, Points<3>* x,
                                                Jacobians<3>* J) const {
   run(x0, x, J, &det_steps);
+}
+
+PolyhedronCompositeMap PolyhedronCompositeMap::backward() const {
+  std::vector<Real> reversed;
+  for (auto it = times_.rbegin(); it != times_.rend(); ++it) reversed.push_back(*it == 1 ? 0 : 1 - *it);
+  return PolyhedronCompositeMap(Polyhedron(v1_, triangles_, "target"), Polyhedron(v0_, triangles_, "source"),
+                                std::move(reversed));
+}
+
+void PolyhedronCompositeMap::inverse(const Points<3>& y, Points<3>& x, VectorX& residual, Real tolerance,
+                                     int max_iterations) const {
+  backward().eval(y, x);
+  Point<3> lo = v0_.front(), hi = v0_.front();
+  for (const auto& v : v0_) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const Real goal = tolerance * (hi - lo).norm();
+  residual.resize(y.rows());
+  // Newton on the points not yet converged (the batch shrinks as they converge).
+  std::vector<Index> active(static_cast<std::size_t>(y.rows()));
+  for (Index p = 0; p < y.rows(); ++p) active[static_cast<std::size_t>(p)] = p;
+  Points<3> xa, fa;
+  Jacobians<3> J;
+  for (int it = 0; it <= max_iterations && !active.empty(); ++it) {
+    const Index na = static_cast<Index>(active.size());
+    xa.resize(na, 3);
+    for (Index q = 0; q < na; ++q) xa.row(q) = x.row(active[static_cast<std::size_t>(q)]);
+    eval_with_jacobian(xa, fa, J);
+    std::vector<Index> still;
+    for (Index q = 0; q < na; ++q) {
+      const Index p = active[static_cast<std::size_t>(q)];
+      const Point<3> r = fa.row(q).transpose() - y.row(p).transpose();
+      residual(p) = r.norm();
+      if (residual(p) <= goal || it == max_iterations) continue;
+      x.row(p) -= jacobian_at<3>(J, q).partialPivLu().solve(r).transpose();
+      still.push_back(p);
+    }
+    active.swap(still);
+  }
 }
 
 std::string PolyhedronCompositeMap::describe() const {

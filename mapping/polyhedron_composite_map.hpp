@@ -39,6 +39,17 @@ class PolyhedronCompositeMap final : public Map<3> {
   /// The intermediate polyhedron's vertices at time t.
   std::vector<Point<3>> vertices_at(Real t) const;
 
+  /// The backward map g: Ω1 → Ω0 (thesis §4.3): the same intermediate
+  /// polyhedra in reverse, each step with the coordinates of Ω_{t_{k+1}};
+  /// close to f⁻¹ but not equal to it.
+  PolyhedronCompositeMap backward() const;
+
+  /// f⁻¹(y) by Newton's method on f(x) = y started from the backward map.
+  /// residual(p) = |f(x_p) − y_p| after at most `max_iterations` steps; the
+  /// iteration stops once it is below `tolerance` times the source's size.
+  void inverse(const Points<3>& y, Points<3>& x, VectorX& residual, Real tolerance = 1e-13,
+               int max_iterations = 30) const;
+
  private:
   void run(const Points<3>& x0, Points<3>* x, Jacobians<3>* J, MatrixX* det_steps) const;
   std::vector<Point<3>> v0_, v1_;

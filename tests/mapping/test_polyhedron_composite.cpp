@@ -103,3 +103,26 @@ TEST(PolyhedronCompositeMap, LinearPathThroughADegenerateCageIsRefusedNamingTheT
 
 }  // namespace
 }  // namespace warpfem::mapping
+
+namespace warpfem::mapping {
+namespace {
+
+TEST(PolyhedronCompositeMap, NewtonInverseIsTheIdentityAfterTheMap) {
+  const Polyhedron cube = test::subdivided_cube(3);
+  const Polyhedron target = test::twisted(cube, 0.75 * std::numbers::pi);
+  const PolyhedronCompositeMap f = build_polyhedron_composite(cube, target);
+  const Points<3> x0 = probe_points(cube, 500);
+  Points<3> y, x;
+  f.eval(x0, y);
+  // The backward map alone is only an approximation of f⁻¹.
+  f.backward().eval(y, x);
+  const Real backward_error = (x - x0).rowwise().norm().maxCoeff();
+  VectorX residual;
+  f.inverse(y, x, residual);
+  EXPECT_LT(residual.maxCoeff(), 1e-12);
+  EXPECT_LT((x - x0).rowwise().norm().maxCoeff(), 1e-10) << "backward map error was " << backward_error;
+  EXPECT_GT(backward_error, 1e-6) << "the test should need Newton";
+}
+
+}  // namespace
+}  // namespace warpfem::mapping
