@@ -16,7 +16,7 @@
 #include "io/pvd_writer.hpp"
 #include "io/vtk_writer.hpp"
 #include "mapping/make_map.hpp"
-#include "multigrid/elasticity_multigrid.hpp"
+#include "multigrid/geometric_multigrid.hpp"
 
 namespace warpfem::apps {
 namespace {
@@ -184,16 +184,16 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   if (options.write_output && cfg.output.vtk)
     output = std::make_unique<ElasticityOutput>(cfg, op, mesh, comm, cell_owner);
   petsc::Vector u = op.space().create_vector();
-  std::unique_ptr<multigrid::ElasticityMultigrid> mg;
+  std::unique_ptr<multigrid::GeometricMultigrid> mg;
   if (newton.pc_type == "mg") {
     // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
     watch.reset();
-    mg = std::make_unique<multigrid::ElasticityMultigrid>(
-        hierarchy, op.space(), op.data(), multigrid::ElasticityMultigrid::galerkin_defaults(), level_owners);
+    mg = std::make_unique<multigrid::GeometricMultigrid>(
+        hierarchy, op, multigrid::GeometricMultigrid::galerkin_defaults(), level_owners);
     if (newton.ksp_type == "preonly") newton.ksp_type = "gmres";  // one V-cycle is not a solve
     newton.configure_preconditioner = [&mg](KSP ksp, Mat jacobian) {
       WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp, 1e-10, 1e-50, PETSC_DEFAULT, 1000));
-      mg->configure(ksp, jacobian);
+      mg->configure(ksp, {jacobian});
     };
     log::info("linear solves: ", newton.ksp_type, " with geometric multigrid (", mg->num_levels(),
               " levels, Galerkin coarse operators, ", format_seconds(watch.seconds()), ")");
