@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (Clang, ASan + UBSan, build-fuzz/) and runs each
-# one from the committed seeds (tests/fuzz/corpus/<target>) plus what earlier
-# runs found (build-fuzz/fuzz/corpus/<target>). Fails if any target crashes,
+# Builds the libFuzzer targets (Clang, ASan + UBSan: the sanitized build of
+# scripts/build.sh --sanitize in build-asan/) and runs each one from the
+# committed seeds (tests/fuzz/corpus/<target>) plus what earlier runs found
+# (build-asan/fuzz/corpus/<target>). Fails if any target crashes,
 # leaks, times out on one input or trips a sanitizer; the input that did it is
-# kept in build-fuzz/fuzz/artifacts/.
+# kept in build-asan/fuzz/artifacts/.
 #
 #   scripts/fuzz.sh [seconds] [target...]   each target for `seconds` (default 60)
 #   scripts/fuzz.sh --runs N [target...]    each target for N executions (long runs: N = 1000000)
 #
 # Targets: config polygon_file gmsh png make_map (default: all).
-# WARPFEM_FUZZ_BUILD_DIR (default build-fuzz) and WARPFEM_JOBS (build jobs) are honoured.
+# WARPFEM_BUILD_DIR (default build-asan) and WARPFEM_JOBS (build jobs) are honoured.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -25,21 +26,16 @@ fi
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(config polygon_file gmsh png make_map)
 
-build_dir="${WARPFEM_FUZZ_BUILD_DIR:-build-fuzz}"
-jobs="${WARPFEM_JOBS:-$(nproc)}"
-clang_cxx=$(command -v clang++ || command -v clang++-14 || true)
-clang_c=$(command -v clang || command -v clang-14 || true)
-if [ -z "$clang_cxx" ] || [ -z "$clang_c" ]; then
-  echo "fuzz.sh: clang is needed for libFuzzer (apt-get install clang)" >&2
+build_dir="${WARPFEM_BUILD_DIR:-build-asan}"
+if ! command -v clang++ >/dev/null 2>&1 && ! command -v clang++-14 >/dev/null 2>&1; then
+  echo "fuzz.sh: clang is needed for libFuzzer (apt-get install clang libclang-rt-dev)" >&2
   exit 1
 fi
 if [ ! -f "$build_dir/CMakeCache.txt" ]; then
-  launcher=()
-  command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER="$clang_c" \
-    -DCMAKE_CXX_COMPILER="$clang_cxx" -DWARPFEM_BUILD_FUZZ=ON -DWARPFEM_BUILD_TESTS=OFF \
-    -DWARPFEM_BUILD_BENCH=OFF "${launcher[@]}"
+  WARPFEM_BUILD_DIR="$build_dir" WARPFEM_BUILD_TARGETS="$(printf 'fuzz_%s ' "${targets[@]}")" \
+    bash scripts/build.sh --sanitize
 fi
+jobs="${WARPFEM_JOBS:-$(nproc)}"
 cmake --build "$build_dir" -j "$jobs" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
 # libFuzzer checks every input for leaks. The check at exit is off: Open MPI's
@@ -47,6 +43,8 @@ cmake --build "$build_dir" -j "$jobs" --target $(printf 'fuzz_%s ' "${targets[@]
 export ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export LSAN_OPTIONS="leak_check_at_exit=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+# One thread per target: map evaluation otherwise starts a thread pool per process.
+export WARPFEM_THREADS="${WARPFEM_THREADS:-1}"
 # The targets write each input to a file; in memory that is ~50 times faster than on disk.
 if [ -z "${WARPFEM_FUZZ_TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then WARPFEM_FUZZ_TMPDIR=/dev/shm; fi
 export TMPDIR="${WARPFEM_FUZZ_TMPDIR:-${TMPDIR:-/tmp}}"

@@ -297,12 +297,18 @@ def main():
     keep = args.keep or os.path.join(tmp, "failed")
     os.makedirs(keep, exist_ok=True)
     started = time.monotonic()
+    results = []
+    report = open(args.report, "w") if args.report else None
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        results = list(pool.map(lambda i: run_case(args, args.seed, i, keep), range(args.count)))
-    if args.report:
-        with open(args.report, "w") as f:
-            for r in results:
-                f.write(json.dumps(r, default=str) + "\n")
+        futures = [pool.submit(run_case, args, args.seed, i, keep) for i in range(args.count)]
+        for future in concurrent.futures.as_completed(futures):
+            results.append(future.result())
+            if report:  # as they come, so an interrupted run still leaves its results
+                report.write(json.dumps(results[-1], default=str) + "\n")
+                report.flush()
+    if report:
+        report.close()
+    results.sort(key=lambda r: r["index"])
     ok = sum(r["code"] == 0 for r in results)
     refused = sum(r["code"] == 1 for r in results)
     named = sum(r["named_mutated"] for r in results)
