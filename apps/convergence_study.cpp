@@ -11,10 +11,11 @@
 #include "core/petsc/linear_solve.hpp"
 #include "core/timer.hpp"
 #include "fem/assembly/integrate.hpp"
-#include "fem/interpolated_map.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/poisson.hpp"
-#include "fem/reference_error.hpp"
+#include "fem/geometry/interpolated_map.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
+#include "fem/physics/poisson.hpp"
+#include "fem/postprocessing/reference_error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/collective_error.hpp"
 #include "io/expression.hpp"
@@ -145,7 +146,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   const double exact_area = domain.signed_area();
   const int order = cfg.poisson.order;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
-                                                     : fem::default_quadrature_degree(order);
+                                                     : warpfem::default_quadrature_degree(order);
   const fem::PoissonData data = poisson_data(cfg);
   petsc::LinearSolveOptions linear = cfg.solver.linear;
   if (linear.pc_type == "mg") linear.pc_type = "gamg";  // the study solves each level on its own
@@ -180,7 +181,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     std::vector<Index> cells;
     for (Index c = rank; c < hierarchy.finest().num_cells(); c += size) cells.push_back(c);
     const fem::WarpedGeometry<2> g(hierarchy.finest(), cells,
-                                   fem::cell_quadrature<2>(hierarchy.finest().cell_type, qdeg), *f);
+                                   warpfem::cell_quadrature<2>(hierarchy.finest().cell_type, qdeg), *f);
     const double local = fem::integrate(g, [&](const Point<2>& x) { return std::pow(u_fn(x, 0.0), 2); });
     MPI_Allreduce(&local, &reference_norm, 1, MPI_DOUBLE, MPI_SUM, comm);
     reference_norm = std::sqrt(reference_norm);
@@ -192,7 +193,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
       coarse_interpolant = std::make_shared<fem::InterpolatedMap>(hierarchy.levels[first], *f);
     for (int level = first; level <= finest; ++level) {
       Stopwatch w;
-      const fem::Mesh<2>& mesh = hierarchy.levels[level];
+      const warpfem::Mesh<2>& mesh = hierarchy.levels[level];
       mapping::MapPtr<2> map = f;
       if (d == "standard") map = coarse_interpolant;
       if (d == "standard_recovered") map = std::make_shared<fem::InterpolatedMap>(mesh, *f);
@@ -272,8 +273,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     std::ostringstream md;
     md << "# Convergence study: " << cfg.file << "\n\n"
        << "Map: " << f->describe()
-       << ". Elements: " << (hierarchy.levels[0].cell_type == fem::CellType::triangle ? "P" : "Q") << order
-       << ". Errors against "
+       << ". Elements: " << (hierarchy.levels[0].cell_type == warpfem::CellType::triangle ? "P" : "Q")
+       << order << ". Errors against "
        << (exact ? "the exact solution `" + cfg.poisson.exact_solution + "`"
                  : "the warped solution on level " + std::to_string(hierarchy.num_levels() - 1))
        << ". Exact area of the domain: " << exact_area << ".\n\n"

@@ -8,9 +8,10 @@
 #include "core/log.hpp"
 #include "core/petsc/check.hpp"
 #include "core/timer.hpp"
-#include "fem/elasticity/nodal_projection.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/output_mesh.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
+#include "fem/physics/elasticity/nodal_projection.hpp"
+#include "fem/postprocessing/output_mesh.hpp"
 #include "io/expression.hpp"
 #include "io/pvd_writer.hpp"
 #include "io/vtk_writer.hpp"
@@ -32,7 +33,7 @@ class ElasticityOutput {
  public:
   /// `cell_owner`: the partition the operator was built with (empty: the default).
   ElasticityOutput(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator& op,
-                   const fem::Mesh<2>& mesh, MPI_Comm comm, const std::vector<int>& cell_owner)
+                   const warpfem::Mesh<2>& mesh, MPI_Comm comm, const std::vector<int>& cell_owner)
       : cfg_(cfg),
         op_(op),
         comm_(comm),
@@ -161,12 +162,12 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
       fem::make_coarse_mesh(*cfg.map.source, cfg.map.target ? *cfg.map.target : *cfg.map.source, *map,
                             cfg.mesh),
       cfg.mesh.refinements);
-  const fem::Mesh<2>& mesh = hierarchy.finest();
+  const warpfem::Mesh<2>& mesh = hierarchy.finest();
   result.num_cells = mesh.num_cells();
   result.h = mesh.max_edge_length();
-  log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
-            " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements, ",
-            format_seconds(watch.seconds()), ")");
+  log::info("mesh of Ω0: ", mesh.num_cells(), " ", warpfem::to_string(mesh.cell_type), "s, ",
+            mesh.num_vertices(), " vertices, h = ", std::setprecision(4), result.h, " (",
+            cfg.mesh.refinements, " refinements, ", format_seconds(watch.seconds()), ")");
 
   // 3. The hyperelastic operator on the warped mesh (f evaluated once here); with
   // multigrid on the hierarchy's nested partition, which the coarse levels share.
@@ -179,8 +180,8 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   const fem::HyperelasticOperator op(comm, mesh, map, cfg.problem.order, cfg.problem.quadrature_degree,
                                      io::make_elasticity_data(cfg), cell_owner);
   result.num_dofs = op.space().num_global();
-  const std::string element =
-      std::string(mesh.cell_type == fem::CellType::triangle ? "P" : "Q") + std::to_string(cfg.problem.order);
+  const std::string element = std::string(mesh.cell_type == warpfem::CellType::triangle ? "P" : "Q") +
+                              std::to_string(cfg.problem.order);
   log::info("elasticity: ", fem::to_string(op.material().model), " (λ = ", op.material().lambda,
             ", μ = ", op.material().mu, ", ρ = ", op.material().density, "), vector ", element, ", ",
             result.num_dofs, " DOFs on ", size, " rank(s), ", op.num_constrained(), " constrained (",

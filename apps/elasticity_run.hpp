@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "fem/elasticity/quasi_static_solver.hpp"
-#include "fem/elasticity/transient_solver.hpp"
+#include "fem/physics/elasticity/quasi_static_solver.hpp"
+#include "fem/physics/elasticity/transient_solver.hpp"
 #include "io/elasticity_config.hpp"
 
 namespace warpfem::apps {

@@ -12,10 +12,10 @@
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/mesh/polygon_mesher.hpp"
 #include "core/timer.hpp"
-#include "fem/dof_distribution.hpp"
-#include "fem/output_mesh.hpp"
-#include "fem/polygon_mesher.hpp"
+#include "fem/dofs/dof_distribution.hpp"
+#include "fem/postprocessing/output_mesh.hpp"
 #include "io/atomic_file.hpp"
 #include "io/collective_error.hpp"
 #include "io/run_config.hpp"
@@ -206,7 +206,7 @@ int map_command(const std::vector<std::string>& args) {
   if (write_vtk) {
     const Polygon& source = *spec.source;
     const double h = edge > 0 ? edge : (source.bbox_max() - source.bbox_min()).norm() / 40.0;
-    const fem::Mesh<2> mesh = fem::mesh_polygon(source, {.max_edge_length = h});
+    const warpfem::Mesh<2> mesh = warpfem::mesh_polygon(source, {.max_edge_length = h});
     const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 1));
     const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
     const fem::OutputMesh grid = fem::make_output_mesh(mesh, dist, *map, 2);

@@ -8,11 +8,11 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "core/timer.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/output_mesh.hpp"
-#include "fem/poisson.hpp"
-#include "fem/uniform_refinement.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/physics/poisson.hpp"
+#include "fem/postprocessing/output_mesh.hpp"
 #include "io/expression.hpp"
 #include "io/vtk_writer.hpp"
 #include "mapping/make_map.hpp"
@@ -38,7 +38,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   data.neumann = io::make_boundary_conditions(cfg.poisson.neumann, cfg.file);
   data.boundary_polygon = source;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
-                                                     : fem::default_quadrature_degree(cfg.poisson.order);
+                                                     : warpfem::default_quadrature_degree(cfg.poisson.order);
   const fem::GeometryStorage storage =
       cfg.poisson.geometry == "streamed" ? fem::GeometryStorage::streamed : fem::GeometryStorage::cached;
   // Geometric multigrid on the nested hierarchy (default) needs at least one refinement;
@@ -46,7 +46,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   const bool use_mg = cfg.solver.linear.pc_type == "mg" && cfg.mesh.refinements > 0;
   watch.reset();
   std::unique_ptr<multigrid::PoissonMultigridSolver> mg;
-  std::unique_ptr<fem::Mesh<2>> single_mesh;
+  std::unique_ptr<warpfem::Mesh<2>> single_mesh;
   std::unique_ptr<fem::PoissonProblem> single;
   if (use_mg) {
     multigrid::PoissonMultigridOptions mg_options;
@@ -57,21 +57,23 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
         comm, fem::make_coarse_mesh(source, target, *map, cfg.mesh), cfg.mesh.refinements, map,
         cfg.poisson.order, qdeg, data, mg_options);
   } else {
-    single_mesh = std::make_unique<fem::Mesh<2>>(fem::make_coarse_mesh(source, target, *map, cfg.mesh));
-    for (int r = 0; r < cfg.mesh.refinements; ++r) *single_mesh = fem::refine_uniformly(*single_mesh).mesh;
+    single_mesh = std::make_unique<warpfem::Mesh<2>>(fem::make_coarse_mesh(source, target, *map, cfg.mesh));
+    for (int r = 0; r < cfg.mesh.refinements; ++r)
+      *single_mesh = warpfem::refine_uniformly(*single_mesh).mesh;
     single = std::make_unique<fem::PoissonProblem>(comm, *single_mesh, map, cfg.poisson.order, qdeg, data,
                                                    storage);
     single->assemble();
   }
   fem::PoissonProblem& problem = use_mg ? mg->finest() : *single;
-  const fem::Mesh<2>& mesh = problem.mesh();
+  const warpfem::Mesh<2>& mesh = problem.mesh();
   result.num_cells = mesh.num_cells();
   result.h = mesh.max_edge_length();
   if (mesh.partial)  // stored only around this rank's cells: the largest over the ranks
     MPI_Allreduce(MPI_IN_PLACE, &result.h, 1, MPI_DOUBLE, MPI_MAX, comm);
   result.num_dofs = problem.dofs().num_dofs();
-  log::info("mesh of Ω0: ", mesh.num_cells(), " ", fem::to_string(mesh.cell_type), "s, ", mesh.num_vertices(),
-            " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements)");
+  log::info("mesh of Ω0: ", mesh.num_cells(), " ", warpfem::to_string(mesh.cell_type), "s, ",
+            mesh.num_vertices(), " vertices, h = ", std::setprecision(4), result.h, " (",
+            cfg.mesh.refinements, " refinements)");
   log::info("assembled P", cfg.poisson.order, " Poisson", use_mg ? " on every level" : "", ": ",
             result.num_dofs, " DOFs on ", size, " rank(s), ",
             problem.geometry().num_cells() * problem.geometry().points_per_cell(),

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "fem/elasticity/elasticity_data.hpp"
+#include "fem/physics/elasticity/elasticity_data.hpp"
 #include "io/run_config.hpp"
 
 namespace warpfem::io {

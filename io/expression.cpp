@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
-#include "fem/functions.hpp"
+#include "fem/physics/functions.hpp"
 
 namespace warpfem::io {
 

@@ -202,11 +202,11 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
   spec.refinements = static_cast<int>(mesh.get_int("refinements", spec.refinements, 0, 12));
   const std::string cell = mesh.get_choice(
       "cell_type", spec.type == "structured" ? "quadrilateral" : "triangle", {"triangle", "quadrilateral"});
-  spec.cell_type = cell == "triangle" ? fem::CellType::triangle : fem::CellType::quadrilateral;
-  if (spec.type == "delaunay" && spec.cell_type != fem::CellType::triangle)
+  spec.cell_type = cell == "triangle" ? warpfem::CellType::triangle : warpfem::CellType::quadrilateral;
+  if (spec.type == "delaunay" && spec.cell_type != warpfem::CellType::triangle)
     throw mesh.error("cell_type", "delaunay meshes are made of triangles",
                      "use \"type\": \"quad_split\" for quadrilaterals");
-  if (spec.type == "quad_split") spec.cell_type = fem::CellType::quadrilateral;
+  if (spec.type == "quad_split") spec.cell_type = warpfem::CellType::quadrilateral;
   if (mesh.has("cells")) {
     const nlohmann::json& c = mesh.raw("cells");
     if (c.is_number_integer() && c.get<long>() >= 1) {

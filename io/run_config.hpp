@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "core/petsc/linear_solve.hpp"
-#include "fem/functions.hpp"
-#include "fem/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/physics/functions.hpp"
 #include "io/config_node.hpp"
 #include "io/size_limits.hpp"
 #include "mapping/map_spec.hpp"
@@ -25,7 +25,7 @@ struct BoundarySpec {
 
 struct PoissonSpec {
   int order = 1;              ///< Lagrange order (1 or 2)
-  int quadrature_degree = 0;  ///< 0: fem::default_quadrature_degree(order)
+  int quadrature_degree = 0;  ///< 0: warpfem::default_quadrature_degree(order)
   std::string source = "0";   ///< g in −Δu = g
   std::vector<BoundarySpec> dirichlet;
   std::vector<BoundarySpec> neumann;  ///< ∂u/∂n = h (outward normal)

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <limits>
 
-#include "fem/quadrature.hpp"
+#include "core/mesh/quadrature.hpp"
 
 namespace warpfem::io {
 namespace {
@@ -21,8 +21,9 @@ struct ElementCounts {
   double nodes_per_cell;
 };
 
-ElementCounts element_counts(fem::CellType cell, int order) {
-  if (cell == fem::CellType::triangle) return order == 1 ? ElementCounts{0.5, 7, 3} : ElementCounts{2, 11, 6};
+ElementCounts element_counts(warpfem::CellType cell, int order) {
+  if (cell == warpfem::CellType::triangle)
+    return order == 1 ? ElementCounts{0.5, 7, 3} : ElementCounts{2, 11, 6};
   return order == 1 ? ElementCounts{1, 9, 4} : ElementCounts{4, 16, 9};
 }
 
@@ -68,9 +69,9 @@ double delaunay_cells_lower_bound(const Polygon& polygon, double h) {
   return std::max(area / (std::sqrt(3.0) / 4 * h * h), boundary);
 }
 
-double cached_geometry_bytes_per_cell(fem::CellType cell, int order, int degree) {
-  const int q = degree > 0 ? degree : fem::default_quadrature_degree(order);
-  return 56.0 * static_cast<double>(fem::cell_quadrature<2>(cell, q).size());
+double cached_geometry_bytes_per_cell(warpfem::CellType cell, int order, int degree) {
+  const int q = degree > 0 ? degree : warpfem::default_quadrature_degree(order);
+  return 56.0 * static_cast<double>(warpfem::cell_quadrature<2>(cell, q).size());
 }
 
 SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, const Discretization& d) {
@@ -80,10 +81,10 @@ SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& ma
       mesh.max_edge_length > 0 ? mesh.max_edge_length : 0.1 * (meshed.bbox_max() - meshed.bbox_min()).norm();
   if (mesh.type == "structured") {
     e.coarse_cells =
-        static_cast<double>(mesh.nx) * mesh.ny * (mesh.cell_type == fem::CellType::triangle ? 2 : 1);
+        static_cast<double>(mesh.nx) * mesh.ny * (mesh.cell_type == warpfem::CellType::triangle ? 2 : 1);
   } else if (mesh.type != "gmsh") {
     e.coarse_cells = delaunay_cells_lower_bound(meshed, h);
-    if (mesh.cell_type == fem::CellType::quadrilateral) e.coarse_cells *= 3;  // each triangle split in 3
+    if (mesh.cell_type == warpfem::CellType::quadrilateral) e.coarse_cells *= 3;  // each triangle split in 3
   }
   e.cells = e.coarse_cells * std::pow(4.0, d.refinements);
   const ElementCounts c = element_counts(mesh.cell_type, d.order);

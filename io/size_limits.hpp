@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "fem/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
 #include "io/config_node.hpp"
 #include "mapping/map_spec.hpp"
 
@@ -53,7 +53,7 @@ struct Discretization {
 
 /// The geometry Poisson caches per cell: x, J⁻ᵀ and w det J (56 bytes) at
 /// every point of the cell quadrature of `degree` (0: the order's default).
-double cached_geometry_bytes_per_cell(fem::CellType cell, int order, int degree);
+double cached_geometry_bytes_per_cell(warpfem::CellType cell, int order, int degree);
 
 SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, const Discretization& d);
 

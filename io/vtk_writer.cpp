@@ -25,10 +25,10 @@
 namespace warpfem::io {
 namespace fs = std::filesystem;
 
-int vtk_cell_type(fem::CellType type, int order) {
-  if (type == fem::CellType::triangle) return order == 1 ? VTK_TRIANGLE : VTK_LAGRANGE_TRIANGLE;
-  if (type == fem::CellType::quadrilateral) return order == 1 ? VTK_QUAD : VTK_LAGRANGE_QUADRILATERAL;
-  if (type == fem::CellType::tetrahedron) return order == 1 ? VTK_TETRA : VTK_LAGRANGE_TETRAHEDRON;
+int vtk_cell_type(warpfem::CellType type, int order) {
+  if (type == warpfem::CellType::triangle) return order == 1 ? VTK_TRIANGLE : VTK_LAGRANGE_TRIANGLE;
+  if (type == warpfem::CellType::quadrilateral) return order == 1 ? VTK_QUAD : VTK_LAGRANGE_QUADRILATERAL;
+  if (type == warpfem::CellType::tetrahedron) return order == 1 ? VTK_TETRA : VTK_LAGRANGE_TETRAHEDRON;
   return order == 1 ? VTK_HEXAHEDRON : VTK_LAGRANGE_HEXAHEDRON;
 }
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "fem/output_mesh.hpp"
+#include "fem/postprocessing/output_mesh.hpp"
 
 namespace warpfem::io {
 
@@ -40,6 +40,6 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
                       const std::string& name);
 
 /// VTK cell type id used for a cell type and order (VTK_TRIANGLE, VTK_LAGRANGE_TRIANGLE, ...).
-int vtk_cell_type(fem::CellType type, int order);
+int vtk_cell_type(warpfem::CellType type, int order);
 
 }  // namespace warpfem::io

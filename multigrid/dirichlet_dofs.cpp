@@ -1,10 +1,10 @@
 #include "multigrid/dirichlet_dofs.hpp"
 
-#include "fem/boundary_parts.hpp"
+#include "fem/assembly/boundary_parts.hpp"
 
 namespace warpfem::multigrid {
 
-std::vector<char> dirichlet_dofs(const fem::Mesh<2>& mesh, const fem::DofMap& dofs,
+std::vector<char> dirichlet_dofs(const warpfem::Mesh<2>& mesh, const fem::DofMap& dofs,
                                  const fem::PoissonData& data) {
   const fem::BoundaryParts parts(mesh, data.boundary_polygon);
   const std::vector<int> selected = fem::boundary_dof_conditions(mesh, dofs, parts, data.dirichlet);

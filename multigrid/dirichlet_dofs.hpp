@@ -5,13 +5,13 @@
 
 #include <vector>
 
-#include "fem/dof_map.hpp"
-#include "fem/poisson.hpp"
+#include "fem/dofs/dof_map.hpp"
+#include "fem/physics/poisson.hpp"
 
 namespace warpfem::multigrid {
 
 /// Per mesh DOF of `dofs`: 1 if a Dirichlet condition of `data` applies at it, else 0.
-std::vector<char> dirichlet_dofs(const fem::Mesh<2>& mesh, const fem::DofMap& dofs,
+std::vector<char> dirichlet_dofs(const warpfem::Mesh<2>& mesh, const fem::DofMap& dofs,
                                  const fem::PoissonData& data);
 
 }  // namespace warpfem::multigrid

@@ -12,7 +12,7 @@ namespace warpfem::multigrid {
 struct ElasticityMultigrid::CoarseLevel {
   fem::DofMap dofs;
   fem::DofDistribution distribution;
-  CoarseLevel(MPI_Comm comm, const fem::Mesh<2>& mesh, const fem::LagrangeElement<2>& element,
+  CoarseLevel(MPI_Comm comm, const warpfem::Mesh<2>& mesh, const fem::LagrangeElement<2>& element,
               const std::vector<int>& cell_owner)
       : dofs(mesh, element), distribution(comm, mesh, dofs, cell_owner) {}
 };
@@ -22,7 +22,7 @@ namespace {
 using ComponentMasks = std::array<std::vector<char>, 2>;
 
 /// Constrained components of every node of the finest level (the operator's rule).
-ComponentMasks finest_masks(const fem::Mesh<2>& mesh, const fem::DofMap& dofs,
+ComponentMasks finest_masks(const warpfem::Mesh<2>& mesh, const fem::DofMap& dofs,
                             const fem::ElasticityData& data) {
   const auto condition = fem::node_conditions(mesh, dofs, data);
   ComponentMasks m;
@@ -39,7 +39,7 @@ ComponentMasks finest_masks(const fem::Mesh<2>& mesh, const fem::DofMap& dofs,
 /// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
 /// checked.
 ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine_dofs,
-                             const fem::DofMap& coarse_dofs, const fem::RefinedMesh& transfer) {
+                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh& transfer) {
   const Index n = coarse_dofs.num_dofs();
   require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
           "ElasticityMultigrid: the coarse level has more DOFs than the refinement has nodes");

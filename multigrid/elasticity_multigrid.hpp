@@ -21,9 +21,10 @@
 #include <vector>
 
 #include "core/petsc/handles.hpp"
-#include "fem/elasticity/elasticity_data.hpp"
-#include "fem/elasticity/vector_space.hpp"
-#include "fem/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
+#include "fem/physics/elasticity/elasticity_data.hpp"
+#include "fem/physics/elasticity/vector_space.hpp"
 #include "multigrid/pcmg.hpp"
 
 namespace warpfem::multigrid {

@@ -12,8 +12,8 @@ namespace {
 /// The hierarchy partitioned for `comm`'s ranks; with `partial_levels` the
 /// levels above the base are built only around this rank's cells
 /// (fem/partial_refinement.hpp; elements with edge DOFs need whole levels).
-fem::MeshHierarchy timed_hierarchy(MPI_Comm comm, fem::Mesh<2> coarse, int refinements, bool partial_levels,
-                                   double& seconds) {
+fem::MeshHierarchy timed_hierarchy(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements,
+                                   bool partial_levels, double& seconds) {
   if (refinements < 0)
     throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
                 {.file = "", .key_path = "/mesh/refinements", .hint = "use 0 or more refinements"});
@@ -28,7 +28,7 @@ fem::MeshHierarchy timed_hierarchy(MPI_Comm comm, fem::Mesh<2> coarse, int refin
 }
 }  // namespace
 
-PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coarse, int refinements,
+PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements,
                                                mapping::MapPtr<2> map, int order, int quadrature_degree,
                                                fem::PoissonData data, const PoissonMultigridOptions& options)
     : hierarchy_(timed_hierarchy(comm, std::move(coarse), refinements, options.partial_levels && order == 1,
@@ -56,7 +56,7 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coars
     const fem::GeometryStorage storage =
         l == levels - 1 ? options.finest_geometry : fem::GeometryStorage::streamed;
     const fem::LevelPartition& part = partitions[static_cast<std::size_t>(l)];
-    const fem::Mesh<2>& mesh = hierarchy_.levels[static_cast<std::size_t>(l)];
+    const warpfem::Mesh<2>& mesh = hierarchy_.levels[static_cast<std::size_t>(l)];
     problems_.push_back(part.blocks
                             ? std::make_unique<fem::PoissonProblem>(comm, mesh, map, order, quadrature_degree,
                                                                     data, storage, *part.blocks)

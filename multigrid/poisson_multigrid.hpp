@@ -12,8 +12,9 @@
 
 #include "core/petsc/handles.hpp"
 #include "core/petsc/linear_solve.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/poisson.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
+#include "fem/physics/poisson.hpp"
 #include "multigrid/pcmg.hpp"
 #include "multigrid/smoothed_prolongation.hpp"
 
@@ -70,7 +71,7 @@ class PoissonMultigridSolver {
   /// prolongations and the PCMG preconditioner (KSPSetFromOptions + KSPSetUp).
   /// `data` is shared by all levels: its Dirichlet list selects the eliminated
   /// DOFs of every level. Throws warpfem::Error on bad input or PETSc failure.
-  PoissonMultigridSolver(MPI_Comm comm, fem::Mesh<2> coarse, int refinements, mapping::MapPtr<2> map,
+  PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements, mapping::MapPtr<2> map,
                          int order, int quadrature_degree, fem::PoissonData data,
                          const PoissonMultigridOptions& options = {});
   ~PoissonMultigridSolver();

@@ -26,7 +26,7 @@ std::array<MatrixX, 4> child_tables(const fem::LagrangeElement<2>& element) {
   std::array<MatrixX, 4> tables;
   for (int k = 0; k < 4; ++k)
     tables[static_cast<std::size_t>(k)] =
-        element.values(to_child * fem::child_reference_vertices(element.cell_type(), k));
+        element.values(to_child * warpfem::child_reference_vertices(element.cell_type(), k));
   return tables;
 }
 
@@ -46,7 +46,7 @@ void check_spaces(const fem::MeshHierarchy& h, int fine_level, const LevelSpace&
               fine.dofs->cell_dofs().rows() == h.levels[static_cast<std::size_t>(fine_level)].num_cells(),
           "assemble_prolongation: the DOF maps do not belong to the hierarchy's levels");
   require(h.levels[static_cast<std::size_t>(fine_level)].num_cells() ==
-              fem::RefinedMesh::children_per_cell *
+              warpfem::RefinedMesh::children_per_cell *
                   h.levels[static_cast<std::size_t>(fine_level - 1)].num_cells(),
           "assemble_prolongation: level " + std::to_string(fine_level) +
               " is not a uniform refinement of the level below (levels must come from refine_uniformly)");
@@ -64,8 +64,8 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
   check_spaces(hierarchy, fine_level, coarse, fine);
   const fem::DofDistribution& fdist = *fine.distribution;
   const fem::DofDistribution& cdist = *coarse.distribution;
-  const fem::IndexTable& fdofs = fine.dofs->cell_dofs();
-  const fem::IndexTable& cdofs = coarse.dofs->cell_dofs();
+  const warpfem::IndexTable& fdofs = fine.dofs->cell_dofs();
+  const warpfem::IndexTable& cdofs = coarse.dofs->cell_dofs();
   const int n = static_cast<int>(fdofs.cols());  // fine nodes = coarse DOFs per cell
   const auto is_dirichlet = [](const LevelSpace& s, Index d) {
     return !s.dirichlet.empty() && s.dirichlet[static_cast<std::size_t>(d)];
@@ -85,7 +85,7 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
   // parent with a nonzero coarse shape value (no coupling across the
   // eliminated Dirichlet block; Dirichlet rows are injections).
   const auto for_each_entry = [&](Index f, int k, auto&& emit) {
-    const Index c = fem::RefinedMesh::parent_of(f);
+    const Index c = warpfem::RefinedMesh::parent_of(f);
     const MatrixX& table = tables[static_cast<std::size_t>(f - 4 * c)];
     const bool fixed = is_dirichlet(fine, fdofs(f, k));
     for (int j = 0; j < n; ++j) {

@@ -8,8 +8,9 @@
 #include <vector>
 
 #include "core/petsc/handles.hpp"
-#include "fem/dof_distribution.hpp"
-#include "fem/mesh_factory.hpp"
+#include "fem/dofs/dof_distribution.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
 
 namespace warpfem::multigrid {
 

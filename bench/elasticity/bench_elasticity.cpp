@@ -1,4 +1,4 @@
-// Elasticity timings (issue 7), printed as Markdown tables:
+// Elasticity timings, printed as Markdown tables:
 //  1. quasi-static neo-Hookean cantilever on a warped Q2 mesh (~100k DOFs by default):
 //     Newton iterations and wall time per load step, plus the cost of one residual,
 //     one Jacobian assembly and one linear solve;
@@ -16,10 +16,10 @@
 #include "apps/elasticity_run.hpp"
 #include "core/environment.hpp"
 #include "core/log.hpp"
+#include "core/mesh/structured_mesher.hpp"
 #include "core/petsc/check.hpp"
 #include "core/timer.hpp"
-#include "fem/elasticity/quasi_static_solver.hpp"
-#include "fem/structured_mesher.hpp"
+#include "fem/physics/elasticity/quasi_static_solver.hpp"
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
@@ -35,7 +35,8 @@ void cantilever(int cells) {
   spec.source = source;
   spec.target = target;
   const auto map = mapping::make_map(spec);
-  const fem::Mesh<2> mesh = fem::structured_mesh(source, 2 * cells, cells / 2, fem::CellType::quadrilateral);
+  const warpfem::Mesh<2> mesh =
+      warpfem::structured_mesh(source, 2 * cells, cells / 2, warpfem::CellType::quadrilateral);
   fem::ElasticityData data;
   data.material = fem::Material::from_young_poisson(fem::MaterialModel::neo_hookean, 1000.0, 0.3);
   const fem::ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };

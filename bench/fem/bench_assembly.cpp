@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "core/environment.hpp"
+#include "core/mesh/structured_mesher.hpp"
 #include "core/threads.hpp"
 #include "core/timer.hpp"
-#include "fem/poisson.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/warped_geometry.hpp"
+#include "fem/geometry/warped_geometry.hpp"
+#include "fem/physics/poisson.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   const mapping::MapPtr<2> warped = mapping::make_map(spec);
   const double map_build = w.seconds();
   const auto identity = std::make_shared<mapping::IdentityMap<2>>();
-  const fem::Mesh<2> mesh = fem::structured_mesh(*spec.source, n, n, fem::CellType::triangle);
+  const warpfem::Mesh<2> mesh = warpfem::structured_mesh(*spec.source, n, n, warpfem::CellType::triangle);
   const int rank = Environment::rank(), size = Environment::size();
   if (rank == 0)
     std::printf("mesh: %lld triangles, %lld P1 DOFs, %d rank(s); map: %s (built in %.3f s)\n",
@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
     MPI_Barrier(MPI_COMM_WORLD);
     w.reset();
     problems.push_back(std::make_unique<fem::PoissonProblem>(MPI_COMM_WORLD, mesh, map, 1,
-                                                             fem::default_quadrature_degree(1), data));
+                                                             warpfem::default_quadrature_degree(1), data));
     MPI_Barrier(MPI_COMM_WORLD);
     const double setup = w.seconds();
     const fem::PoissonProblem& problem = *problems.back();
@@ -83,12 +83,12 @@ int main(int argc, char** argv) {
                   cases[k].first.c_str(), best[k], static_cast<double>(mesh.num_vertices()) / best[k] / 1e6);
     std::printf("warped / identity assembly time: %.2f\n", best[0] / best[1]);
   }
-  // WarpedGeometry alone (the one-time cost of issue 5's target), rebuilt on each
+  // WarpedGeometry alone (the one-time geometry cost), rebuilt on each
   // rank's own cells: best of 3.
   {
     const std::vector<Index> cells(problems[0]->geometry().cells().begin(),
                                    problems[0]->geometry().cells().end());
-    const fem::QuadratureRule<2> rule = problems[0]->geometry().rule();
+    const warpfem::QuadratureRule<2> rule = problems[0]->geometry().rule();
     problems.clear();
     double best_geometry = 1e300;
     Index points = 0;

@@ -13,15 +13,16 @@
 // geometric|smoothed (smoothed_prolongation.hpp; Galerkin operators come with it), -smoother
 // chebyshev_jacobi|chebyshev_sor|sor, -smoothing_steps k and -chebyshev_kernel
 // petsc|fused_double|fused_single (solver.multigrid of a run config), -quadrature_degree <q> (default
-// fem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest level's geometry streamed instead of
-// cached; coarse levels are always streamed), -whole_levels 1 (every rank holds every level whole instead of
-// the P1 levels above the partition's base only around its cells), -pullback 1 (coarse mesh: CGAL's mesh of
-// the map's target pulled back through f⁻¹, -coarse_h in target units), -prerefine k (refine the coarse mesh
-// k times before the hierarchy starts, e.g. with -mg_coarse_pc_type hypre). MG set-up = refinement +
-// per-level problems + assembly of every level + prolongations + KSPSetUp. AMG set-up = KSPSetUp only (the
-// finest matrix is shared, its assembly is the "fine asm" column). Any PETSc option applies (-log_view,
-// -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...); P1/Q1 Chebyshev smoothers use Gershgorin
-// bounds (no eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1 brings the estimate back.
+// warpfem::default_quadrature_degree(order)), -stream_finest 0|1 (the finest level's geometry streamed
+// instead of cached; coarse levels are always streamed), -whole_levels 1 (every rank holds every level whole
+// instead of the P1 levels above the partition's base only around its cells), -pullback 1 (coarse mesh:
+// CGAL's mesh of the map's target pulled back through f⁻¹, -coarse_h in target units), -prerefine k (refine
+// the coarse mesh k times before the hierarchy starts, e.g. with -mg_coarse_pc_type hypre). MG set-up =
+// refinement + per-level problems + assembly of every level + prolongations + KSPSetUp. AMG set-up = KSPSetUp
+// only (the finest matrix is shared, its assembly is the "fine asm" column). Any PETSc option applies
+// (-log_view, -mg_levels_ksp_type richardson, -amg_pc_gamg_threshold 0.05, ...); P1/Q1 Chebyshev smoothers
+// use Gershgorin bounds (no eigenvalue estimates): -mg_levels_ksp_chebyshev_esteig 0,0.1,0,1.1 brings the
+// estimate back.
 
 #include <cstdio>
 #include <exception>
@@ -29,12 +30,12 @@
 
 #include "core/environment.hpp"
 #include "core/error.hpp"
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "core/petsc/check.hpp"
 #include "core/timer.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/pullback_mesher.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/uniform_refinement.hpp"
+#include "fem/hierarchy/pullback_mesher.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/poisson_multigrid.hpp"
@@ -122,7 +123,8 @@ int run(int argc, char** argv) {
   const bool whole_levels = int_option("-whole_levels", 0) != 0;
   const std::string map_type = string_option("-map", "identity");
   const bool quads = string_option("-cells", "triangle") == "quad";
-  const int qdeg = static_cast<int>(int_option("-quadrature_degree", fem::default_quadrature_degree(order)));
+  const int qdeg =
+      static_cast<int>(int_option("-quadrature_degree", warpfem::default_quadrature_degree(order)));
   PetscReal coarse_h = 0.3;
   WARPFEM_PETSC_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-coarse_h", &coarse_h, nullptr));
 
@@ -149,14 +151,14 @@ int run(int argc, char** argv) {
   const PetscInt structured = int_option("-structured", 0);  // n x n structured coarse mesh instead
   const bool pullback = int_option("-pullback", 0) != 0;     // mesh Ω1, pull the mesh back through f⁻¹
   fem::PullbackReport pullback_report;
-  fem::Mesh<2> coarse =
+  warpfem::Mesh<2> coarse =
       structured > 0
-          ? fem::structured_mesh(source, static_cast<int>(structured), static_cast<int>(structured),
-                                 quads ? fem::CellType::quadrilateral : fem::CellType::triangle)
+          ? warpfem::structured_mesh(source, static_cast<int>(structured), static_cast<int>(structured),
+                                     quads ? warpfem::CellType::quadrilateral : warpfem::CellType::triangle)
       : pullback ? fem::pull_back_target_mesh(source, spec.target ? *spec.target : source, *map,
                                               {.max_edge_length = coarse_h}, &pullback_report)
-                 : fem::mesh_polygon(source, {.max_edge_length = coarse_h});
-  if (quads && structured == 0) coarse = fem::split_into_quadrilaterals(coarse);
+                 : warpfem::mesh_polygon(source, {.max_edge_length = coarse_h});
+  if (quads && structured == 0) coarse = warpfem::split_into_quadrilaterals(coarse);
   if (pullback && Environment::rank() == 0)
     std::printf(
         "# pulled-back coarse mesh: %ld cells, %d fold repairs, max distortion %.3g, min area ratio %.3g\n",
@@ -164,7 +166,7 @@ int run(int argc, char** argv) {
         pullback_report.min_area_ratio);
   // -prerefine k: refine the coarse mesh k times first, so PCMG gets only the finer levels (its
   // coarse solve, e.g. -mg_coarse_pc_type hypre, then works on a mid-size level).
-  for (PetscInt k = int_option("-prerefine", 0); k > 0; --k) coarse = fem::refine_uniformly(coarse).mesh;
+  for (PetscInt k = int_option("-prerefine", 0); k > 0; --k) coarse = warpfem::refine_uniformly(coarse).mesh;
 
   // 2. Problem: −Δu = 1 on f(Ω0), u = 0 on the whole boundary.
   fem::PoissonData data;

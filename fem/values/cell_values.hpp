@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
-#include "fem/lagrange_element.hpp"
-#include "fem/warped_geometry.hpp"
+#include "fem/geometry/warped_geometry.hpp"
+#include "fem/reference/lagrange_element.hpp"
 
 namespace warpfem::fem {
 

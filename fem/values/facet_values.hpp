@@ -4,8 +4,8 @@
 // on a face) with the warped facet geometry of WarpedFacets, one facet at a
 // time. Local facet DOFs in the order of DofMap::facet_dofs.
 
-#include "fem/lagrange_element.hpp"
-#include "fem/warped_facets.hpp"
+#include "fem/geometry/warped_facets.hpp"
+#include "fem/reference/lagrange_element.hpp"
 
 namespace warpfem::fem {
 

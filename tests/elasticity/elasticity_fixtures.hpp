@@ -3,11 +3,11 @@
 
 #include <cmath>
 
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/elasticity/hyperelastic_operator.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/uniform_refinement.hpp"
+#include "fem/physics/elasticity/hyperelastic_operator.hpp"
 #include "mapping/make_map.hpp"
 
 namespace warpfem::test {
@@ -17,9 +17,10 @@ inline Polygon rectangle(double w, double h) {
 }
 
 /// Structured triangle or quadrilateral mesh of [0, w] x [0, h], refined `refinements` times.
-inline fem::Mesh<2> block_mesh(double w, double h, int nx, int ny, fem::CellType type, int refinements = 0) {
-  fem::Mesh<2> mesh = fem::structured_mesh(rectangle(w, h), nx, ny, type);
-  for (int r = 0; r < refinements; ++r) mesh = fem::refine_uniformly(mesh).mesh;
+inline warpfem::Mesh<2> block_mesh(double w, double h, int nx, int ny, warpfem::CellType type,
+                                   int refinements = 0) {
+  warpfem::Mesh<2> mesh = warpfem::structured_mesh(rectangle(w, h), nx, ny, type);
+  for (int r = 0; r < refinements; ++r) mesh = warpfem::refine_uniformly(mesh).mesh;
   return mesh;
 }
 

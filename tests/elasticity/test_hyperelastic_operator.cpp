@@ -5,11 +5,11 @@
 #include <random>
 
 #include "elasticity_fixtures.hpp"
-#include "fem/elasticity/quasi_static_solver.hpp"
+#include "fem/physics/elasticity/quasi_static_solver.hpp"
 
 using namespace warpfem;
-using fem::CellType;
 using fem::MaterialModel;
+using warpfem::CellType;
 
 namespace {
 
@@ -41,7 +41,7 @@ class OperatorJacobian : public ::testing::TestWithParam<OperatorCase> {};
 
 TEST_P(OperatorJacobian, MatchesFiniteDifferencesOfTheResidualOnAWarpedMesh) {
   const auto& param = GetParam();
-  const fem::Mesh<2> mesh = test::block_mesh(1, 1, 3, 3, param.type);
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 3, 3, param.type);
   fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
   data.gravity = Point<2>(0, -2);
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::warped_square_map(), param.order, 0, data);
@@ -83,7 +83,7 @@ INSTANTIATE_TEST_SUITE_P(Elements, OperatorJacobian,
                          [](const auto& info) { return std::string(info.param.name); });
 
 TEST(HyperelasticOperator, MassShiftAddsTheConsistentMassMatrix) {
-  const fem::Mesh<2> mesh = test::block_mesh(2, 1, 4, 2, CellType::triangle);
+  const warpfem::Mesh<2> mesh = test::block_mesh(2, 1, 4, 2, CellType::triangle);
   fem::ElasticityData data = clamped_left(MaterialModel::linear_elastic);
   data.dirichlet.clear();
   data.material.density = 3.0;
@@ -108,7 +108,7 @@ TEST(HyperelasticOperator, MassShiftAddsTheConsistentMassMatrix) {
 }
 
 TEST(QuasiStatic, SmallLoadLimitEqualsLinearElasticity) {
-  const fem::Mesh<2> mesh = test::block_mesh(4, 1, 8, 2, CellType::quadrilateral);
+  const warpfem::Mesh<2> mesh = test::block_mesh(4, 1, 8, 2, CellType::quadrilateral);
   std::array<VectorX, 2> solutions;
   for (const MaterialModel model : {MaterialModel::neo_hookean, MaterialModel::linear_elastic}) {
     fem::ElasticityData data = clamped_left(model);
@@ -125,7 +125,7 @@ TEST(QuasiStatic, SmallLoadLimitEqualsLinearElasticity) {
 }
 
 TEST(QuasiStatic, NewtonConvergesQuadraticallyUnderAModerateLoad) {
-  const fem::Mesh<2> mesh = test::block_mesh(4, 1, 8, 2, CellType::triangle, 1);
+  const warpfem::Mesh<2> mesh = test::block_mesh(4, 1, 8, 2, CellType::triangle, 1);
   fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
   data.neumann.push_back({{1}, [](const Point<2>&, double) { return Point<2>(0.0, -0.02); }});
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::warped_square_map(), 1, 0, data);
@@ -150,7 +150,7 @@ TEST(QuasiStatic, NewtonConvergesQuadraticallyUnderAModerateLoad) {
 
 TEST(QuasiStatic, InvertingTrialStatesAreRejectedAndTheLoadStepIsCut) {
   // A compressive traction of 1.5 E: the first (linear) Newton step inverts elements.
-  const fem::Mesh<2> mesh = test::block_mesh(1, 1, 4, 4, CellType::triangle);
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 4, 4, CellType::triangle);
   fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
   data.neumann.push_back({{1}, [](const Point<2>&, double) { return Point<2>(-15.0, 0.0); }});
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map(), 1, 0, data);
@@ -169,7 +169,7 @@ TEST(QuasiStatic, InvertingTrialStatesAreRejectedAndTheLoadStepIsCut) {
 
 TEST(QuasiStatic, FailureBelowTheMinimumIncrementIsAClearError) {
   // No Dirichlet condition: the stiffness is singular, Newton cannot converge.
-  const fem::Mesh<2> mesh = test::block_mesh(1, 1, 2, 2, CellType::triangle);
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 2, 2, CellType::triangle);
   fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
   data.dirichlet.clear();
   data.gravity = Point<2>(0, -1);
@@ -204,7 +204,8 @@ Matrix<2> grad_u_exact(const Point<2>& x) {
   return H;
 }
 
-double convergence_error(const fem::Mesh<2>& mesh, int order, bool warped, const fem::Material& material) {
+double convergence_error(const warpfem::Mesh<2>& mesh, int order, bool warped,
+                         const fem::Material& material) {
   fem::ElasticityData data;
   data.material = material;
   // b = -Div P(I + ∇u_exact), by central differences of the analytic P.
@@ -249,8 +250,8 @@ TEST(QuasiStatic, ManufacturedSolutionConvergesAtTheOptimalRate) {
           convergence_error(test::block_mesh(1, 1, 2, 2, type, level + 1), order, warped, material));
     for (std::size_t k = 1; k < errors.size(); ++k) {
       const double rate = std::log2(errors[k - 1] / errors[k]);
-      std::printf("%s order %d level %zu: L2 error %.3e, rate %.2f\n", fem::to_string(type).c_str(), order, k,
-                  errors[k], rate);
+      std::printf("%s order %d level %zu: L2 error %.3e, rate %.2f\n", warpfem::to_string(type).c_str(),
+                  order, k, errors[k], rate);
       if (k + 1 == errors.size()) {
         EXPECT_NEAR(rate, expected, 0.25);
       }
@@ -259,7 +260,7 @@ TEST(QuasiStatic, ManufacturedSolutionConvergesAtTheOptimalRate) {
 }
 
 TEST(VectorSpace, BlockMatrixTypesAssembleTheSameOperator) {
-  const fem::Mesh<2> mesh = test::block_mesh(1, 1, 3, 2, CellType::quadrilateral);
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 3, 2, CellType::quadrilateral);
   fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::warped_square_map(), 2, 0, data);
   WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, "-vector_space_test_mat_type", "baij"));

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
-#include "fem/elasticity/material.hpp"
+#include "fem/physics/elasticity/material.hpp"
 
 using namespace warpfem;
 using fem::Material;

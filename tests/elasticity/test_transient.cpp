@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include "elasticity_fixtures.hpp"
-#include "fem/elasticity/transient_solver.hpp"
+#include "fem/physics/elasticity/transient_solver.hpp"
 
 using namespace warpfem;
-using fem::CellType;
 using fem::MaterialModel;
+using warpfem::CellType;
 
 namespace {
 
@@ -17,7 +17,7 @@ struct EnergyRun {
 };
 
 EnergyRun swinging_beam(MaterialModel model, double rho_infinity, int steps) {
-  const fem::Mesh<2> mesh = test::block_mesh(1, 1, 2, 2, CellType::triangle, 1);
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 2, 2, CellType::triangle, 1);
   fem::ElasticityData data;
   data.material = fem::Material::from_young_poisson(model, 10.0, 0.3, 1.0);
   const fem::ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };

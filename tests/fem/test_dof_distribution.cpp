@@ -9,12 +9,12 @@
 #include <set>
 
 #include "core/error.hpp"
-#include "fem/dof_distribution.hpp"
-#include "fem/dof_map.hpp"
-#include "fem/lagrange_element.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/uniform_refinement.hpp"
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
+#include "fem/dofs/dof_distribution.hpp"
+#include "fem/dofs/dof_map.hpp"
+#include "fem/reference/lagrange_element.hpp"
 
 using namespace warpfem;
 
@@ -22,7 +22,7 @@ namespace {
 
 /// On every rank of MPI_COMM_WORLD (this file also runs under mpiexec -n 2 as
 /// test_mpi_dof_distribution): every owned row is the brute-force coupling.
-void expect_sparsity_is_the_cell_coupling(const fem::Mesh<2>& mesh, int order) {
+void expect_sparsity_is_the_cell_coupling(const warpfem::Mesh<2>& mesh, int order) {
   const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, order));
   const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
   std::vector<PetscInt> row_ptr, cols;
@@ -77,20 +77,21 @@ void expect_sparsity_is_the_cell_coupling(const fem::Mesh<2>& mesh, int order) {
 
 TEST(Sparsity, RowsAreTheSortedCellCouplingOfTriangles) {
   const Polygon l_shape = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L");
-  const fem::Mesh<2> mesh = fem::refine_uniformly(fem::mesh_polygon(l_shape, {.max_edge_length = 0.4})).mesh;
+  const warpfem::Mesh<2> mesh =
+      warpfem::refine_uniformly(warpfem::mesh_polygon(l_shape, {.max_edge_length = 0.4})).mesh;
   for (int order : {1, 2}) expect_sparsity_is_the_cell_coupling(mesh, order);
 }
 
 TEST(Sparsity, RowsAreTheSortedCellCouplingOfQuadrilaterals) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
-  const fem::Mesh<2> mesh =
-      fem::split_into_quadrilaterals(fem::mesh_polygon(square, {.max_edge_length = 0.3}));
+  const warpfem::Mesh<2> mesh =
+      warpfem::split_into_quadrilaterals(warpfem::mesh_polygon(square, {.max_edge_length = 0.3}));
   for (int order : {1, 2}) expect_sparsity_is_the_cell_coupling(mesh, order);
 }
 
 TEST(DofDistribution, GivenCellOwnersAreCheckedAndUsed) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
-  const fem::Mesh<2> mesh = fem::mesh_polygon(square, {.max_edge_length = 0.3});
+  const warpfem::Mesh<2> mesh = warpfem::mesh_polygon(square, {.max_edge_length = 0.3});
   const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 2));
   const std::vector<int> all_mine(static_cast<std::size_t>(mesh.num_cells()), 0);
   const fem::DofDistribution given(MPI_COMM_SELF, mesh, dofs, all_mine), morton(MPI_COMM_SELF, mesh, dofs);
@@ -109,12 +110,13 @@ TEST(DofDistribution, NumbersDofsByFirstUseInTheCells) {
   // then edges): cell c's DOFs not used by an earlier cell take the next indices.
   // P1/Q1 keep the mesh's vertex order, which is first use on refined meshes.
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
-  const fem::Mesh<2> triangles =
-      fem::refine_uniformly(fem::mesh_polygon(square, {.max_edge_length = 0.3})).mesh;
-  const fem::Mesh<2> quads = fem::refine_uniformly(fem::split_into_quadrilaterals(
-                                                       fem::mesh_polygon(square, {.max_edge_length = 0.3})))
-                                 .mesh;
-  for (const fem::Mesh<2>* mesh : {&triangles, &quads})
+  const warpfem::Mesh<2> triangles =
+      warpfem::refine_uniformly(warpfem::mesh_polygon(square, {.max_edge_length = 0.3})).mesh;
+  const warpfem::Mesh<2> quads =
+      warpfem::refine_uniformly(
+          warpfem::split_into_quadrilaterals(warpfem::mesh_polygon(square, {.max_edge_length = 0.3})))
+          .mesh;
+  for (const warpfem::Mesh<2>* mesh : {&triangles, &quads})
     for (int order : {1, 2}) {
       const fem::DofMap dofs(*mesh, fem::LagrangeElement<2>(mesh->cell_type, order));
       const fem::DofDistribution dist(MPI_COMM_SELF, *mesh, dofs);
@@ -133,9 +135,9 @@ TEST(DofDistribution, NumbersDofsByFirstUseInTheCells) {
 
 TEST(DofMap, FirstOrderDofsAreTheMeshVerticesWithoutACopy) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
-  const fem::Mesh<2> triangles = fem::mesh_polygon(square, {.max_edge_length = 0.3});
-  const fem::Mesh<2> quads = fem::split_into_quadrilaterals(triangles);
-  for (const fem::Mesh<2>* mesh : {&triangles, &quads}) {
+  const warpfem::Mesh<2> triangles = warpfem::mesh_polygon(square, {.max_edge_length = 0.3});
+  const warpfem::Mesh<2> quads = warpfem::split_into_quadrilaterals(triangles);
+  for (const warpfem::Mesh<2>* mesh : {&triangles, &quads}) {
     const fem::DofMap p1(*mesh, fem::LagrangeElement<2>(mesh->cell_type, 1));
     EXPECT_EQ(p1.num_dofs(), mesh->num_vertices());
     EXPECT_EQ(&p1.cell_dofs(), &mesh->cells);  // documented: P1/Q1 refer to the mesh

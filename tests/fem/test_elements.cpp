@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "fem/lagrange_element.hpp"
-#include "fem/quadrature.hpp"
+#include "core/mesh/quadrature.hpp"
+#include "fem/reference/lagrange_element.hpp"
 
 using namespace warpfem;
 using namespace warpfem::fem;

@@ -5,12 +5,13 @@
 #include <set>
 
 #include "core/error.hpp"
-#include "fem/cell_partition.hpp"
-#include "fem/edge_numbering.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/uniform_refinement.hpp"
+#include "core/mesh/edge_numbering.hpp"
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
+#include "fem/dofs/cell_partition.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
 
 using namespace warpfem;
 using namespace warpfem::fem;
@@ -132,15 +133,15 @@ TEST(UniformRefinement, NumbersVerticesByFirstUseAndRecordsWhereCoarseNodesWent)
 }
 
 TEST(MeshTables, SizesBeyondThe32BitTablesAreRefusedWithTheirName) {
-  EXPECT_EQ(fem::checked_table_size(0, "cells"), 0);
-  EXPECT_EQ(fem::checked_table_size(2147483647, "cells"), 2147483647);
+  EXPECT_EQ(warpfem::checked_table_size(0, "cells"), 0);
+  EXPECT_EQ(warpfem::checked_table_size(2147483647, "cells"), 2147483647);
   try {
-    fem::checked_table_size(Index{2147483648}, "refine_uniformly: fine cells");
+    warpfem::checked_table_size(Index{2147483648}, "refine_uniformly: fine cells");
     FAIL() << "2^31 entries accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("refine_uniformly: fine cells"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(fem::checked_table_size(-1, "cells"), Error);
+  EXPECT_THROW(warpfem::checked_table_size(-1, "cells"), Error);
 }
 
 TEST(CellPartition, BalancedAndDeterministic) {

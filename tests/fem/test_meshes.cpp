@@ -4,14 +4,13 @@
 #include <fstream>
 
 #include "core/error.hpp"
-#include "fem/boundary_locator.hpp"
-#include "fem/cell_locator.hpp"
-#include "fem/gmsh_reader.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/structured_mesher.hpp"
+#include "core/mesh/boundary_locator.hpp"
+#include "core/mesh/cell_locator.hpp"
+#include "core/mesh/gmsh_reader.hpp"
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/structured_mesher.hpp"
 
 using namespace warpfem;
-using namespace warpfem::fem;
 
 namespace {
 Polygon square16() {

@@ -10,14 +10,15 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "fem/dof_distribution.hpp"
-#include "fem/dof_map.hpp"
-#include "fem/lagrange_element.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/nested_blocks.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/uniform_refinement.hpp"
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
+#include "fem/dofs/dof_distribution.hpp"
+#include "fem/dofs/dof_map.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
+#include "fem/hierarchy/nested_blocks.hpp"
+#include "fem/reference/lagrange_element.hpp"
 
 using namespace warpfem;
 using namespace warpfem::fem;

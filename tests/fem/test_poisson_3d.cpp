@@ -10,13 +10,13 @@
 #include <numbers>
 #include <set>
 
+#include "core/mesh/structured_mesher.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/csr_matrix.hpp"
 #include "core/petsc/linear_solve.hpp"
 #include "core/petsc/matrix_assembler.hpp"
 #include "fem/assembly/integrate.hpp"
 #include "fem/physics/poisson_kernel.hpp"
-#include "fem/structured_mesher.hpp"
 
 using namespace warpfem;
 
@@ -33,13 +33,14 @@ struct Result {
 };
 
 /// −Δu = 3π² u_exact, u = 0 on the boundary, Q1 (or P1) on an n³ box mesh.
-Result solve_on_cube(int n, fem::CellType type) {
-  const fem::Mesh<3> mesh = fem::structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 1, 1), {n, n, n}, type);
+Result solve_on_cube(int n, warpfem::CellType type) {
+  const warpfem::Mesh<3> mesh =
+      warpfem::structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 1, 1), {n, n, n}, type);
   const fem::LagrangeElement<3> element(type, 1);
   const mapping::IdentityMap<3> map;
   std::vector<Index> cells(static_cast<std::size_t>(mesh.num_cells()));
   for (Index c = 0; c < mesh.num_cells(); ++c) cells[static_cast<std::size_t>(c)] = c;
-  const fem::WarpedGeometry<3> geometry(mesh, cells, fem::cell_quadrature<3>(type, 4), map);
+  const fem::WarpedGeometry<3> geometry(mesh, cells, warpfem::cell_quadrature<3>(type, 4), map);
 
   // Q1/P1: the DOFs are the vertices. Pattern: the vertices sharing a cell.
   const Index nv = mesh.num_vertices();
@@ -132,13 +133,13 @@ Result solve_on_cube(int n, fem::CellType type) {
   return r;
 }
 
-class Poisson3d : public ::testing::TestWithParam<fem::CellType> {};
+class Poisson3d : public ::testing::TestWithParam<warpfem::CellType> {};
 
 }  // namespace
 
 TEST_P(Poisson3d, FirstOrderRatesOnTheUnitCube) {
   // Kuhn tetrahedra of a 4³ grid are still pre-asymptotic (L2 rate 1.83 to 8³): start finer.
-  const int n0 = GetParam() == fem::CellType::hexahedron ? 4 : 6;
+  const int n0 = GetParam() == warpfem::CellType::hexahedron ? 4 : 6;
   std::vector<Result> results;
   for (int n : {n0, 2 * n0, 4 * n0}) results.push_back(solve_on_cube(n, GetParam()));
   for (std::size_t i = 1; i < results.size(); ++i) {
@@ -151,5 +152,5 @@ TEST_P(Poisson3d, FirstOrderRatesOnTheUnitCube) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cells, Poisson3d,
-                         ::testing::Values(fem::CellType::hexahedron, fem::CellType::tetrahedron),
-                         [](const auto& info) { return fem::to_string(info.param); });
+                         ::testing::Values(warpfem::CellType::hexahedron, warpfem::CellType::tetrahedron),
+                         [](const auto& info) { return warpfem::to_string(info.param); });

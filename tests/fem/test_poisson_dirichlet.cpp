@@ -10,16 +10,16 @@
 #include <memory>
 #include <vector>
 
+#include "core/mesh/polygon_mesher.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/poisson.hpp"
-#include "fem/polygon_mesher.hpp"
+#include "fem/physics/poisson.hpp"
 #include "mapping/map.hpp"
 
 using namespace warpfem;
 
 TEST(PoissonDirichlet, AssemblyEliminatesAsZeroRowsColumnsDoes) {
   const Polygon l_shape = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L-shape");
-  const fem::Mesh<2> mesh = fem::mesh_polygon(l_shape, {.max_edge_length = 0.3});
+  const warpfem::Mesh<2> mesh = warpfem::mesh_polygon(l_shape, {.max_edge_length = 0.3});
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   const std::vector<int> fixed_edges = {1, 2, 3};
   fem::PoissonData free;

@@ -6,9 +6,9 @@
 #include <cstdio>
 
 #include "core/error.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/pullback_mesher.hpp"
+#include "core/mesh/polygon_mesher.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/pullback_mesher.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 

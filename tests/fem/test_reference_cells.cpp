@@ -15,8 +15,8 @@
 #include <set>
 
 #include "core/error.hpp"
-#include "fem/lagrange_element.hpp"
-#include "fem/quadrature.hpp"
+#include "core/mesh/quadrature.hpp"
+#include "fem/reference/lagrange_element.hpp"
 
 using namespace warpfem;
 using namespace warpfem::fem;

@@ -9,9 +9,9 @@
 #include <set>
 
 #include "core/error.hpp"
-#include "fem/lagrange_element.hpp"
-#include "fem/quadrature.hpp"
-#include "fem/structured_mesher.hpp"
+#include "core/mesh/quadrature.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "fem/reference/lagrange_element.hpp"
 
 using namespace warpfem;
 using namespace warpfem::fem;

@@ -8,10 +8,10 @@
 #include <Eigen/LU>
 #include <memory>
 
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/quadrature.hpp"
+#include "core/mesh/structured_mesher.hpp"
 #include "fem/assembly/integrate.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/quadrature.hpp"
-#include "fem/structured_mesher.hpp"
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
@@ -36,35 +36,35 @@ mapping::MapPtr<2> composite() {
   return mapping::make_map(spec);
 }
 
-std::vector<Index> all_cells(const fem::Mesh<2>& mesh) {
+std::vector<Index> all_cells(const warpfem::Mesh<2>& mesh) {
   std::vector<Index> cells(static_cast<std::size_t>(mesh.num_cells()));
   for (Index c = 0; c < mesh.num_cells(); ++c) cells[static_cast<std::size_t>(c)] = c;
   return cells;
 }
 
-std::vector<Index> all_facets(const fem::Mesh<2>& mesh) {
+std::vector<Index> all_facets(const warpfem::Mesh<2>& mesh) {
   std::vector<Index> facets(static_cast<std::size_t>(mesh.num_boundary_facets()));
   for (Index f = 0; f < mesh.num_boundary_facets(); ++f) facets[static_cast<std::size_t>(f)] = f;
   return facets;
 }
 
-fem::Mesh<2> mesh_of(const Polygon& polygon, fem::CellType type) {
-  fem::PolygonMeshOptions options;
+warpfem::Mesh<2> mesh_of(const Polygon& polygon, warpfem::CellType type) {
+  warpfem::PolygonMeshOptions options;
   options.max_edge_length = 0.2;
-  fem::Mesh<2> triangles = fem::mesh_polygon(polygon, options);
-  return type == fem::CellType::triangle ? triangles : fem::split_into_quadrilaterals(triangles);
+  warpfem::Mesh<2> triangles = warpfem::mesh_polygon(polygon, options);
+  return type == warpfem::CellType::triangle ? triangles : warpfem::split_into_quadrilaterals(triangles);
 }
 
-class ValuesSeam : public ::testing::TestWithParam<std::tuple<fem::CellType, int>> {};
+class ValuesSeam : public ::testing::TestWithParam<std::tuple<warpfem::CellType, int>> {};
 
 }  // namespace
 
 TEST_P(ValuesSeam, GradientsFollowTheChainRuleWithAnIndependentJacobian) {
   const auto [type, order] = GetParam();
-  const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
+  const warpfem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = composite();
   const fem::LagrangeElement<2> element(type, order);
-  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), fem::cell_quadrature<2>(type, 4), *map);
+  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), warpfem::cell_quadrature<2>(type, 4), *map);
   fem::CellValues<2> values(
       element, geometry, fem::CellValues<2>::update_gradients | fem::CellValues<2>::update_reference_points);
   const fem::LagrangeElement<2> linear(type, 1);
@@ -100,10 +100,10 @@ TEST_P(ValuesSeam, GradientsFollowTheChainRuleWithAnIndependentJacobian) {
 
 TEST_P(ValuesSeam, FacetGeometryClosesUpWithTheCellGeometry) {
   const auto [type, order] = GetParam();
-  const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
+  const warpfem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = composite();
-  const fem::WarpedGeometry<2> cells(mesh, all_cells(mesh), fem::cell_quadrature<2>(type, 6), *map);
-  const fem::WarpedFacets<2> facets(mesh, all_facets(mesh), fem::gauss_legendre(4), *map);
+  const fem::WarpedGeometry<2> cells(mesh, all_cells(mesh), warpfem::cell_quadrature<2>(type, 6), *map);
+  const fem::WarpedFacets<2> facets(mesh, all_facets(mesh), warpfem::gauss_legendre(4), *map);
   const fem::LagrangeElement<2> element(type, order);
   fem::FacetValues<2> values(element, facets);
   double length = 0, flux = 0;
@@ -123,9 +123,9 @@ TEST_P(ValuesSeam, FacetGeometryClosesUpWithTheCellGeometry) {
 
 TEST_P(ValuesSeam, FacetShapeValuesAreTheTraceOfTheCellElement) {
   const auto [type, order] = GetParam();
-  const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
+  const warpfem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
-  const fem::WarpedFacets<2> facets(mesh, all_facets(mesh), fem::gauss_legendre(3), *map);
+  const fem::WarpedFacets<2> facets(mesh, all_facets(mesh), warpfem::gauss_legendre(3), *map);
   const fem::LagrangeElement<2> element(type, order);
   fem::FacetValues<2> values(element, facets);
   ASSERT_EQ(values.num_dofs(), order + 1);
@@ -149,12 +149,12 @@ TEST_P(ValuesSeam, FacetShapeValuesAreTheTraceOfTheCellElement) {
 class AffineValues : public ::testing::TestWithParam<int> {};
 
 TEST_P(AffineValues, InterpolantOfALinearFunctionHasItsGradient) {
-  const fem::CellType type = fem::CellType::triangle;  // affine cells: exact gradients
+  const warpfem::CellType type = warpfem::CellType::triangle;  // affine cells: exact gradients
   const int order = GetParam();
-  const fem::Mesh<2> mesh = mesh_of(pentagon(), type);
+  const warpfem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   const fem::LagrangeElement<2> element(type, order);
-  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), fem::cell_quadrature<2>(type, 2), *map);
+  const fem::WarpedGeometry<2> geometry(mesh, all_cells(mesh), warpfem::cell_quadrature<2>(type, 2), *map);
   fem::CellValues<2> values(element, geometry, fem::CellValues<2>::update_gradients);
   const Point<2> a(0.3, -1.7);
   std::vector<double> u(static_cast<std::size_t>(element.num_dofs()));
@@ -183,6 +183,6 @@ TEST_P(AffineValues, InterpolantOfALinearFunctionHasItsGradient) {
 
 INSTANTIATE_TEST_SUITE_P(Orders, AffineValues, ::testing::Values(1, 2));
 INSTANTIATE_TEST_SUITE_P(Elements, ValuesSeam,
-                         ::testing::Combine(::testing::Values(fem::CellType::triangle,
-                                                              fem::CellType::quadrilateral),
+                         ::testing::Combine(::testing::Values(warpfem::CellType::triangle,
+                                                              warpfem::CellType::quadrilateral),
                                             ::testing::Values(1, 2)));

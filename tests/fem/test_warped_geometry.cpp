@@ -8,11 +8,11 @@
 #include <memory>
 
 #include "core/error.hpp"
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/quadrature.hpp"
+#include "core/mesh/structured_mesher.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/poisson.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/quadrature.hpp"
-#include "fem/structured_mesher.hpp"
+#include "fem/physics/poisson.hpp"
 #include "mapping/barycentric_map.hpp"
 #include "mapping/make_map.hpp"
 
@@ -33,7 +33,7 @@ mapping::MapPtr<2> concave_composite() {
   return mapping::make_map(spec);
 }
 
-std::vector<Index> all_cells(const fem::Mesh<2>& mesh) {
+std::vector<Index> all_cells(const warpfem::Mesh<2>& mesh) {
   std::vector<Index> cells(static_cast<std::size_t>(mesh.num_cells()));
   for (Index c = 0; c < mesh.num_cells(); ++c) cells[static_cast<std::size_t>(c)] = c;
   return cells;
@@ -43,9 +43,9 @@ std::vector<Index> all_cells(const fem::Mesh<2>& mesh) {
 
 TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
   // 90 x 90 x 2 triangles x 6 points = 97,200 points: more than one streamed chunk.
-  const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 90, 90, fem::CellType::triangle);
+  const warpfem::Mesh<2> mesh = warpfem::structured_mesh(pentagon(), 90, 90, warpfem::CellType::triangle);
   const auto map = concave_composite();
-  const auto rule = fem::cell_quadrature<2>(mesh.cell_type, 4);
+  const auto rule = warpfem::cell_quadrature<2>(mesh.cell_type, 4);
   const fem::WarpedGeometry<2> cached(mesh, all_cells(mesh), rule, *map);
   const fem::WarpedGeometry<2> streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
   ASSERT_GT(cached.num_cells() * cached.points_per_cell(), fem::WarpedGeometry<2>::chunk_points());
@@ -81,9 +81,9 @@ TEST(WarpedGeometryStorage, StreamedChunksEqualTheCachedArrays) {
 }
 
 TEST(WarpedGeometryStorage, StreamedGeometryHasNoArrays) {
-  const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 4, 4, fem::CellType::quadrilateral);
+  const warpfem::Mesh<2> mesh = warpfem::structured_mesh(pentagon(), 4, 4, warpfem::CellType::quadrilateral);
   const auto map = concave_composite();
-  const fem::WarpedGeometry<2> g(mesh, all_cells(mesh), fem::cell_quadrature<2>(mesh.cell_type, 4), *map,
+  const fem::WarpedGeometry<2> g(mesh, all_cells(mesh), warpfem::cell_quadrature<2>(mesh.cell_type, 4), *map,
                                  fem::GeometryStorage::streamed);
   EXPECT_THROW(g.JxW(), Error);
   EXPECT_THROW(g.physical_points(), Error);
@@ -96,8 +96,8 @@ TEST(WarpedGeometryStorage, FoldingMapIsReportedByTheFirstStreamedPass) {
   const Polygon diamond = Polygon::checked({{-1, 0}, {0, -1}, {1, 0}, {0, 1}}, "diamond");
   const Polygon dart = Polygon::checked({{-1, 0}, {0, -1}, {-0.6, 0}, {0, 1}}, "dart");
   const auto map = std::make_shared<const mapping::BarycentricMap>(diamond, dart);
-  const fem::Mesh<2> mesh = fem::mesh_polygon(diamond, {.max_edge_length = 0.1});
-  const auto rule = fem::cell_quadrature<2>(mesh.cell_type, 2);
+  const warpfem::Mesh<2> mesh = warpfem::mesh_polygon(diamond, {.max_edge_length = 0.1});
+  const auto rule = warpfem::cell_quadrature<2>(mesh.cell_type, 2);
   EXPECT_THROW(fem::WarpedGeometry<2>(mesh, all_cells(mesh), rule, *map), Error);
   const fem::WarpedGeometry<2> streamed(mesh, all_cells(mesh), rule, *map, fem::GeometryStorage::streamed);
   try {
@@ -109,7 +109,7 @@ TEST(WarpedGeometryStorage, FoldingMapIsReportedByTheFirstStreamedPass) {
 }
 
 TEST(WarpedGeometryStorage, PoissonDoesNotDependOnTheStorage) {
-  const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 12, 12, fem::CellType::triangle);
+  const warpfem::Mesh<2> mesh = warpfem::structured_mesh(pentagon(), 12, 12, warpfem::CellType::triangle);
   const auto map = concave_composite();
   fem::PoissonData data;
   data.source = [](const Point<2>& x, double) { return 1 + x.x() * x.y(); };
@@ -148,7 +148,7 @@ TEST(WarpedGeometryStorage, PoissonDoesNotDependOnTheStorage) {
 // A ConstantFunction source skips the per-point calls; the load vector must be
 // the one a plain lambda with the same value gives.
 TEST(WarpedGeometryStorage, ConstantSourceAssemblesLikeAPointwiseOne) {
-  const fem::Mesh<2> mesh = fem::structured_mesh(pentagon(), 10, 10, fem::CellType::triangle);
+  const warpfem::Mesh<2> mesh = warpfem::structured_mesh(pentagon(), 10, 10, warpfem::CellType::triangle);
   const auto map = concave_composite();
   for (int order : {1, 2}) {
     fem::PoissonData pointwise, constant;

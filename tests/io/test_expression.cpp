@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
-#include "fem/functions.hpp"
+#include "fem/physics/functions.hpp"
 #include "io/expression.hpp"
 
 using warpfem::Error;

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/mesh/polygon_mesher.hpp"
 #include "core/polygon.hpp"
-#include "fem/polygon_mesher.hpp"
 #include "io/elasticity_config.hpp"
 #include "io/expression.hpp"
 #include "io/run_config.hpp"
@@ -311,6 +311,6 @@ TEST(InputValidation, TransientRunsWithTooManyStepsOrFilesAreRefused) {
 
 TEST(InputValidation, MesherRefusesAnEdgeBoundItCannotSquare) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
-  const std::string m = error_of([&] { fem::mesh_polygon(square, {.max_edge_length = 1e-300}); });
+  const std::string m = error_of([&] { warpfem::mesh_polygon(square, {.max_edge_length = 1e-300}); });
   expect_contains(m, "/mesh/max_edge_length: edge length bound 1e-300 cannot be used");
 }

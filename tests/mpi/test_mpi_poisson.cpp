@@ -5,10 +5,10 @@
 #include <cmath>
 
 #include "apps/poisson_run.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/poisson.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/uniform_refinement.hpp"
+#include "fem/physics/poisson.hpp"
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
@@ -53,7 +53,7 @@ namespace {
 /// y = A x and b of a Poisson problem on `comm`, at every mesh DOF (the PETSc
 /// numbering differs between one and two ranks), for x_d = sin(3 x) cos(2 y)
 /// at DOF node d. Assembled twice: the second pass must give the same values.
-std::pair<VectorX, VectorX> operator_and_load(MPI_Comm comm, const fem::Mesh<2>& mesh,
+std::pair<VectorX, VectorX> operator_and_load(MPI_Comm comm, const warpfem::Mesh<2>& mesh,
                                               const mapping::MapPtr<2>& map, int order) {
   fem::PoissonData data;
   data.source = [](const Point<2>& x, double) { return 1 + x.x() * x.y(); };
@@ -88,8 +88,9 @@ TEST_P(MpiPoisson, TwoRankOperatorEqualsSerial) {
   spec.source = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0.5, 1}, {0, 1}}, "pentagon");
   spec.target = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0.5, 0.75}, {0, 1}}, "bent pentagon");
   const mapping::MapPtr<2> map = mapping::make_map(spec);
-  const fem::Mesh<2> mesh =
-      fem::refine_uniformly(fem::structured_mesh(*spec.source, 6, 6, fem::CellType::triangle)).mesh;
+  const warpfem::Mesh<2> mesh =
+      warpfem::refine_uniformly(warpfem::structured_mesh(*spec.source, 6, 6, warpfem::CellType::triangle))
+          .mesh;
   const auto [y_parallel, b_parallel] = operator_and_load(MPI_COMM_WORLD, mesh, map, GetParam());
   const auto [y_serial, b_serial] = operator_and_load(MPI_COMM_SELF, mesh, map, GetParam());
   ASSERT_EQ(y_parallel.size(), y_serial.size());

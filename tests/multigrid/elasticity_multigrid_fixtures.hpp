@@ -5,10 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include "core/mesh/structured_mesher.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/elasticity/hyperelastic_operator.hpp"
-#include "fem/mesh_factory.hpp"
-#include "fem/structured_mesher.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
+#include "fem/physics/elasticity/hyperelastic_operator.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/elasticity_multigrid.hpp"
 
@@ -43,9 +44,9 @@ struct SolveResult {
 };
 
 /// Solves J(0) x = b (b random, zero on constrained rows) with LU and with GMRES + multigrid.
-inline SolveResult solve_both(fem::CellType type, int order, int refinements) {
+inline SolveResult solve_both(warpfem::CellType type, int order, int refinements) {
   const fem::MeshHierarchy hierarchy(
-      fem::structured_mesh(
+      warpfem::structured_mesh(
           Polygon({Point<2>(0, 0), Point<2>(1, 0), Point<2>(1, 1), Point<2>(0, 1)}, "square"), 4, 4, type),
       refinements);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(), warped_square(), order, 0,

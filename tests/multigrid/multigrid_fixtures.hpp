@@ -6,10 +6,10 @@
 #include <cmath>
 #include <optional>
 
+#include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/structured_mesher.hpp"
 #include "core/polygon.hpp"
-#include "fem/poisson.hpp"
-#include "fem/polygon_mesher.hpp"
-#include "fem/structured_mesher.hpp"
+#include "fem/physics/poisson.hpp"
 
 namespace warpfem::multigrid::test {
 
@@ -18,9 +18,9 @@ inline Polygon l_shape() {
 }
 
 /// Coarse mesh of the L-shape: Delaunay triangles, or those split into quadrilaterals.
-inline fem::Mesh<2> coarse_l_shape(fem::CellType type, double h) {
-  fem::Mesh<2> m = fem::mesh_polygon(l_shape(), {.max_edge_length = h});
-  return type == fem::CellType::triangle ? m : fem::split_into_quadrilaterals(m);
+inline warpfem::Mesh<2> coarse_l_shape(warpfem::CellType type, double h) {
+  warpfem::Mesh<2> m = warpfem::mesh_polygon(l_shape(), {.max_edge_length = h});
+  return type == warpfem::CellType::triangle ? m : warpfem::split_into_quadrilaterals(m);
 }
 
 /// −Δu = 1 + xy, u = x on edges 0, 1, 2 (re-entrant corner included), natural Neumann elsewhere.

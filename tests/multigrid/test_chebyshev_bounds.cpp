@@ -7,8 +7,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/error.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/uniform_refinement.hpp"
 #include "multigrid/chebyshev_bounds.hpp"
 #include "multigrid/fused_chebyshev_jacobi.hpp"
 #include "multigrid/poisson_multigrid.hpp"
@@ -39,21 +39,21 @@ double jacobi_lambda_max(Mat A) {
 }  // namespace
 
 TEST(ChebyshevBounds, GershgorinBoundsTheJacobiSpectrumTightlyForFirstOrder) {
-  for (const fem::CellType type : {fem::CellType::triangle, fem::CellType::quadrilateral})
+  for (const warpfem::CellType type : {warpfem::CellType::triangle, warpfem::CellType::quadrilateral})
     for (const int order : {1, 2}) {
       // A few hundred DOFs each (dense eigenvalues); first order refined, since its top
       // eigenvalue approaches the bound as h → 0 (14–23 % below it here; PETSc's
       // estimate is 3–7 % below it at 10⁶ DOFs).
-      fem::Mesh<2> mesh = multigrid::test::coarse_l_shape(type, 0.5);
-      const int refinements = order == 2 ? 0 : type == fem::CellType::triangle ? 2 : 1;
-      for (int r = 0; r < refinements; ++r) mesh = fem::refine_uniformly(mesh).mesh;
+      warpfem::Mesh<2> mesh = multigrid::test::coarse_l_shape(type, 0.5);
+      const int refinements = order == 2 ? 0 : type == warpfem::CellType::triangle ? 2 : 1;
+      for (int r = 0; r < refinements; ++r) mesh = warpfem::refine_uniformly(mesh).mesh;
       fem::PoissonProblem p(MPI_COMM_SELF, mesh, std::make_shared<mapping::IdentityMap<2>>(), order,
                             2 * order + 1, multigrid::test::mixed_problem());
       p.assemble();
       const double bound = multigrid::jacobi_gershgorin_bound(p.matrix());
       const double lambda = jacobi_lambda_max(p.matrix());
       std::printf("%s%d, %lld DOFs: Gershgorin %.4f, λmax(D⁻¹A) %.4f\n",
-                  type == fem::CellType::triangle ? "P" : "Q", order,
+                  type == warpfem::CellType::triangle ? "P" : "Q", order,
                   static_cast<long long>(p.dofs().num_dofs()), bound, lambda);
       EXPECT_GE(bound, lambda * (1 - 1e-12));
       if (order == 1) {
@@ -80,7 +80,7 @@ TEST(ChebyshevBounds, AutomaticChoiceReachesTheSmoothers) {
   using S = multigrid::MultigridSettings;
   for (const int order : {1, 2}) {
     multigrid::PoissonMultigridSolver mg(
-        MPI_COMM_SELF, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 2,
+        MPI_COMM_SELF, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
         std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1, multigrid::test::mixed_problem());
     PC pc = nullptr;
     WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
@@ -106,7 +106,7 @@ TEST(ChebyshevBounds, AutomaticChoiceReachesTheSmoothers) {
   o.multigrid = S{.smoother = S::Smoother::chebyshev_sor, .chebyshev_bounds = S::ChebyshevBounds::gershgorin};
   try {
     multigrid::PoissonMultigridSolver mg(
-        MPI_COMM_SELF, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 1,
+        MPI_COMM_SELF, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 1,
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
     ADD_FAILURE() << "Gershgorin bounds with SSOR-preconditioned Chebyshev were accepted";
   } catch (const Error& e) {
@@ -121,7 +121,7 @@ TEST(ChebyshevBounds, ASmootherPreconditionerFromTheOptionsGetsTheEstimateBack) 
   o.linear.prefix = "cheby_bounds_test_";
   WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, "-cheby_bounds_test_mg_levels_pc_type", "sor"));
   multigrid::PoissonMultigridSolver mg(
-      MPI_COMM_SELF, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 2,
+      MPI_COMM_SELF, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
       std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
   WARPFEM_PETSC_CHECK(PetscOptionsClearValue(nullptr, "-cheby_bounds_test_mg_levels_pc_type"));
   PC pc = nullptr;

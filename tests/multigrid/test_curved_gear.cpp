@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "fem/polygon_mesher.hpp"
+#include "core/mesh/polygon_mesher.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/poisson_multigrid.hpp"
@@ -29,7 +29,7 @@ namespace {
 struct CurvedGear {
   mapping::MapSpec spec;
   mapping::MapPtr<2> map;
-  fem::Mesh<2> coarse;
+  warpfem::Mesh<2> coarse;
 };
 
 CurvedGear load_curved_gear() {
@@ -37,7 +37,7 @@ CurvedGear load_curved_gear() {
   CurvedGear g;
   g.spec = io::parse_required_map(io::ConfigNode(io::ConfigNode::parse_file(file), file));
   g.map = mapping::make_map(g.spec);
-  g.coarse = fem::mesh_polygon(*g.spec.source, {.max_edge_length = 0.15});
+  g.coarse = warpfem::mesh_polygon(*g.spec.source, {.max_edge_length = 0.15});
   return g;
 }
 
@@ -49,7 +49,7 @@ std::vector<int> iteration_counts(const CurvedGear& g, int order, int min_refine
     o.multigrid.smoother = S::Smoother::chebyshev_sor;
     o.finest_geometry = fem::GeometryStorage::streamed;
     multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, g.coarse, r, g.map, order,
-                                         fem::default_quadrature_degree(order), data, o);
+                                         warpfem::default_quadrature_degree(order), data, o);
     const auto report = mg.solve();
     EXPECT_TRUE(report.linear.converged);
     counts.push_back(report.linear.iterations);

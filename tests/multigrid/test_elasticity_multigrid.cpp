@@ -17,7 +17,7 @@ using test::solve_both;
 using test::SolveResult;
 using test::warped_square;
 
-class ElasticityMultigridTest : public ::testing::TestWithParam<std::tuple<fem::CellType, int>> {};
+class ElasticityMultigridTest : public ::testing::TestWithParam<std::tuple<warpfem::CellType, int>> {};
 
 TEST_P(ElasticityMultigridTest, MatchesLuWithIterationsIndependentOfRefinement) {
   const auto [type, order] = GetParam();
@@ -25,7 +25,7 @@ TEST_P(ElasticityMultigridTest, MatchesLuWithIterationsIndependentOfRefinement) 
   for (int refinements = 1; refinements <= 3; ++refinements) {
     const SolveResult r = solve_both(type, order, refinements);
     std::printf("[ %s%d, %d refinements ] %d GMRES iterations, |x_mg - x_lu| / |x_lu| = %.2e\n",
-                type == fem::CellType::triangle ? "P" : "Q", order, refinements, r.iterations,
+                type == warpfem::CellType::triangle ? "P" : "Q", order, refinements, r.iterations,
                 r.relative_difference);
     EXPECT_LT(r.relative_difference, 1e-7);
     fewest = std::min(fewest, r.iterations);
@@ -36,21 +36,21 @@ TEST_P(ElasticityMultigridTest, MatchesLuWithIterationsIndependentOfRefinement) 
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, ElasticityMultigridTest,
-                         ::testing::Values(std::make_tuple(fem::CellType::triangle, 1),
-                                           std::make_tuple(fem::CellType::triangle, 2),
-                                           std::make_tuple(fem::CellType::quadrilateral, 2)));
+                         ::testing::Values(std::make_tuple(warpfem::CellType::triangle, 1),
+                                           std::make_tuple(warpfem::CellType::triangle, 2),
+                                           std::make_tuple(warpfem::CellType::quadrilateral, 2)));
 
 TEST(ElasticityMultigrid, RefusesASpaceOffTheHierarchy) {
-  const fem::MeshHierarchy hierarchy(fem::structured_mesh(test::unit_square(), 2, 2, fem::CellType::triangle),
-                                     1);
-  const fem::Mesh<2> other = hierarchy.finest();  // a copy: not the hierarchy's mesh
+  const fem::MeshHierarchy hierarchy(
+      warpfem::structured_mesh(test::unit_square(), 2, 2, warpfem::CellType::triangle), 1);
+  const warpfem::Mesh<2> other = hierarchy.finest();  // a copy: not the hierarchy's mesh
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, other, warped_square(), 1, 0, clamped_block());
   EXPECT_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data()), Error);
 }
 
 TEST(ElasticityMultigrid, TakesCellOwnersForEveryLevelOrNone) {
-  const fem::MeshHierarchy hierarchy(fem::structured_mesh(test::unit_square(), 2, 2, fem::CellType::triangle),
-                                     2);
+  const fem::MeshHierarchy hierarchy(
+      warpfem::structured_mesh(test::unit_square(), 2, 2, warpfem::CellType::triangle), 2);
   const auto owners = fem::nested_partitions(hierarchy, 1);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(), warped_square(), 1, 0,
                                      clamped_block(), owners.back());

@@ -18,11 +18,11 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/handles.hpp"
 #include "core/petsc/scatter.hpp"
-#include "fem/structured_mesher.hpp"
-#include "fem/uniform_refinement.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/chebyshev_bounds.hpp"
 #include "multigrid/fused_chebyshev_jacobi.hpp"
@@ -45,8 +45,8 @@ mapping::MapPtr<2> bent_pentagon_map() {
 std::unique_ptr<fem::PoissonProblem> warped_problem(MPI_Comm comm) {
   const mapping::MapPtr<2> map = bent_pentagon_map();
   const Polygon pentagon = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0.5, 1}, {0, 1}}, "pentagon");
-  const fem::Mesh<2> mesh =
-      fem::refine_uniformly(fem::structured_mesh(pentagon, 8, 8, fem::CellType::triangle)).mesh;
+  const warpfem::Mesh<2> mesh =
+      warpfem::refine_uniformly(warpfem::structured_mesh(pentagon, 8, 8, warpfem::CellType::triangle)).mesh;
   auto p =
       std::make_unique<fem::PoissonProblem>(comm, mesh, map, 1, 4, multigrid::test::mixed_problem(pentagon));
   p->assemble();
@@ -243,7 +243,7 @@ TEST(FusedChebyshev, NewMatrixValuesReachTheSmoothers) {
   multigrid::PoissonMultigridOptions o;
   o.linear.rtol = 1e-10;
   multigrid::PoissonMultigridSolver mg(
-      PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 3,
+      PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 3,
       std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
   petsc::Vector start;
   WARPFEM_PETSC_CHECK(VecDuplicate(mg.finest().solution(), start.out()));
@@ -297,7 +297,7 @@ TEST(FusedChebyshev, RefusesBadIntervalsAndNonPositiveDiagonals) {
 // The CG estimate of λmax(D⁻¹A) (P2/Q2 levels) is a Ritz value: at most λmax,
 // and close to it after 10 steps.
 TEST(FusedChebyshev, CgEstimateApproachesTheJacobiSpectrumFromBelow) {
-  fem::PoissonProblem p(PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5),
+  fem::PoissonProblem p(PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5),
                         std::make_shared<mapping::IdentityMap<2>>(), 2, 6, multigrid::test::mixed_problem());
   p.assemble();
   // λmax(D^{-1/2} A D^{-1/2}) densely, from the whole matrix on every rank.
@@ -350,7 +350,7 @@ TEST(FusedChebyshev, MultigridLevelsAreFusedWithPetscsIterations) {
       o.multigrid.chebyshev_kernel = kernel;
       o.linear.rtol = 1e-10;
       multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD,
-                                           multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5),
+                                           multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5),
                                            refinements, std::make_shared<mapping::IdentityMap<2>>(), order,
                                            2 * order + 1, multigrid::test::mixed_problem(), o);
       PC pc = nullptr;
@@ -391,7 +391,7 @@ TEST(FusedChebyshev, MultigridLevelsAreFusedWithPetscsIterations) {
     o.linear.prefix = "fused_option_test_";
     WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, name, value));
     multigrid::PoissonMultigridSolver mg(
-        PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 1,
+        PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 1,
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
     WARPFEM_PETSC_CHECK(PetscOptionsClearValue(nullptr, name));
     PC pc = nullptr;

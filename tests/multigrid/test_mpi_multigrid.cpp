@@ -22,9 +22,9 @@ Result run(MPI_Comm comm, int order, multigrid::MultigridSettings settings = {})
   multigrid::PoissonMultigridOptions o;
   o.multigrid = settings;
   o.linear.rtol = 1e-11;
-  multigrid::PoissonMultigridSolver mg(comm, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 3,
-                                       std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1,
-                                       multigrid::test::mixed_problem(), o);
+  multigrid::PoissonMultigridSolver mg(
+      comm, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 3,
+      std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1, multigrid::test::mixed_problem(), o);
   const auto report = mg.solve();
   return {mg.finest().distribution().gather_all(mg.finest().solution()), report.linear.iterations};
 }
@@ -74,7 +74,7 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
     multigrid::PoissonMultigridOptions o;
     o.linear.rtol = 1e-11;
     return std::make_unique<multigrid::PoissonMultigridSolver>(
-        comm, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 5,
+        comm, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 5,
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
   };
   const auto mg = solver(MPI_COMM_WORLD);
@@ -89,7 +89,7 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
     const auto& fine_cells = mg->level(l).distribution().local_cells();
     EXPECT_EQ(fine_cells.size(), 4 * coarse_cells.size()) << "level " << l;
     for (const Index c : fine_cells)
-      ASSERT_TRUE(coarse.count(fem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
+      ASSERT_TRUE(coarse.count(warpfem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
   }
   EXPECT_GE(nested_levels, 2);
   // The Chebyshev bound is global: the same on two ranks as on one.
@@ -109,7 +109,7 @@ TEST(MpiElasticityMultigrid, TwoRankSolveMatchesTheDirectSolver) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
   for (int order : {1, 2}) {
-    const auto r = multigrid::test::solve_both(fem::CellType::triangle, order, 2);
+    const auto r = multigrid::test::solve_both(warpfem::CellType::triangle, order, 2);
     EXPECT_LT(r.relative_difference, 1e-7) << "P" << order;
     EXPECT_LE(r.iterations, 30) << "P" << order;
   }
@@ -124,7 +124,7 @@ TEST(MpiElasticityMultigrid, CoarseLevelsAreNestedUnderAFinestSpaceOnTheNestedPa
   ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
   // An unstructured coarse mesh: per-level Morton cuts of its refinements are not
   // nested (those of a structured square would be).
-  const fem::MeshHierarchy hierarchy(multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), 5);
+  const fem::MeshHierarchy hierarchy(multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 5);
   const std::vector<std::vector<int>> owners = fem::nested_partitions(hierarchy, size);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(),
                                      std::make_shared<mapping::IdentityMap<2>>(), 1, 0,
@@ -142,7 +142,7 @@ TEST(MpiElasticityMultigrid, CoarseLevelsAreNestedUnderAFinestSpaceOnTheNestedPa
     const std::set<Index> coarse(local_cells(l - 1).begin(), local_cells(l - 1).end());
     EXPECT_EQ(local_cells(l).size(), 4 * coarse.size()) << "level " << l;
     for (const Index c : local_cells(l))
-      ASSERT_TRUE(coarse.count(fem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
+      ASSERT_TRUE(coarse.count(warpfem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
   }
   EXPECT_GE(nested_levels, 2);
   EXPECT_THROW(mg.coarse_distribution(mg.num_levels() - 1), Error);

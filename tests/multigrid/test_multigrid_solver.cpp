@@ -16,13 +16,13 @@ using multigrid::test::coarse_l_shape;
 namespace {
 
 struct Case {
-  fem::CellType type;
+  warpfem::CellType type;
   int order;
   int max_iterations;
 };
 
 std::string name(const ::testing::TestParamInfo<Case>& info) {
-  return (info.param.type == fem::CellType::triangle ? "P" : "Q") + std::to_string(info.param.order);
+  return (info.param.type == warpfem::CellType::triangle ? "P" : "Q") + std::to_string(info.param.order);
 }
 
 /// ‖b − A u‖ / ‖b‖ of the finest level, computed independently of the KSP.
@@ -89,16 +89,16 @@ TEST_P(MultigridIterations, AreBoundedIndependentlyOfMeshSize) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, MultigridIterations,
-                         ::testing::Values(Case{fem::CellType::triangle, 1, 12},
-                                           Case{fem::CellType::triangle, 2, 15},
-                                           Case{fem::CellType::quadrilateral, 1, 12},
-                                           Case{fem::CellType::quadrilateral, 2, 15}),
+                         ::testing::Values(Case{warpfem::CellType::triangle, 1, 12},
+                                           Case{warpfem::CellType::triangle, 2, 15},
+                                           Case{warpfem::CellType::quadrilateral, 1, 12},
+                                           Case{warpfem::CellType::quadrilateral, 2, 15}),
                          name);
 
 // The warped problem (curved cells, J = J_f J_G at every quadrature point) keeps the h-independence.
 TEST(MultigridIterationsOnWarpedGeometry, AreBoundedIndependentlyOfMeshSize) {
   const auto warp = std::make_shared<SineWarp>();
-  for (const Case c : {Case{fem::CellType::triangle, 1, 12}, Case{fem::CellType::triangle, 2, 15}}) {
+  for (const Case c : {Case{warpfem::CellType::triangle, 1, 12}, Case{warpfem::CellType::triangle, 2, 15}}) {
     std::vector<int> its;
     for (int r = 1; r <= 4; ++r) {
       double residual = 0;
@@ -116,7 +116,7 @@ TEST(MultigridIterationsOnWarpedGeometry, AreBoundedIndependentlyOfMeshSize) {
 
 TEST(MultigridVariants, SorChebyshevSorWCycleFCycleAndGalerkinAllConvergeQuickly) {
   using S = multigrid::MultigridSettings;
-  const Case p2{fem::CellType::triangle, 2, 15};
+  const Case p2{warpfem::CellType::triangle, 2, 15};
   for (const S s :
        {S{.smoother = S::Smoother::sor}, S{.smoother = S::Smoother::chebyshev_sor}, S{.cycle = S::Cycle::w},
         S{.cycle = S::Cycle::f}, S{.coarse_operators = S::CoarseOperators::galerkin}}) {
@@ -135,7 +135,7 @@ TEST(MultigridVariants, ChebyshevSorSettingConfiguresEveryLevel) {
   using S = multigrid::MultigridSettings;
   multigrid::PoissonMultigridOptions o;
   o.multigrid = S{.smoother = S::Smoother::chebyshev_sor};
-  multigrid::PoissonMultigridSolver mg(MPI_COMM_SELF, coarse_l_shape(fem::CellType::triangle, 0.5), 2,
+  multigrid::PoissonMultigridSolver mg(MPI_COMM_SELF, coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
                                        std::make_shared<mapping::IdentityMap<2>>(), 1, 3,
                                        multigrid::test::mixed_problem(), o);
   PC pc = nullptr;
@@ -155,14 +155,14 @@ TEST(MultigridVariants, ChebyshevSorSettingConfiguresEveryLevel) {
 }
 
 TEST(MultigridSolver, RejectsNegativeRefinements) {
-  EXPECT_THROW(solve({fem::CellType::triangle, 1, 12}, -1, {}), Error);
+  EXPECT_THROW(solve({warpfem::CellType::triangle, 1, 12}, -1, {}), Error);
 }
 
 // Coarse levels always stream their geometry; streaming the finest one too must
 // not change the multigrid solve (same operators, same iterations, same solution).
 TEST(MultigridGeometryStorage, StreamedFinestLevelGivesTheCachedSolution) {
   const auto warp = std::make_shared<SineWarp>();
-  const Case p2{fem::CellType::triangle, 2, 15};
+  const Case p2{warpfem::CellType::triangle, 2, 15};
   auto run = [&](fem::GeometryStorage storage, petsc::Vector& u) {
     multigrid::PoissonMultigridOptions o;
     o.finest_geometry = storage;

@@ -7,8 +7,9 @@
 #include <functional>
 
 #include "core/petsc/check.hpp"
-#include "fem/dof_distribution.hpp"
-#include "fem/mesh_factory.hpp"
+#include "fem/dofs/dof_distribution.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
 #include "multigrid/dirichlet_dofs.hpp"
 #include "multigrid/prolongation.hpp"
 #include "multigrid_fixtures.hpp"
@@ -21,12 +22,12 @@ namespace {
 using Polynomial = std::function<double(const Point<2>&)>;
 
 struct Case {
-  fem::CellType type;
+  warpfem::CellType type;
   int order;
 };
 
 std::string name(const ::testing::TestParamInfo<Case>& info) {
-  return (info.param.type == fem::CellType::triangle ? "P" : "Q") + std::to_string(info.param.order);
+  return (info.param.type == warpfem::CellType::triangle ? "P" : "Q") + std::to_string(info.param.order);
 }
 
 petsc::Vector interpolate(const fem::DofMap& dofs, const fem::DofDistribution& dist, const Polynomial& g) {
@@ -93,9 +94,10 @@ TEST_P(Prolongation, ReproducesQuadraticsExactlyForOrderTwo) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, Prolongation,
-                         ::testing::Values(Case{fem::CellType::triangle, 1}, Case{fem::CellType::triangle, 2},
-                                           Case{fem::CellType::quadrilateral, 1},
-                                           Case{fem::CellType::quadrilateral, 2}),
+                         ::testing::Values(Case{warpfem::CellType::triangle, 1},
+                                           Case{warpfem::CellType::triangle, 2},
+                                           Case{warpfem::CellType::quadrilateral, 1},
+                                           Case{warpfem::CellType::quadrilateral, 2}),
                          name);
 
 class GalerkinConsistency : public ::testing::TestWithParam<Case> {};
@@ -106,10 +108,10 @@ class GalerkinConsistency : public ::testing::TestWithParam<Case> {};
 TEST_P(GalerkinConsistency, GalerkinCoarseOperatorEqualsRediscretization) {
   const Case c = GetParam();
   // Quadrilaterals: rectangles (a structured grid), so that the integrands are polynomials.
-  const bool triangles = c.type == fem::CellType::triangle;
+  const bool triangles = c.type == warpfem::CellType::triangle;
   const Polygon rectangle = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {0, 1}});
-  const fem::Mesh<2> mesh =
-      triangles ? coarse_l_shape(c.type, 0.5) : fem::structured_mesh(rectangle, 5, 3, c.type);
+  const warpfem::Mesh<2> mesh =
+      triangles ? coarse_l_shape(c.type, 0.5) : warpfem::structured_mesh(rectangle, 5, 3, c.type);
   const fem::MeshHierarchy h(mesh, 1);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   // Triangles: boundary parts selected by facet tag; rectangles: per node on the polygon (as apps/ does).
@@ -137,7 +139,8 @@ TEST_P(GalerkinConsistency, GalerkinCoarseOperatorEqualsRediscretization) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, GalerkinConsistency,
-                         ::testing::Values(Case{fem::CellType::triangle, 1}, Case{fem::CellType::triangle, 2},
-                                           Case{fem::CellType::quadrilateral, 1},
-                                           Case{fem::CellType::quadrilateral, 2}),
+                         ::testing::Values(Case{warpfem::CellType::triangle, 1},
+                                           Case{warpfem::CellType::triangle, 2},
+                                           Case{warpfem::CellType::quadrilateral, 1},
+                                           Case{warpfem::CellType::quadrilateral, 2}),
                          name);

@@ -15,7 +15,7 @@
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
-#include "fem/pullback_mesher.hpp"
+#include "fem/hierarchy/pullback_mesher.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/chebyshev_bounds.hpp"
@@ -33,7 +33,7 @@ std::unique_ptr<multigrid::PoissonMultigridSolver> smoothed_l_shape(int order, i
   multigrid::PoissonMultigridOptions o;
   o.multigrid.prolongation = S::Prolongation::smoothed;
   return std::make_unique<multigrid::PoissonMultigridSolver>(
-      PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(fem::CellType::triangle, 0.5), refinements,
+      PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), refinements,
       std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1, multigrid::test::mixed_problem(), o);
 }
 
@@ -182,7 +182,7 @@ TEST(SmoothedProlongationOnTheGear, KeepsTheIterationCountFlat) {
   const mapping::MapSpec spec =
       io::parse_required_map(io::ConfigNode(io::ConfigNode::parse_file(file), file));
   const mapping::MapPtr<2> map = mapping::make_map(spec);
-  const fem::Mesh<2> coarse =
+  const warpfem::Mesh<2> coarse =
       fem::pull_back_target_mesh(*spec.source, *spec.target, *map, {.max_edge_length = 0.15});
   const fem::PoissonData data = multigrid::test::unit_source_zero_dirichlet();
   const auto iterations = [&](int refinements, S::Prolongation prolongation) {
@@ -191,7 +191,7 @@ TEST(SmoothedProlongationOnTheGear, KeepsTheIterationCountFlat) {
     o.multigrid.prolongation = prolongation;
     o.finest_geometry = fem::GeometryStorage::streamed;
     multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, refinements, map, 1,
-                                         fem::default_quadrature_degree(1), data, o);
+                                         warpfem::default_quadrature_degree(1), data, o);
     const auto report = mg.solve();
     EXPECT_TRUE(report.linear.converged);
     return report.linear.iterations;

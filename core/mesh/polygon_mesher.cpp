@@ -1,0 +1,120 @@
+#include "core/mesh/polygon_mesher.hpp"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesh_vertex_base_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+
+#include "core/error.hpp"
+
+namespace warpfem {
+namespace {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using VertexBase = CGAL::Delaunay_mesh_vertex_base_2<Kernel>;
+using FaceBase = CGAL::Delaunay_mesh_face_base_2<Kernel>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds>;
+using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+using Mesher = CGAL::Delaunay_mesher_2<Cdt, Criteria>;
+
+double distance_to_segment(const Point<2>& p, const Point<2>& a, const Point<2>& b) {
+  const Point<2> d = b - a;
+  const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * d)).norm();
+}
+}  // namespace
+
+Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
+                     const std::vector<Point<2>>& interior_points) {
+  // CGAL compares squared lengths: a bound whose square underflows to 0 would mean "no bound".
+  const double h = options.max_edge_length;
+  if (h > 0 && !(h * h > 0 && std::isfinite(h))) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", h);
+    throw Error(
+        std::string("edge length bound ") + text + " cannot be used: its square is not a positive double",
+        {.file = "", .key_path = "/mesh/max_edge_length", .hint = "choose a larger edge length"});
+  }
+  const Index n = polygon.size();
+  Cdt cdt;
+  std::vector<Cdt::Vertex_handle> corners;
+  for (Index i = 0; i < n; ++i)
+    corners.push_back(cdt.insert(Cdt::Point(polygon.vertex(i).x(), polygon.vertex(i).y())));
+  for (Index i = 0; i < n; ++i) cdt.insert_constraint(corners[i], corners[polygon.wrap(i + 1)]);
+  for (const Point<2>& p : interior_points) cdt.insert(Cdt::Point(p.x(), p.y()));
+
+  // A seed-free refinement meshes every bounded component; the polygon is
+  // simple so the only bounded component is its interior.
+  Mesher mesher(cdt);
+  const double size = options.max_edge_length > 0 ? options.max_edge_length : 0.0;
+  mesher.set_criteria(Criteria(options.shape_bound, size));
+  mesher.refine_mesh();
+
+  Mesh<2> mesh;
+  mesh.cell_type = CellType::triangle;
+  std::map<Cdt::Vertex_handle, Index> index;
+  std::vector<Point<2>> verts;
+  std::vector<std::array<Index, 3>> tris;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (!f->is_in_domain()) continue;
+    std::array<Index, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      auto v = f->vertex(k);
+      auto [it, inserted] = index.try_emplace(v, static_cast<Index>(verts.size()));
+      if (inserted) verts.emplace_back(v->point().x(), v->point().y());
+      t[k] = it->second;
+    }
+    tris.push_back(t);  // CGAL faces are counter-clockwise
+  }
+  if (tris.empty())
+    throw Error(
+        polygon.name() + ": meshing produced no triangles",
+        {.file = "", .key_path = "", .hint = "check the polygon (it must be simple and counter-clockwise)"});
+
+  mesh.vertices.resize(static_cast<Index>(verts.size()), 2);
+  for (std::size_t i = 0; i < verts.size(); ++i)
+    mesh.vertices.row(static_cast<Index>(i)) = verts[i].transpose();
+  mesh.cells.resize(static_cast<Index>(tris.size()), 3);
+  for (std::size_t c = 0; c < tris.size(); ++c)
+    for (int k = 0; k < 3; ++k) mesh.cells(static_cast<Index>(c), k) = tris[c][k];
+
+  // Boundary facets: edges of in-domain faces whose neighbour is outside.
+  std::vector<std::array<Index, 2>> facets;
+  std::vector<int> tags;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (!f->is_in_domain()) continue;
+    for (int k = 0; k < 3; ++k) {
+      auto nb = f->neighbor(k);
+      if (!cdt.is_infinite(nb) && nb->is_in_domain()) continue;
+      // Edge opposite vertex k, oriented counter-clockwise around the domain.
+      const Index a = index.at(f->vertex(cdt.ccw(k)));
+      const Index b = index.at(f->vertex(cdt.cw(k)));
+      const Point<2> mid = 0.5 * (verts[a] + verts[b]);
+      int best = -1;
+      double best_d = std::numeric_limits<double>::infinity();
+      for (Index e = 0; e < n; ++e) {
+        const double d = distance_to_segment(mid, polygon.vertex(e), polygon.vertex(e + 1));
+        if (d < best_d) best_d = d, best = static_cast<int>(e);
+      }
+      facets.push_back({a, b});
+      tags.push_back(best);
+    }
+  }
+  mesh.boundary_facets.resize(static_cast<Index>(facets.size()), 2);
+  for (std::size_t i = 0; i < facets.size(); ++i) {
+    mesh.boundary_facets(static_cast<Index>(i), 0) = facets[i][0];
+    mesh.boundary_facets(static_cast<Index>(i), 1) = facets[i][1];
+  }
+  mesh.facet_tags = std::move(tags);
+  return mesh;
+}
+
+}  // namespace warpfem

@@ -1,0 +1,23 @@
+#pragma once
+// Splits the cells of a replicated mesh among MPI ranks: cells are sorted
+// along a Morton (Z-order) curve of their centroids and cut into contiguous
+// chunks of equal size. Deterministic, so every rank computes the same answer
+// without communication, and spatially compact, so interfaces stay short.
+
+#include <vector>
+
+#include "core/mesh/mesh.hpp"
+
+namespace warpfem::fem {
+
+/// Owner rank of every cell.
+std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts);
+
+/// Owner rank of every fine cell of a uniform refinement (refine_uniformly: the
+/// children of coarse cell c are fine cells 4c … 4c+3): the owner of the coarse
+/// cell it lies in. A partition inherited this way is nested: a rank's fine
+/// cells cover exactly its coarse cells, so transfers between the two levels
+/// stay on the rank except along the interface.
+std::vector<int> inherit_partition(const std::vector<int>& coarse_owner);
+
+}  // namespace warpfem::fem

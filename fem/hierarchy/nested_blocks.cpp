@@ -1,0 +1,76 @@
+#include "fem/hierarchy/nested_blocks.hpp"
+
+#include <string>
+#include <utility>
+
+#include "core/error.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/mesh_hierarchy.hpp"
+
+namespace warpfem::fem {
+
+std::vector<char> blocks_sharing_a_vertex(const Mesh<2>& base, const std::vector<char>& seed) {
+  std::vector<char> touched(static_cast<std::size_t>(base.num_vertices()), 0);
+  const Index nb = base.num_cells(), nv = base.cells.cols();
+  for (Index b = 0; b < nb; ++b)
+    if (seed[static_cast<std::size_t>(b)])
+      for (Index k = 0; k < nv; ++k) touched[static_cast<std::size_t>(base.cells(b, k))] = 1;
+  std::vector<char> out(static_cast<std::size_t>(nb), 0);
+  for (Index b = 0; b < nb; ++b)
+    for (Index k = 0; k < nv; ++k)
+      if (touched[static_cast<std::size_t>(base.cells(b, k))]) out[static_cast<std::size_t>(b)] = 1;
+  return out;
+}
+
+std::vector<std::array<Index, 2>> block_cell_ranges(const std::vector<Index>& blocks, Index cells_per_block) {
+  std::vector<std::array<Index, 2>> ranges;
+  for (Index b : blocks) {
+    if (!ranges.empty() && ranges.back()[1] == b * cells_per_block)
+      ranges.back()[1] += cells_per_block;
+    else
+      ranges.push_back({b * cells_per_block, (b + 1) * cells_per_block});
+  }
+  return ranges;
+}
+
+std::vector<Index> NestedBlocks::blocks_near(int rank) const {
+  require(base && base->num_cells() == num_blocks(), "NestedBlocks: the base mesh does not match the blocks");
+  std::vector<char> own(owner.size(), 0);
+  for (std::size_t b = 0; b < owner.size(); ++b) own[b] = owner[b] == rank;
+  const std::vector<char> near = blocks_sharing_a_vertex(*base, own);
+  std::vector<Index> list;
+  for (Index b = 0; b < num_blocks(); ++b)
+    if (near[static_cast<std::size_t>(b)]) list.push_back(b);
+  return list;
+}
+
+NestedBlocks nested_blocks(const MeshHierarchy& h, int base, int level, std::vector<int> base_owner) {
+  require(base >= 0 && base < level && level < h.num_levels(),
+          "nested_blocks: level " + std::to_string(level) + " is not above base level " +
+              std::to_string(base) + " in a hierarchy of " + std::to_string(h.num_levels()) + " levels");
+  const Mesh<2>& base_mesh = h.levels[static_cast<std::size_t>(base)];
+  require(static_cast<Index>(base_owner.size()) == base_mesh.num_cells(),
+          "nested_blocks: " + std::to_string(base_owner.size()) + " owners for " +
+              std::to_string(base_mesh.num_cells()) + " base cells");
+  NestedBlocks blocks;
+  blocks.base = &base_mesh;
+  blocks.owner = std::move(base_owner);
+  // The blocks' first coarse cells on level - 1 are 4^(k-1) apart; the
+  // refinement into `level` recorded where each coarse cell's new vertices start.
+  Index coarse_per_block = 1;
+  for (int l = base; l + 1 < level; ++l) coarse_per_block *= RefinedMesh::children_per_cell;
+  blocks.cells_per_block = coarse_per_block * RefinedMesh::children_per_cell;
+  const std::vector<TableIndex>& first_new =
+      h.transfers[static_cast<std::size_t>(level - 1)].first_new_vertex;
+  const Index nb = blocks.num_blocks();
+  require(static_cast<Index>(first_new.size()) == nb * coarse_per_block + 1,
+          "nested_blocks: level " + std::to_string(level) +
+              " was not refined by refine_uniformly from level " + std::to_string(level - 1));
+  blocks.first_vertex.resize(static_cast<std::size_t>(nb) + 1);
+  for (Index b = 0; b <= nb; ++b)
+    blocks.first_vertex[static_cast<std::size_t>(b)] =
+        first_new[static_cast<std::size_t>(b * coarse_per_block)];
+  return blocks;
+}
+
+}  // namespace warpfem::fem

@@ -1,0 +1,62 @@
+#pragma once
+// The partition of a refined level that descends from a partitioned base level.
+//
+// refine_uniformly orders cells hierarchically (the children of coarse cell c
+// are fine cells 4c … 4c+3) and numbers vertices by first use in that order.
+// On level base + k, the descendants of base cell b are therefore the
+// contiguous cells [b 4^k, (b + 1) 4^k), and the vertices they use first are
+// contiguous too. A partition inherited from the base level (every cell takes
+// the owner of its base cell) is then described per *block* (base cell)
+// instead of per cell: the owner of every cell, the rank's cells and, for
+// vertex DOFs, the owner and PETSc number of every DOF follow from a few
+// numbers per block, without scanning the level's cells.
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "core/mesh/mesh.hpp"
+
+namespace warpfem::fem {
+
+struct MeshHierarchy;
+
+struct NestedBlocks {
+  /// The partitioned base level (its cell adjacency gives the blocks next to a rank's).
+  const Mesh<2>* base = nullptr;
+  /// Owner rank of every base cell (block).
+  std::vector<int> owner;
+  /// 4^k for a level k refinements above the base.
+  Index cells_per_block = 1;
+  /// first_vertex[b] … first_vertex[b + 1]: the vertices block b's cells use
+  /// first (blocks + 1 entries); vertices from first_vertex.back() on lie in no cell.
+  std::vector<TableIndex> first_vertex;
+
+  Index num_blocks() const { return static_cast<Index>(owner.size()); }
+  Index num_cells() const { return num_blocks() * cells_per_block; }
+  int cell_owner(Index cell) const { return owner[static_cast<std::size_t>(cell / cells_per_block)]; }
+  /// Blocks whose cells can contain a vertex that one of `rank`'s blocks uses
+  /// first: its own and those sharing a base vertex with one of them, in order.
+  std::vector<Index> blocks_near(int rank) const;
+};
+
+/// Base cells sharing a vertex with a cell of `seed` (masks over the base cells;
+/// the seed's own cells included).
+std::vector<char> blocks_sharing_a_vertex(const Mesh<2>& base, const std::vector<char>& seed);
+
+/// The cells of `blocks` (increasing) on a level of `cells_per_block` cells per
+/// block, as ranges [first, last), consecutive blocks merged.
+std::vector<std::array<Index, 2>> block_cell_ranges(const std::vector<Index>& blocks, Index cells_per_block);
+
+/// The owners of one level's cells: explicit (one rank per cell, the same on
+/// every rank) on and below the partitioned base level, as blocks above it.
+struct LevelPartition {
+  std::vector<int> cell_owner;
+  std::optional<NestedBlocks> blocks;
+};
+
+/// The blocks of level `level` of `h` over the partitioned level `base` < `level`
+/// (`base_owner`: one rank per cell of level `base`).
+NestedBlocks nested_blocks(const MeshHierarchy& h, int base, int level, std::vector<int> base_owner);
+
+}  // namespace warpfem::fem

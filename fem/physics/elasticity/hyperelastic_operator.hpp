@@ -1,0 +1,114 @@
+#pragma once
+// The discrete hyperelastic operator on a warped mesh (total Lagrangian on the
+// warped reference configuration f(Ω0)): for a displacement u of a vector
+// Lagrange space it assembles into PETSc
+//   R(u) = ∫ P(F) : ∇φ dx + ∫ ρ φ·a dx − s (∫ b·φ dx + ∫ t̄·φ ds)      (F = I + ∇u)
+// and its Jacobian, where ∇ is the physical gradient J⁻ᵀ∇̂ read from the cached
+// fem::WarpedGeometry (the map is never evaluated again after construction).
+// Rows of Dirichlet-constrained DOFs are replaced by u_D − s g_D(t) and by
+// identity rows/columns in the Jacobian.
+//
+// Admissibility: a displacement with det F ≤ 0 at any quadrature point is
+// rejected (residual() returns false on every rank and writes no NaN).
+
+#include <mpi.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/petsc/handles.hpp"
+#include "fem/geometry/warped_geometry.hpp"
+#include "fem/physics/elasticity/elasticity_data.hpp"
+#include "fem/physics/elasticity/vector_space.hpp"
+#include "fem/values/cell_values.hpp"
+#include "mapping/map.hpp"
+
+namespace warpfem::fem {
+
+class HyperelasticOperator {
+ public:
+  /// `mesh` must outlive the operator. quadrature_degree 0 picks 2·order + 2.
+  /// `cell_owner`: the rank of every cell (empty: partition_cells()); with
+  /// multigrid, the finest entry of fem::nested_partitions() of the hierarchy.
+  HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
+                       int quadrature_degree, ElasticityData data, const std::vector<int>& cell_owner = {});
+
+  const VectorSpace& space() const { return space_; }
+  const WarpedGeometry<2>& geometry() const { return geometry_; }
+  const ElasticityData& data() const { return data_; }
+  const Material& material() const { return data_.material; }
+  const mapping::Map<2>& map() const { return *map_; }
+
+  /// R(u) with loads scaled by `scale` and evaluated at time `t`; `inertia` (may be
+  /// null) is the field a (+ damping) multiplying the mass matrix. Collective.
+  /// Returns false, leaving r unspecified but finite, if det F ≤ 0 anywhere.
+  bool residual(Vec u, Vec inertia, double scale, double t, Vec r) const;
+  /// J = ∂R/∂u + mass_shift · M (mass_shift = dA/dU of a time integrator). Collective.
+  /// `constrain` false keeps the rows and columns of constrained DOFs (for lifting predictors).
+  void jacobian(Vec u, double mass_shift, Mat J, bool constrain = true) const;
+  /// Π(u) = ∫ W(F) dx − s f_ext(t)·u, the potential energy whose gradient is R (free rows);
+  /// +∞ is not returned: an inadmissible u gives std::nullopt.
+  std::optional<double> potential_energy(Vec u, double scale, double t) const;
+
+  /// Attaches the rigid body modes (translations, rotation about the physical node positions)
+  /// as near null space, which algebraic multigrid (-elasticity_pc_type gamg) needs.
+  void set_near_null_space(Mat J) const;
+
+  /// min det F over all quadrature points of all ranks.
+  double min_det_F(Vec u) const;
+  /// Sets the constrained entries of `u` to scale · g_D(t).
+  void apply_dirichlet(Vec u, double scale, double t) const;
+  /// Sets the constrained entries of `v` to zero.
+  void zero_constrained(Vec v) const;
+  /// Number of constrained scalar DOFs over all ranks.
+  Index num_constrained() const { return num_constrained_global_; }
+
+  /// ∫ W(F) dx (requires an admissible u).
+  double strain_energy(Vec u) const;
+  /// ½ ∫ ρ |v|² dx.
+  double kinetic_energy(Vec v) const;
+  /// s · f_ext(t) · u: the work of the (dead) loads.
+  double external_work(Vec u, double scale, double t) const;
+
+  /// ‖u − u_exact‖_L2 over the warped domain (collective).
+  double l2_error(Vec u, const VectorFunction& exact) const;
+
+  /// Per local cell (geometry().cells() order): min det F and mean von Mises stress
+  /// over its quadrature points, and ∫ cell of 1 (for averages). det F ≤ 0 gives von Mises NaN-free 0.
+  struct PointValues {
+    VectorX min_det_F, mean_von_mises, measure;
+    std::vector<std::vector<double>> von_mises;  ///< per cell, per quadrature point
+    std::vector<std::vector<double>> det_F;      ///< per cell, per quadrature point
+  };
+  PointValues point_values(Vec u) const;
+
+ private:
+  struct Constraint {
+    PetscInt local_row;  ///< index into the owned part of a vector
+    Point<2> x;          ///< physical position f(x0) of the node
+    const ScalarFunction* value;
+  };
+  /// Calls at_point(values, q) at every quadrature point, with `ue` holding the
+  /// cell's coefficients of `relevant` (if given).
+  template <class AtPoint>
+  void visit_points(const VectorX* relevant, VectorX& ue, AtPoint&& at_point) const;
+  void cell_coefficients(const VectorX& relevant, Index cell, VectorX& ue) const;
+  void block_indices(Index cell, std::vector<PetscInt>& idx) const;
+  Vec external_force(double t) const;
+  void setup_constraints();
+
+  MPI_Comm comm_;
+  mapping::MapPtr<2> map_;
+  ElasticityData data_;
+  VectorSpace space_;
+  WarpedGeometry<2> geometry_;
+  std::vector<Constraint> constraints_;
+  std::vector<PetscInt> constrained_rows_;  // global rows owned here
+  Index num_constrained_global_ = 0;
+  mutable petsc::Vector f_ext_;
+  mutable double f_ext_time_ = 0;
+  mutable bool f_ext_valid_ = false;
+};
+
+}  // namespace warpfem::fem

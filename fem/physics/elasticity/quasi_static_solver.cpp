@@ -1,0 +1,134 @@
+#include "fem/physics/elasticity/quasi_static_solver.hpp"
+
+#include <algorithm>
+#include <iomanip>
+#include <numeric>
+#include <optional>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/petsc/check.hpp"
+#include "core/timer.hpp"
+
+namespace warpfem::fem {
+
+int QuasiStaticReport::newton_iterations() const {
+  return std::accumulate(steps.begin(), steps.end(), 0,
+                         [](int n, const LoadStep& s) { return n + s.iterations; });
+}
+
+QuasiStaticSolver::QuasiStaticSolver(const HyperelasticOperator& op, NewtonOptions newton,
+                                     LoadSteppingOptions steps)
+    : op_(op), newton_(std::move(newton)), stepping_(steps) {
+  require(stepping_.steps >= 1, "load stepping needs at least one step");
+  require(stepping_.min_increment > 0, "the minimum load increment must be positive");
+  context_.op = &op_;
+  r_ = op_.space().create_vector();
+  J_ = op_.space().create_matrix(newton_.prefix.c_str());
+  op_.set_near_null_space(J_.get());
+  WARPFEM_PETSC_CHECK(SNESCreate(op_.space().comm(), snes_.out()));
+  WARPFEM_PETSC_CHECK(SNESSetFunction(snes_.get(), r_.get(), form_residual, this));
+  WARPFEM_PETSC_CHECK(SNESSetJacobian(snes_.get(), J_.get(), J_.get(), form_jacobian, this));
+  context_.objective = [this](Vec u) { return op_.potential_energy(u, load_, 1.0); };
+  configure_newton(snes_.get(), newton_, context_, J_.get());
+  delta_ = op_.space().create_vector();
+  rhs_ = op_.space().create_vector();
+}
+
+void QuasiStaticSolver::predict(Vec u, double load, Vec trial) {
+  WARPFEM_PETSC_CHECK(VecCopy(u, trial));
+  op_.apply_dirichlet(trial, load, 1.0);
+  WARPFEM_PETSC_CHECK(VecWAXPY(delta_.get(), -1.0, u, trial));  // nonzero on constrained DOFs only
+  PetscReal norm = 0;
+  WARPFEM_PETSC_CHECK(VecNorm(delta_.get(), NORM_INFINITY, &norm));
+  if (norm == 0) return;
+  // Solve K_II δ_I = −(R_I(u) + K_ID Δ_D) with K = K(u), i.e. one Newton step for the new boundary values.
+  op_.jacobian(u, 0.0, J_.get(), false);
+  WARPFEM_PETSC_CHECK(MatMult(J_.get(), delta_.get(), rhs_.get()));
+  if (!op_.residual(u, nullptr, load, 1.0, r_.get())) return;
+  WARPFEM_PETSC_CHECK(VecAXPY(rhs_.get(), 1.0, r_.get()));
+  op_.zero_constrained(rhs_.get());
+  WARPFEM_PETSC_CHECK(VecScale(rhs_.get(), -1.0));
+  op_.jacobian(u, 0.0, J_.get(), true);
+  KSP ksp = nullptr;
+  WARPFEM_PETSC_CHECK(SNESGetKSP(snes_.get(), &ksp));
+  WARPFEM_PETSC_CHECK(KSPSetOperators(ksp, J_.get(), J_.get()));
+  WARPFEM_PETSC_CHECK(KSPSolve(ksp, rhs_.get(), r_.get()));
+  KSPConvergedReason reason;
+  WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
+  if (reason < 0) return;
+  WARPFEM_PETSC_CHECK(VecAXPY(r_.get(), 1.0, trial));  // u + Δ + δ
+  if (op_.min_det_F(r_.get()) > 0) WARPFEM_PETSC_CHECK(VecCopy(r_.get(), trial));
+}
+
+PetscErrorCode QuasiStaticSolver::form_residual(SNES snes, Vec u, Vec r, void* ctx) {
+  auto* self = static_cast<QuasiStaticSolver*>(ctx);
+  return self->context_.guard.run([&] {
+    if (!self->op_.residual(u, nullptr, self->load_, 1.0, r)) self->context_.reject(snes);
+  });
+}
+
+PetscErrorCode QuasiStaticSolver::form_jacobian(SNES, Vec u, Mat, Mat P, void* ctx) {
+  auto* self = static_cast<QuasiStaticSolver*>(ctx);
+  return self->context_.guard.run([&] { self->op_.jacobian(u, 0.0, P); });
+}
+
+QuasiStaticReport QuasiStaticSolver::solve(Vec u, const std::function<void(const LoadStep&, Vec)>& on_step) {
+  QuasiStaticReport report;
+  const double nominal = 1.0 / stepping_.steps;
+  double s = 0, ds = nominal;
+  petsc::Vector trial;
+  WARPFEM_PETSC_CHECK(VecDuplicate(u, trial.out()));
+  while (s < 1.0 - 1e-14) {
+    ds = std::min(ds, 1.0 - s);
+    load_ = s + ds;
+    Stopwatch watch;
+    predict(u, load_, trial.get());
+    context_.residuals.clear();
+    log::info("  load step s = ", std::setprecision(6), load_, " (Δs = ", ds, ")");
+    const PetscErrorCode ierr = SNESSolve(snes_.get(), nullptr, trial.get());
+    context_.guard.rethrow_if_failed();
+    WARPFEM_PETSC_CHECK(ierr);
+    SNESConvergedReason reason;
+    WARPFEM_PETSC_CHECK(SNESGetConvergedReason(snes_.get(), &reason));
+    if (reason > 0) {
+      WARPFEM_PETSC_CHECK(VecCopy(trial.get(), u));
+      LoadStep step;
+      step.load = load_;
+      step.increment = ds;
+      WARPFEM_PETSC_CHECK(SNESGetIterationNumber(snes_.get(), &step.iterations));
+      step.residuals = context_.residuals;
+      step.seconds = watch.seconds();
+      report.steps.push_back(step);
+      s = load_;
+      log::info("  converged in ", step.iterations, " Newton iterations (", format_seconds(step.seconds),
+                ")");
+      if (on_step) on_step(step, u);
+      if (step.iterations <= newton_.max_iterations / 3)
+        ds = std::min(2 * ds, nominal);  // recover after cuts
+      continue;
+    }
+    ++report.rejected_steps;
+    const double next = ds / 2;
+    log::warning("load step to s = ", load_, " failed (", reason_text(reason),
+                 "); retrying with Δs = ", next);
+    if (next < stepping_.min_increment) {
+      std::ostringstream os;
+      os << "quasi-static solve failed: Newton did not converge from load factor s = " << s
+         << " even with the "
+         << "increment reduced to " << ds << " (" << reason_text(reason) << ")";
+      throw Error(os.str(),
+                  {.file = "",
+                   .key_path = "",
+                   .hint = "use more load steps, a smaller minimum increment, a smaller load, or check "
+                           "that the boundary conditions prevent rigid motions"});
+    }
+    ds = next;
+  }
+  report.domain_rejections = context_.domain_rejections;
+  report.step_halvings = context_.step_halvings;
+  return report;
+}
+
+}  // namespace warpfem::fem

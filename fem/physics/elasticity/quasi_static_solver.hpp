@@ -1,0 +1,65 @@
+#pragma once
+// Quasi-static hyperelasticity with adaptive load stepping: the load factor s
+// runs from 0 to 1 (all loads and prescribed displacements are scaled by s),
+// each increment is solved by Newton (fem/elasticity/newton.hpp) whose line
+// search also accepts decrease of the potential energy Π(u) = ∫W(F) − s f_ext·u,
+// starting from a linearized predictor of the prescribed displacement increment. A failed
+// increment is retried with half the increment, down to a minimum, and then
+// fails with a warpfem::Error; the displacement keeps the last converged state.
+
+#include <functional>
+#include <vector>
+
+#include "fem/physics/elasticity/newton.hpp"
+
+namespace warpfem::fem {
+
+struct LoadSteppingOptions {
+  int steps = 1;                ///< initial number of equal increments of s
+  double min_increment = 1e-4;  ///< give up when a failed increment would drop below this
+};
+
+struct LoadStep {
+  double load = 0;                ///< s after the step
+  double increment = 0;           ///< Δs of the step
+  int iterations = 0;             ///< Newton iterations
+  std::vector<double> residuals;  ///< |R| per Newton iteration (iteration 0 first)
+  double seconds = 0;
+};
+
+struct QuasiStaticReport {
+  std::vector<LoadStep> steps;  ///< converged steps
+  int rejected_steps = 0;       ///< increments that failed and were halved
+  int domain_rejections = 0;    ///< residuals rejected for det F <= 0
+  int step_halvings = 0;        ///< line-search halvings of Newton steps
+  int newton_iterations() const;
+};
+
+class QuasiStaticSolver {
+ public:
+  QuasiStaticSolver(const HyperelasticOperator& op, NewtonOptions newton = {},
+                    LoadSteppingOptions steps = {});
+
+  /// Solves for s = 0 → 1 starting from `u` (the state at s = 0, normally zero) and leaves the
+  /// result in `u`. `on_step` runs after every converged step (for output). Throws warpfem::Error
+  /// when the load cannot be applied; `u` then holds the last converged state.
+  QuasiStaticReport solve(Vec u, const std::function<void(const LoadStep&, Vec)>& on_step = {});
+
+ private:
+  static PetscErrorCode form_residual(SNES snes, Vec u, Vec r, void* ctx);
+  static PetscErrorCode form_jacobian(SNES snes, Vec u, Mat J, Mat P, void* ctx);
+  /// Initial guess of a load step: the prescribed-displacement increment plus its linearized
+  /// response (one Newton step about the converged state), if that is admissible.
+  void predict(Vec u, double load, Vec trial);
+
+  const HyperelasticOperator& op_;
+  NewtonOptions newton_;
+  LoadSteppingOptions stepping_;
+  NewtonContext context_;
+  double load_ = 0;
+  petsc::Vector r_, delta_, rhs_;
+  petsc::Matrix J_;
+  petsc::NonlinearSolver snes_;
+};
+
+}  // namespace warpfem::fem

@@ -1,0 +1,134 @@
+#pragma once
+// Poisson's equation −Δu = g on the warped domain f(Ω0), with Dirichlet data
+// imposed strongly and Neumann data ∂u/∂n = h naturally (thesis §9.1).
+// Lagrange P1/P2 (triangles) or Q1/Q2 (quadrilaterals) on the simple mesh;
+// geometry from WarpedGeometry; matrices and vectors are distributed PETSc objects.
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "core/petsc/handles.hpp"
+#include "core/petsc/linear_solve.hpp"
+#include "core/petsc/matrix_assembler.hpp"
+#include "core/polygon.hpp"
+#include "fem/assembly/boundary_parts.hpp"
+#include "fem/dofs/dof_distribution.hpp"
+#include "fem/geometry/warped_geometry.hpp"
+#include "fem/physics/functions.hpp"
+#include "mapping/map.hpp"
+
+namespace warpfem::fem {
+
+struct PoissonData {
+  ScalarFunction source = ConstantFunction{0.0};
+  std::vector<BoundaryCondition> dirichlet;
+  std::vector<BoundaryCondition> neumann;
+  /// The source polygon: boundary conditions then select polygon edges per
+  /// point (DOF node, boundary quadrature point), which is exact also when a
+  /// mesh facet spans several polygon edges. Without it, the facet tags are used.
+  std::optional<Polygon> boundary_polygon;
+};
+
+struct ErrorNorms {
+  double l2 = 0, h1_semi = 0;
+  double h1() const { return std::sqrt(l2 * l2 + h1_semi * h1_semi); }
+};
+
+/// Where a PoissonProblem's construction spent its time (seconds).
+struct PoissonSetupTimings {
+  double dof_map = 0;       ///< DOF numbering (edge numbering for P2/Q2)
+  double distribution = 0;  ///< cell partition, ownership, PETSc numbering
+  double geometry = 0;      ///< WarpedGeometry: the map at every quadrature point
+  double matrix = 0;        ///< sparsity pattern, PETSc matrix and vectors
+  double other = 0;         ///< shape tables, the map at the DOF nodes
+  double total() const { return dof_map + distribution + geometry + matrix + other; }
+};
+
+class PoissonProblem {
+ public:
+  /// `storage`: keep the warped geometry (cached, the default: assembly and error
+  /// passes reuse it) or evaluate the map again in every pass (streamed: no
+  /// geometry arrays, for operators assembled once; see warped_geometry.hpp).
+  /// `cell_owner`: the rank of every cell (empty: partition_cells()).
+  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
+                 PoissonData data, GeometryStorage storage = GeometryStorage::cached,
+                 const std::vector<int>& cell_owner = {});
+  /// A level of a hierarchy above its partitioned base (nested_level_partitions()).
+  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
+                 PoissonData data, GeometryStorage storage, const NestedBlocks& blocks);
+
+  /// Assembles the stiffness matrix and load vector and applies the boundary conditions.
+  /// The sparsity pattern and the matrix itself are created once by the constructor;
+  /// assemble() only computes values (call it again after changing nothing: same result).
+  void assemble();
+  /// Solves with KSP; the solution is kept in solution().
+  petsc::LinearSolveReport solve(const petsc::LinearSolveOptions& options);
+
+  Mat matrix() const { return A_.get(); }
+  Vec rhs() const { return b_.get(); }
+  Vec solution() const { return u_.get(); }
+  const Mesh<2>& mesh() const { return mesh_; }
+  const DofMap& dofs() const { return dofs_; }
+  const DofDistribution& distribution() const { return dist_; }
+  const WarpedGeometry<2>& geometry() const { return geometry_; }
+  const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
+  const mapping::Map<2>& map() const { return *map_; }
+
+  /// L2 and H1-seminorm errors against an exact solution (global over ranks).
+  ErrorNorms errors(const ScalarFunction& exact, const GradientFunction& exact_gradient) const;
+  /// ∫ 1 over the warped domain (the thesis' s(T)).
+  double area() const;
+  /// ‖u_h‖_L2 over the warped domain.
+  double solution_l2_norm() const;
+
+ private:
+  void find_dirichlet_dofs();
+  /// The Dirichlet data at flagged DOF d.
+  double fixed_value(Index d) const;
+  /// Removes the Dirichlet DOFs of a cell from its element matrix and vector:
+  /// their columns move to the right-hand side (fe −= ke[:, k] g_k), their rows
+  /// and columns become zero. `mask` has bit k set for local DOF k fixed.
+  void eliminate_fixed(const TableIndex* dofs, unsigned mask, double* ke, double* fe) const;
+  void apply_dirichlet();
+  void assemble_neumann(petsc::MatrixAssembler& assembler) const;
+  void create_matrix();
+
+  using DistributionMaker = std::function<DofDistribution(const DofMap&)>;
+  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
+                 PoissonData data, GeometryStorage storage, const DistributionMaker& distribute);
+
+  PoissonSetupTimings setup_timings_;  // first: the members below are timed into it
+  MPI_Comm comm_;
+  const Mesh<2>& mesh_;
+  mapping::MapPtr<2> map_;
+  PoissonData data_;
+  BoundaryParts parts_;
+  DofMap dofs_;
+  DofDistribution dist_;
+  WarpedGeometry<2> geometry_;
+  // Products of reference gradients per DOF pair (a, b), a <= b (rows in the
+  // order a = 0, b = 0..n-1, then a = 1, ...) and quadrature point:
+  // [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb. The element stiffness is
+  // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
+  static constexpr int kMaxPairs = 64;  // Q2: 45
+  std::vector<int> packed_entry_;       // entry a n + b of the element matrix -> its pair (row)
+  std::array<MatrixX, 3> gradient_products_;
+  std::array<std::vector<double>, 3> constant_products_;  // constant gradients: full n x n, any point
+  bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
+  bool serial_ = true;
+  // Dirichlet DOFs on the rank's stored boundary facets, owned or not: a flag
+  // per DOF (empty without Dirichlet conditions) and the data at each flagged
+  // DOF, sorted by DOF. Assembly eliminates them as it adds element matrices.
+  std::vector<char> fixed_;
+  std::vector<std::pair<Index, double>> fixed_values_;
+  // The owned ones: global rows and data values.
+  std::vector<PetscInt> dirichlet_rows_;
+  std::vector<PetscScalar> dirichlet_values_;
+  petsc::Matrix A_;
+  petsc::Vector b_, u_;
+};
+
+}  // namespace warpfem::fem

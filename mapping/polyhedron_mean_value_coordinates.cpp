@@ -1,0 +1,474 @@
+#include "mapping/polyhedron_mean_value_coordinates.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/threads.hpp"
+#include "mapping/detail/polyhedron_mean_value_kernel.hpp"
+
+namespace warpfem::mapping {
+
+PolyhedronArrays::PolyhedronArrays(const Polyhedron& polyhedron)
+    : PolyhedronArrays(polyhedron.vertices(), polyhedron.triangles()) {}
+
+PolyhedronArrays::PolyhedronArrays(const std::vector<Point<3>>& vertices,
+                                   const std::vector<Polyhedron::Triangle>& triangles) {
+  Point<3> lo = vertices.front(), hi = vertices.front();
+  for (const auto& v : vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  center = 0.5 * (lo + hi);
+  scale = (hi - lo).norm();
+  for (const auto& v : vertices) {
+    x.push_back((v.x() - center.x()) / scale);
+    y.push_back((v.y() - center.y()) / scale);
+    z.push_back((v.z() - center.z()) / scale);
+  }
+  for (const auto& t : triangles) {
+    a.push_back(static_cast<int>(t[0]));
+    b.push_back(static_cast<int>(t[1]));
+    c.push_back(static_cast<int>(t[2]));
+  }
+}
+
+namespace {
+
+/// Below this distance, relative to the shortest edge at a vertex (or to the
+/// edge's length), a point is on that vertex (edge).
+constexpr Real kSnap = 1e-13;
+/// A triangle whose plane passes within this fraction of the nearest of its
+/// vertices from x, with x's projection outside it, uses the h-factored form.
+constexpr Real kFactoredPlane = 0.25;
+
+/// Forward-mode derivative: a value and its gradient with respect to x.
+struct Dual {
+  double v = 0, d[3] = {0, 0, 0};
+  Dual() = default;
+  Dual(double value) : v(value) {}  // NOLINT: constants promote implicitly
+};
+inline Dual operator+(const Dual& a, const Dual& b) {
+  Dual r(a.v + b.v);
+  for (int k = 0; k < 3; ++k) r.d[k] = a.d[k] + b.d[k];
+  return r;
+}
+inline Dual operator-(const Dual& a, const Dual& b) {
+  Dual r(a.v - b.v);
+  for (int k = 0; k < 3; ++k) r.d[k] = a.d[k] - b.d[k];
+  return r;
+}
+inline Dual operator-(const Dual& a) {
+  Dual r(-a.v);
+  for (int k = 0; k < 3; ++k) r.d[k] = -a.d[k];
+  return r;
+}
+inline Dual operator*(const Dual& a, const Dual& b) {
+  Dual r(a.v * b.v);
+  for (int k = 0; k < 3; ++k) r.d[k] = a.d[k] * b.v + a.v * b.d[k];
+  return r;
+}
+inline Dual operator/(const Dual& a, const Dual& b) {
+  const double ib = 1 / b.v;
+  Dual r(a.v * ib);
+  for (int k = 0; k < 3; ++k) r.d[k] = (a.d[k] - r.v * b.d[k]) * ib;
+  return r;
+}
+inline Dual& operator+=(Dual& a, const Dual& b) {
+  return a = a + b;
+}
+/// Applies f with f(a.v) = value and f'(a.v) = slope.
+inline Dual chain(const Dual& a, double value, double slope) {
+  Dual r(value);
+  for (int k = 0; k < 3; ++k) r.d[k] = slope * a.d[k];
+  return r;
+}
+inline Dual sqrt(const Dual& a) {
+  const double s = std::sqrt(a.v);
+  return chain(a, s, 0.5 / s);
+}
+inline Dual abs(const Dual& a) {
+  return a.v < 0 ? -a : a;
+}
+inline Dual atan(const Dual& a) {
+  return chain(a, std::atan(a.v), 1 / (1 + a.v * a.v));
+}
+/// atan(z) / z, also for z → 0.
+inline Dual atanc(const Dual& z) {
+  if (std::abs(z.v) > 1e-3) return atan(z) / z;
+  const Dual z2 = z * z;
+  return 1.0 - z2 * (1.0 / 3 - z2 * (1.0 / 5 - z2 * (1.0 / 7)));
+}
+
+struct DVec {
+  Dual x, y, z;
+};
+inline DVec operator-(const DVec& a, const DVec& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Dual dot(const DVec& a, const DVec& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+inline Dual dot(const DVec& a, const Point<3>& b) {
+  return a.x * b.x() + a.y * b.y() + a.z * b.z();
+}
+inline DVec cross(const DVec& a, const DVec& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+Point<3> vertex(const PolyhedronArrays& P, Index v) {
+  return {P.x[v], P.y[v], P.z[v]};
+}
+
+/// Normalizes scaled weights w̃ (with gradients) into φ, ∇φ. The dominant
+/// weight d is treated apart, ∇φ_d = (S ∇w̃_d − w̃_d ∇S) / W², S = Σ_{k≠d} w̃_k,
+/// avoiding the cancellation of (1 − φ_d) ∇w̃_d next to a vertex.
+void normalize(const std::vector<Dual>& w, Real* phi, Real* dx, Real* dy, Real* dz) {
+  const Index n = static_cast<Index>(w.size());
+  Index d = 0;
+  for (Index k = 1; k < n; ++k)
+    if (std::abs(w[k].v) > std::abs(w[d].v)) d = k;
+  Dual S;
+  for (Index k = 0; k < n; ++k)
+    if (k != d) S += w[k];
+  const Dual W = S + w[d];
+  for (Index k = 0; k < n; ++k) phi[k] = w[k].v / W.v;
+  if (!dx) return;
+  Real* g[3] = {dx, dy, dz};
+  for (Index k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) g[c][k] = (w[k].d[c] - phi[k] * W.d[c]) / W.v;
+  for (int c = 0; c < 3; ++c) g[c][d] = (S.v * w[d].d[c] - w[d].v * S.d[c]) / (W.v * W.v);
+}
+
+/// The robust formula at a point (normalized coordinates) that is not on a
+/// vertex or an edge; gradients with respect to normalized coordinates.
+void robust_coordinates(const PolyhedronArrays& P, const Point<3>& x, Real* phi, Real* dx, Real* dy,
+                        Real* dz) {
+  const Index n = P.size(), m = P.triangle_count();
+  DVec X;
+  X.x = Dual(x.x());
+  X.y = Dual(x.y());
+  X.z = Dual(x.z());
+  X.x.d[0] = X.y.d[1] = X.z.d[2] = 1;
+  std::vector<DVec> s(static_cast<std::size_t>(n));
+  std::vector<Dual> r(static_cast<std::size_t>(n));
+  Index j = 0;
+  for (Index v = 0; v < n; ++v) {
+    s[v] = {P.x[v] - X.x, P.y[v] - X.y, P.z[v] - X.z};
+    r[v] = sqrt(dot(s[v], s[v]));
+    if (r[v].v < r[j].v) j = v;
+  }
+  // Per triangle: unit normal ν, 2A = |M|, signed distance h of x below the
+  // plane (h > 0 inside), and whether x projects into the triangle.
+  struct Face {
+    int v[3];
+    Point<3> nu;
+    Real two_area;
+    Dual h;
+    bool over;
+  };
+  std::vector<Face> face(static_cast<std::size_t>(m));
+  Dual eta = r[j];  // weights are scaled by the distance to the surface (≤ nearest vertex)
+  Index eta_face = -1;
+  double sigma = 1;
+  for (Index t = 0; t < m; ++t) {
+    Face& f = face[t];
+    f.v[0] = P.a[t], f.v[1] = P.b[t], f.v[2] = P.c[t];
+    const Point<3> p0 = vertex(P, f.v[0]), p1 = vertex(P, f.v[1]), p2 = vertex(P, f.v[2]);
+    const Point<3> M = (p1 - p0).cross(p2 - p0);
+    f.two_area = M.norm();
+    f.nu = M / f.two_area;
+    f.h = dot(s[f.v[0]], f.nu);
+    f.over = true;
+    for (int e = 0; e < 3; ++e) {
+      const Point<3> a = vertex(P, f.v[(e + 1) % 3]) - x, b = vertex(P, f.v[(e + 2) % 3]) - x;
+      if (f.nu.dot(a.cross(b)) < 0) f.over = false;
+    }
+    if (f.over && std::abs(f.h.v) < eta.v) {
+      sigma = f.h.v < 0 ? -1 : 1;
+      eta = sigma * f.h;
+      eta_face = t;
+    }
+  }
+  std::vector<Dual> w(static_cast<std::size_t>(n));
+  for (Index t = 0; t < m; ++t) {
+    const Face& f = face[t];
+    // Edge e is opposite vertex e: (a, b) = (v[e+1], v[e+2]), N_e = s_a × s_b.
+    DVec N[3];
+    Dual L[3], k[3];  // k_e = β_e / L_e
+    Real rho = std::numeric_limits<Real>::infinity();
+    for (int e = 0; e < 3; ++e) {
+      const Index a = f.v[(e + 1) % 3], b = f.v[(e + 2) % 3];
+      N[e] = cross(s[a], s[b]);
+      L[e] = sqrt(dot(N[e], N[e]));
+      const Dual c = dot(s[a], s[b]);
+      const Dual den = r[a] * r[b] + abs(c);
+      const Dual z = L[e] / den;  // tan(β/2) if c >= 0, cot(β/2) otherwise
+      k[e] = c.v >= 0 ? 2.0 * atanc(z) / den : (std::numbers::pi - 2.0 * atan(z)) / L[e];
+      rho = std::min(rho, r[f.v[e]].v);
+    }
+    if (!f.over && std::abs(f.h.v) < kFactoredPlane * rho) {
+      // x near the plane, projecting outside: w_i = h (c_i G + P_i) / (2|M|) with
+      // c_e = ν·N_e, g_e = ν × (p_b − p_a), P_i = Σ_e k_e g_e·g_i and
+      // G = Q / h², Q = Σ_e β_e c_e / L_e, whose O(1) part (the winding angle
+      // of the projected triangle) is exactly 0 outside; what remains is written
+      // with the h² factored out of every term.
+      const Dual h = f.h, h2 = h * h;
+      Point<3> g[3];
+      Dual c[3];
+      DVec A[3];
+      for (int e = 0; e < 3; ++e) {
+        const Index a = f.v[(e + 1) % 3], b = f.v[(e + 2) % 3];
+        g[e] = f.nu.cross(vertex(P, b) - vertex(P, a));
+        c[e] = dot(N[e], f.nu);
+        const Index v = f.v[e];
+        A[e] = {s[v].x - h * f.nu.x(), s[v].y - h * f.nu.y(), s[v].z - h * f.nu.z()};
+      }
+      Dual G;
+      for (int e = 0; e < 3; ++e) {
+        if (c[e].v == 0) continue;  // x on this edge's line in the plane: the term vanishes
+        const int a = (e + 1) % 3, b = (e + 2) % 3;
+        const Dual aa = dot(A[a], A[b]);  // projected s_a · s_b
+        const Dual ss = aa + h2;          // s_a · s_b
+        const Dual ac = abs(c[e]);
+        const Real g2 = g[e].squaredNorm();
+        const Dual X = aa * g2 / (L[e] + ac) - ac;  // (β − β⁰) = atan(h² X / Y)
+        const Dual Y = ss * aa + L[e] * ac;
+        const Dual dbeta = X / Y * atanc(h2 * X / Y);
+        const Dual qq = h2 * g2 / (c[e] * c[e]);
+        const Dual sq = sqrt(1.0 + qq);
+        const Dual delta = g2 / (c[e] * c[e]) / (sq * (sq + 1.0));  // (1 − c/L) / h²
+        const Dual term = dbeta - k[e] * L[e] * delta;
+        G += c[e].v > 0 ? term : -term;
+      }
+      for (int i = 0; i < 3; ++i) {
+        Dual Pi;
+        for (int e = 0; e < 3; ++e) Pi += k[e] * g[e].dot(g[i]);
+        w[f.v[i]] += eta * h * (c[i] * G + Pi) / (2 * f.two_area);
+      }
+      continue;
+    }
+    // Direct form: w_i = m · N_i / D, m = ½ Σ k_e N_e, D = h |M|.
+    DVec mv{Dual(), Dual(), Dual()};
+    for (int e = 0; e < 3; ++e) {
+      const Dual ke = 0.5 * k[e];
+      mv.x += ke * N[e].x;
+      mv.y += ke * N[e].y;
+      mv.z += ke * N[e].z;
+    }
+    const Dual factor = t == eta_face ? Dual(sigma / f.two_area) : eta / (f.h * f.two_area);
+    for (int i = 0; i < 3; ++i) w[f.v[i]] += factor * dot(mv, N[i]);
+  }
+  normalize(w, phi, dx, dy, dz);
+}
+
+/// The triangles (up to two) that contain edge (a, b), and the shortest edge at a vertex.
+struct Neighbourhood {
+  static Real shortest_edge_at(const PolyhedronArrays& P, Index v) {
+    Real l = std::numeric_limits<Real>::infinity();
+    const Point<3> p = vertex(P, v);
+    for (Index t = 0; t < P.triangle_count(); ++t) {
+      const int tv[3] = {P.a[t], P.b[t], P.c[t]};
+      for (int e = 0; e < 3; ++e)
+        if (tv[e] == v) {
+          l = std::min(l, (vertex(P, tv[(e + 1) % 3]) - p).norm());
+          l = std::min(l, (vertex(P, tv[(e + 2) % 3]) - p).norm());
+        }
+    }
+    return l;
+  }
+  /// Σ of the unit normals of the triangles that contain all of `verts` (1 or 2 vertices).
+  static Point<3> normal_sum(const PolyhedronArrays& P, Index v0, Index v1) {
+    Point<3> sum = Point<3>::Zero();
+    for (Index t = 0; t < P.triangle_count(); ++t) {
+      const int tv[3] = {P.a[t], P.b[t], P.c[t]};
+      const bool has0 = tv[0] == v0 || tv[1] == v0 || tv[2] == v0;
+      const bool has1 = v1 < 0 || tv[0] == v1 || tv[1] == v1 || tv[2] == v1;
+      if (!has0 || !has1) continue;
+      sum += (vertex(P, tv[1]) - vertex(P, tv[0])).cross(vertex(P, tv[2]) - vertex(P, tv[0])).normalized();
+    }
+    return sum;
+  }
+};
+
+/// A point a tiny step inside from `p` (normal sum `nsum` outward), where the
+/// coordinates are differentiable; the step is far above the snap distance and
+/// the rounding of the coordinates.
+Point<3> nudge_inside(const Point<3>& p, const Point<3>& nsum, Real length) {
+  const Real ulp_floor =
+      64 * std::numeric_limits<Real>::epsilon() * std::max(Real{1}, p.cwiseAbs().maxCoeff());
+  return p - std::max(1e-7 * length, ulp_floor) * nsum.normalized();
+}
+
+/// Robust evaluation in normalized coordinates (gradients too).
+void coordinates_normalized(const PolyhedronArrays& P, const Point<3>& x, Real* phi, Real* dx, Real* dy,
+                            Real* dz) {
+  const Index n = P.size();
+  Index j = 0;
+  Real rj = std::numeric_limits<Real>::infinity();
+  for (Index v = 0; v < n; ++v) {
+    const Real r = (vertex(P, v) - x).norm();
+    if (r < rj) j = v, rj = r;
+  }
+  const Real lj = Neighbourhood::shortest_edge_at(P, j);
+  if (rj <= kSnap * lj) {  // on a vertex: Kronecker delta
+    if (dx)
+      robust_coordinates(P, nudge_inside(vertex(P, j), Neighbourhood::normal_sum(P, j, -1), lj), phi, dx, dy,
+                         dz);
+    std::fill(phi, phi + n, Real{0});
+    phi[j] = 1;
+    return;
+  }
+  // On an edge (only edges at the nearest vertex can be that close: checking all is simpler).
+  for (Index t = 0; t < P.triangle_count(); ++t) {
+    const int tv[3] = {P.a[t], P.b[t], P.c[t]};
+    for (int e = 0; e < 3; ++e) {
+      const Index a = tv[e], b = tv[(e + 1) % 3];
+      if (a > b) continue;  // each edge once
+      const Point<3> pa = vertex(P, a), ab = vertex(P, b) - pa;
+      const Real len2 = ab.squaredNorm();
+      const Real u = (x - pa).dot(ab) / len2;
+      if (u <= 0 || u >= 1) continue;
+      if ((x - pa - u * ab).norm() > kSnap * std::sqrt(len2)) continue;
+      if (dx)
+        robust_coordinates(P, nudge_inside(x, Neighbourhood::normal_sum(P, a, b), std::sqrt(len2)), phi, dx,
+                           dy, dz);
+      std::fill(phi, phi + n, Real{0});
+      phi[a] = 1 - u;
+      phi[b] = u;
+      return;
+    }
+  }
+  robust_coordinates(P, x, phi, dx, dy, dz);
+}
+
+Point<3> normalized_point(const PolyhedronArrays& P, Real x, Real y, Real z) {
+  return {(x - P.center.x()) / P.scale, (y - P.center.y()) / P.scale, (z - P.center.z()) / P.scale};
+}
+
+template <bool kGrad>
+WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Points<3>& x, Index first,
+                                           Index last, MatrixX& phi, MatrixX* dphi_dx, MatrixX* dphi_dy,
+                                           MatrixX* dphi_dz) {
+  constexpr int B = detail::kPolyhedronBlock;
+  const Index N = x.rows(), n = P.size();
+  const Real* X = x.data();
+  const Real* Y = X + N;
+  const Real* Z = Y + N;
+  const Real cx = P.center.x(), cy = P.center.y(), cz = P.center.z(), sc = P.scale, isc = 1 / sc;
+  detail::PolyhedronScratch s;
+  s.resize(static_cast<int>(n));
+  std::vector<Real> robust(static_cast<std::size_t>(4 * n));
+  alignas(64) double iW[B], Wx[B], Wy[B], Wz[B];
+  for (Index p0 = first * B; p0 < std::min(N, last * B); p0 += B) {
+    const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
+    for (int p = 0; p < cnt; ++p) {
+      s.px[p] = (X[p0 + p] - cx) / sc;
+      s.py[p] = (Y[p0 + p] - cy) / sc;
+      s.pz[p] = (Z[p0 + p] - cz) / sc;
+    }
+    detail::polyhedron_block<kGrad>(P.x.data(), P.y.data(), P.z.data(), static_cast<int>(n), P.a.data(),
+                                    P.b.data(), P.c.data(), static_cast<int>(P.triangle_count()), cnt, s);
+    for (int p = 0; p < cnt; ++p) iW[p] = Wx[p] = Wy[p] = Wz[p] = 0;
+    for (Index v = 0; v < n; ++v) {
+      const double* w = s.w.data() + v * B;
+      WARPFEM_IVDEP
+      for (int p = 0; p < cnt; ++p) iW[p] += w[p];
+      if constexpr (kGrad) {
+        const double* gx = s.wx.data() + v * B;
+        const double* gy = s.wy.data() + v * B;
+        const double* gz = s.wz.data() + v * B;
+        WARPFEM_IVDEP
+        for (int p = 0; p < cnt; ++p) {
+          Wx[p] += gx[p];
+          Wy[p] += gy[p];
+          Wz[p] += gz[p];
+        }
+      }
+    }
+    for (int p = 0; p < cnt; ++p) iW[p] = 1 / iW[p];
+    for (Index v = 0; v < n; ++v) {
+      const double* w = s.w.data() + v * B;
+      Real* f = phi.data() + v * N + p0;
+      if constexpr (kGrad) {
+        const double* gx = s.wx.data() + v * B;
+        const double* gy = s.wy.data() + v * B;
+        const double* gz = s.wz.data() + v * B;
+        Real* dx = dphi_dx->data() + v * N + p0;
+        Real* dy = dphi_dy->data() + v * N + p0;
+        Real* dz = dphi_dz->data() + v * N + p0;
+        WARPFEM_IVDEP
+        for (int p = 0; p < cnt; ++p) {
+          const Real ph = w[p] * iW[p];
+          f[p] = ph;
+          dx[p] = (gx[p] - ph * Wx[p]) * iW[p] * isc;
+          dy[p] = (gy[p] - ph * Wy[p]) * iW[p] * isc;
+          dz[p] = (gz[p] - ph * Wz[p]) * iW[p] * isc;
+        }
+      } else {
+        WARPFEM_IVDEP
+        for (int p = 0; p < cnt; ++p) f[p] = w[p] * iW[p];
+      }
+    }
+    for (int p = 0; p < cnt; ++p) {
+      if (s.flag[p] == 0.0) continue;
+      const Point<3> q(s.px[p], s.py[p], s.pz[p]);
+      Real* rb = robust.data();
+      coordinates_normalized(P, q, rb, kGrad ? rb + n : nullptr, rb + 2 * n, rb + 3 * n);
+      for (Index v = 0; v < n; ++v) {
+        phi(p0 + p, v) = rb[v];
+        if constexpr (kGrad) {
+          (*dphi_dx)(p0 + p, v) = rb[n + v] * isc;
+          (*dphi_dy)(p0 + p, v) = rb[2 * n + v] * isc;
+          (*dphi_dz)(p0 + p, v) = rb[3 * n + v] * isc;
+        }
+      }
+    }
+  }
+}
+
+WARPFEM_KERNEL_CLONES void values_blocks(const PolyhedronArrays& P, const Points<3>& x, Index first,
+                                         Index last, MatrixX& phi) {
+  evaluate_blocks<false>(P, x, first, last, phi, nullptr, nullptr, nullptr);
+}
+
+WARPFEM_KERNEL_CLONES void gradient_blocks(const PolyhedronArrays& P, const Points<3>& x, Index first,
+                                           Index last, MatrixX& phi, MatrixX* dx, MatrixX* dy, MatrixX* dz) {
+  evaluate_blocks<true>(P, x, first, last, phi, dx, dy, dz);
+}
+
+}  // namespace
+
+void mean_value_coordinates(const PolyhedronArrays& polyhedron, const Points<3>& x, MatrixX& phi) {
+  const Index N = x.rows(), B = detail::kPolyhedronBlock;
+  phi.resize(N, polyhedron.size());
+  parallel_for((N + B - 1) / B, 4,
+               [&](Index first, Index last) { values_blocks(polyhedron, x, first, last, phi); });
+}
+
+void mean_value_coordinates(const PolyhedronArrays& polyhedron, const Points<3>& x, MatrixX& phi,
+                            MatrixX& dphi_dx, MatrixX& dphi_dy, MatrixX& dphi_dz) {
+  const Index N = x.rows(), B = detail::kPolyhedronBlock, n = polyhedron.size();
+  phi.resize(N, n);
+  dphi_dx.resize(N, n);
+  dphi_dy.resize(N, n);
+  dphi_dz.resize(N, n);
+  parallel_for((N + B - 1) / B, 4, [&](Index first, Index last) {
+    gradient_blocks(polyhedron, x, first, last, phi, &dphi_dx, &dphi_dy, &dphi_dz);
+  });
+}
+
+void mean_value_coordinates_at(const PolyhedronArrays& polyhedron, const Point<3>& x, Real* phi, Real* dx,
+                               Real* dy, Real* dz) {
+  const Point<3> q = normalized_point(polyhedron, x.x(), x.y(), x.z());
+  coordinates_normalized(polyhedron, q, phi, dx, dy, dz);
+  if (dx) {
+    const Index n = polyhedron.size();
+    for (Index v = 0; v < n; ++v) {
+      dx[v] /= polyhedron.scale;
+      dy[v] /= polyhedron.scale;
+      dz[v] /= polyhedron.scale;
+    }
+  }
+}
+
+}  // namespace warpfem::mapping
