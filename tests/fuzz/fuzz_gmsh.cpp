@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "fem/gmsh_reader.hpp"
+#include "core/mesh/gmsh_reader.hpp"
 #include "fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -17,6 +17,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace warpfem;
   static const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "source polygon");
   const std::string path = fuzz::write_input("mesh.msh", data, size);
-  fuzz::refused_or_accepted([&] { fem::read_gmsh(path, square); });
+  fuzz::refused_or_accepted([&] { read_gmsh(path, square); });
   return 0;
 }
