@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numbers>
 
 #include "core/threads.hpp"
@@ -26,24 +25,10 @@ PolyhedronArrays::PolyhedronArrays(const std::vector<Point<3>>& vertices,
     y.push_back((v.y() - center.y()) / scale);
     z.push_back((v.z() - center.z()) / scale);
   }
-  std::map<std::pair<int, int>, int> edge;
   for (const auto& t : triangles) {
     a.push_back(static_cast<int>(t[0]));
     b.push_back(static_cast<int>(t[1]));
     c.push_back(static_cast<int>(t[2]));
-    for (int i = 0; i < 3; ++i) {
-      const int u = static_cast<int>(t[(i + 1) % 3]), v = static_cast<int>(t[(i + 2) % 3]);
-      const auto found = edge.find({v, u});
-      if (found != edge.end()) {
-        te.push_back(found->second);
-        ts.push_back(-1.0);
-        continue;
-      }
-      const auto [it, inserted] = edge.try_emplace({u, v}, static_cast<int>(ea.size()));
-      if (inserted) ea.push_back(u), eb.push_back(v);
-      te.push_back(it->second);
-      ts.push_back(1.0);
-    }
   }
 }
 
@@ -371,7 +356,7 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
   const Real* Z = Y + N;
   const Real cx = P.center.x(), cy = P.center.y(), cz = P.center.z(), sc = P.scale, isc = 1 / sc;
   detail::PolyhedronScratch s;
-  s.resize(static_cast<int>(n), static_cast<int>(P.ea.size()));
+  s.resize(static_cast<int>(n));
   std::vector<Real> robust(static_cast<std::size_t>(4 * n));
   alignas(64) double iW[B], Wx[B], Wy[B], Wz[B];
   for (Index p0 = first * B; p0 < std::min(N, last * B); p0 += B) {
@@ -381,7 +366,8 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
       s.py[p] = (Y[p0 + p] - cy) / sc;
       s.pz[p] = (Z[p0 + p] - cz) / sc;
     }
-    detail::polyhedron_block<kGrad>(P, cnt, s);
+    detail::polyhedron_block<kGrad>(P.x.data(), P.y.data(), P.z.data(), static_cast<int>(n), P.a.data(),
+                                    P.b.data(), P.c.data(), static_cast<int>(P.triangle_count()), cnt, s);
     for (int p = 0; p < cnt; ++p) iW[p] = Wx[p] = Wy[p] = Wz[p] = 0;
     for (Index v = 0; v < n; ++v) {
       const double* w = s.w.data() + v * B;

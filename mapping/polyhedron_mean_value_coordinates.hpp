@@ -33,12 +33,6 @@ namespace warpfem::mapping {
 struct PolyhedronArrays {
   std::vector<Real> x, y, z;  ///< normalized vertex coordinates
   std::vector<int> a, b, c;   ///< vertex indices of each triangle (outward)
-  /// Each edge once, as (ea, eb) in the first triangle that has it; te[3 t + i]
-  /// is the edge of triangle t opposite its vertex i and ts[3 t + i] = ±1 says
-  /// whether the triangle runs along it as stored (the kernel computes each
-  /// edge's terms once for both of its triangles).
-  std::vector<int> ea, eb, te;
-  std::vector<double> ts;
   Point<3> center = Point<3>::Zero();
   Real scale = 1;
 

@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
   // Points handed to the robust path by the kernel's flags.
   {
     wm::detail::PolyhedronScratch s;
-    s.resize(static_cast<int>(A.size()), static_cast<int>(A.ea.size()));
+    s.resize(static_cast<int>(A.size()));
     Index flagged = 0;
     for (const auto& x : chunks)
       for (Index p0 = 0; p0 < x.rows(); p0 += wm::detail::kPolyhedronBlock) {
@@ -256,7 +256,9 @@ int main(int argc, char** argv) {
           s.py[p] = (x(p0 + p, 1) - A.center.y()) / A.scale;
           s.pz[p] = (x(p0 + p, 2) - A.center.z()) / A.scale;
         }
-        wm::detail::polyhedron_block<false>(A, cnt, s);
+        wm::detail::polyhedron_block<false>(A.x.data(), A.y.data(), A.z.data(), static_cast<int>(A.size()),
+                                            A.a.data(), A.b.data(), A.c.data(),
+                                            static_cast<int>(A.triangle_count()), cnt, s);
         for (int p = 0; p < cnt; ++p) flagged += s.flag[p] != 0;
       }
     std::printf("robust path: %lld of %lld points (%.3f %%)\n", static_cast<long long>(flagged),
@@ -319,18 +321,17 @@ int main(int argc, char** argv) {
   std::printf("VTK values only, 1 thread    : %8.3f M points/s (vectorized values only is x%.1f)\n", vt / 1e6,
               v1 / vt);
   const double rate = divide_sqrt_rate();
-  // Per point the kernel takes 1 sqrt and 1 divide per vertex and per edge and
-  // 1 divide per triangle.
-  const double edges = static_cast<double>(A.ea.size());
-  const double ops = (2.0 * static_cast<double>(P.vertex_count()) + 2.0 * edges + m) / m;
+  // Per point and triangle the kernel takes 3 sqrt and 4 divides, plus 1 sqrt
+  // and 1 divide per vertex (n / m per triangle).
+  const double ops = 7 + 2.0 * static_cast<double>(P.vertex_count()) / m;
   std::printf(
       "divide+sqrt throughput: %.3g /s per core; kernel needs %.1f per point-triangle -> bound %.3f M "
       "points/s, reached %.0f %%\n",
       rate, ops, rate / ops / m / 1e6, 100 * f1 * m * ops / rate);
   // Arithmetic instructions per point-triangle with gradients, counted by hand in
   // the kernel's source (an FMA, add, multiply, min, compare or select is one):
-  // about 83 per edge and point, 160 per triangle and point.
-  const double arith = 160 + 83 * edges / m;
+  // about 83 for each of the three edges and 150 to combine them.
+  const double arith = 150 + 3 * 83;
   const double fma = fma_rate();
   std::printf(
       "FMA throughput: %.3g /s per core; kernel needs ~%.0f arithmetic instructions per point-triangle -> "

@@ -3,9 +3,8 @@
 //
 // For a block of up to kPolyhedronBlock points (normalized coordinates) it first
 // forms, per vertex and point, s = p − x, r = |s| and 1/r², then walks over the
-// edges and then the triangles. Per edge and point it forms N_e, L_e, k_e and
-// ∇k_e; per triangle (edges e = 1, 2, 3 opposite vertices 1, 2, 3, i.e.
-// N_1 = s_2 × s_3, ...) and point it combines them:
+// triangles. Per triangle (edges e = 1, 2, 3 opposite vertices 1, 2, 3, i.e.
+// N_1 = s_2 × s_3, ...) and point:
 //   L_e = |N_e|,  β_e = angle(s_a, s_b) through atan of the half angle,
 //   k_e = β_e / (2 L_e),  m = Σ k_e N_e,  D = s_1 · N_1,
 //   w_i = m · N_i / D,
@@ -26,7 +25,6 @@
 #include <vector>
 
 #include "mapping/detail/mean_value_kernel.hpp"
-#include "mapping/polyhedron_mean_value_coordinates.hpp"
 
 namespace warpfem::mapping::detail {
 
@@ -59,34 +57,25 @@ WARPFEM_KERNEL_INLINE void atan_fraction(double n, double d, double& numer, doub
 }
 
 /// Per-thread scratch: per vertex and point s, r, 1/r² and the accumulated
-/// weights and gradients; per edge and point N_e, k_e and ∇k_e (rows of
-/// kPolyhedronBlock).
+/// weights and gradients (vertex-major rows of kPolyhedronBlock).
 struct PolyhedronScratch {
   std::vector<double> sx, sy, sz, r, ir2, w, wx, wy, wz;
-  std::vector<double> nx, ny, nz, k, kx, ky, kz;
   alignas(64) double px[kPolyhedronBlock], py[kPolyhedronBlock], pz[kPolyhedronBlock];
   alignas(64) double flag[kPolyhedronBlock];
-  void resize(int vertices, int edges) {
-    const std::size_t m = static_cast<std::size_t>(vertices) * kPolyhedronBlock;
+  void resize(int n) {
+    const std::size_t m = static_cast<std::size_t>(n) * kPolyhedronBlock;
     for (auto* v : {&sx, &sy, &sz, &r, &ir2, &w, &wx, &wy, &wz}) v->assign(m, 0.0);
-    const std::size_t e = static_cast<std::size_t>(edges) * kPolyhedronBlock;
-    for (auto* v : {&nx, &ny, &nz, &k, &kx, &ky, &kz}) v->assign(e, 0.0);
   }
 };
 
 /// Accumulates the weights (and gradients) of `cnt` points (normalized, in
 /// s.px/py/pz) into s.w (s.wx, wy, wz), and sets s.flag[p] for points that need
-/// the robust path. Edge terms (N_e, k_e, ∇k_e) are computed once per edge and
-/// shared by its two triangles, which traverse it in opposite directions:
-/// N_e and d_e change sign, k_e and ∇k_e = N_e × u_e / (2 L_e²) do not.
+/// the robust path.
 template <bool kGrad>
-WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, PolyhedronScratch& s) {
+WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, const double* vz, int n,
+                                            const int* ta, const int* tb, const int* tc, int m, int cnt,
+                                            PolyhedronScratch& s) {
   constexpr int B = kPolyhedronBlock;
-  const double* vx = P.x.data();
-  const double* vy = P.y.data();
-  const double* vz = P.z.data();
-  const int n = static_cast<int>(P.size()), m = static_cast<int>(P.triangle_count());
-  const int ne = static_cast<int>(P.ea.size());
   for (int p = 0; p < cnt; ++p) s.flag[p] = 0.0;
   for (int v = 0; v < n; ++v) {
     double* __restrict sx = s.sx.data() + v * B;
@@ -112,70 +101,8 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
       for (int p = 0; p < cnt; ++p) s.wx[v * B + p] = s.wy[v * B + p] = s.wz[v * B + p] = 0.0;
     }
   }
-  for (int e = 0; e < ne; ++e) {
-    const int ia = P.ea[e], ib = P.eb[e];
-    const double dx = vx[ia] - vx[ib], dy = vy[ia] - vy[ib], dz = vz[ia] - vz[ib];
-    const double* __restrict sax = s.sx.data() + ia * B;
-    const double* __restrict say = s.sy.data() + ia * B;
-    const double* __restrict saz = s.sz.data() + ia * B;
-    const double* __restrict sbx = s.sx.data() + ib * B;
-    const double* __restrict sby = s.sy.data() + ib * B;
-    const double* __restrict sbz = s.sz.data() + ib * B;
-    const double* __restrict ra = s.r.data() + ia * B;
-    const double* __restrict rb = s.r.data() + ib * B;
-    const double* __restrict qa = s.ir2.data() + ia * B;
-    const double* __restrict qb = s.ir2.data() + ib * B;
-    double* __restrict Nx = s.nx.data() + e * B;
-    double* __restrict Ny = s.ny.data() + e * B;
-    double* __restrict Nz = s.nz.data() + e * B;
-    double* __restrict K = s.k.data() + e * B;
-    double* __restrict Kx = s.kx.data() + e * B;
-    double* __restrict Ky = s.ky.data() + e * B;
-    double* __restrict Kz = s.kz.data() + e * B;
-    WARPFEM_IVDEP
-    for (int p = 0; p < cnt; ++p) {
-      const double ax = sax[p], ay = say[p], az = saz[p];
-      const double bx = sbx[p], by = sby[p], bz = sbz[p];
-      const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-      const double L = std::sqrt(nx * nx + ny * ny + nz * nz);
-      const double c = ax * bx + ay * by + az * bz;
-      const double rr = ra[p] * rb[p];
-      // k = β / (2 L) with tan(β/2) = L / (rr + c) = (rr − c) / L: take the
-      // form whose value is <= 1, atan(L / den) with den = rr + |c|; above 0.66
-      // reduce by π/4: atan(z) = π/4 + atan((z − 1) / (z + 1)). One division
-      // gives both that argument and 1/L.
-      const double den = rr + std::abs(c);
-      const bool big = L > 0.66 * den;
-      const double num_y = big ? L - den : L;
-      const double den_y = big ? L + den : den;
-      double R, Q;
-      atan_fraction(num_y, den_y, R, Q);
-      const double f = 1.0 / (L * den_y * Q);
-      const double iL = den_y * Q * f;
-      const double half = (big ? 0.78539816339744830962 : 0.0) + num_y * R * L * f;
-      const double k = (c >= 0.0 ? half : 1.57079632679489661923 - half) * iL;
-      // Flags summed as numbers: boolean logic here makes GCC branch and not vectorize.
-      s.flag[p] += L < kNearLine * rr ? 1.0 : 0.0;
-      Nx[p] = nx;
-      Ny[p] = ny;
-      Nz[p] = nz;
-      K[p] = k;
-      if constexpr (kGrad) {
-        // ∇k = N × u / (2 L²), u = q_a − q_b + 2 k d, q = s / r².
-        const double h = 0.5 * iL * iL;
-        const double ux = ax * qa[p] - bx * qb[p] + 2 * k * dx;
-        const double uy = ay * qa[p] - by * qb[p] + 2 * k * dy;
-        const double uz = az * qa[p] - bz * qb[p] + 2 * k * dz;
-        Kx[p] = (ny * uz - nz * uy) * h;
-        Ky[p] = (nz * ux - nx * uz) * h;
-        Kz[p] = (nx * uy - ny * ux) * h;
-      }
-    }
-  }
   for (int t = 0; t < m; ++t) {
-    const int i1 = P.a[t], i2 = P.b[t], i3 = P.c[t];
-    const int e1 = P.te[3 * t], e2 = P.te[3 * t + 1], e3 = P.te[3 * t + 2];
-    const double o1 = P.ts[3 * t], o2 = P.ts[3 * t + 1], o3 = P.ts[3 * t + 2];
+    const int i1 = ta[t], i2 = tb[t], i3 = tc[t];
     // Triangle constants: d_e = p_a − p_b for e = (a, b) = (2, 3), (3, 1), (1, 2); M = Σ N_e.
     const double d1x = vx[i2] - vx[i3], d1y = vy[i2] - vy[i3], d1z = vz[i2] - vz[i3];
     const double d2x = vx[i3] - vx[i1], d2y = vy[i3] - vy[i1], d2z = vz[i3] - vz[i1];
@@ -185,30 +112,18 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     const double* __restrict s1x = s.sx.data() + i1 * B;
     const double* __restrict s1y = s.sy.data() + i1 * B;
     const double* __restrict s1z = s.sz.data() + i1 * B;
+    const double* __restrict s2x = s.sx.data() + i2 * B;
+    const double* __restrict s2y = s.sy.data() + i2 * B;
+    const double* __restrict s2z = s.sz.data() + i2 * B;
+    const double* __restrict s3x = s.sx.data() + i3 * B;
+    const double* __restrict s3y = s.sy.data() + i3 * B;
+    const double* __restrict s3z = s.sz.data() + i3 * B;
     const double* __restrict r1 = s.r.data() + i1 * B;
     const double* __restrict r2 = s.r.data() + i2 * B;
     const double* __restrict r3 = s.r.data() + i3 * B;
-    const double* __restrict N1x = s.nx.data() + e1 * B;
-    const double* __restrict N1y = s.ny.data() + e1 * B;
-    const double* __restrict N1z = s.nz.data() + e1 * B;
-    const double* __restrict N2x = s.nx.data() + e2 * B;
-    const double* __restrict N2y = s.ny.data() + e2 * B;
-    const double* __restrict N2z = s.nz.data() + e2 * B;
-    const double* __restrict N3x = s.nx.data() + e3 * B;
-    const double* __restrict N3y = s.ny.data() + e3 * B;
-    const double* __restrict N3z = s.nz.data() + e3 * B;
-    const double* __restrict K1 = s.k.data() + e1 * B;
-    const double* __restrict K2 = s.k.data() + e2 * B;
-    const double* __restrict K3 = s.k.data() + e3 * B;
-    const double* __restrict K1x = s.kx.data() + e1 * B;
-    const double* __restrict K1y = s.ky.data() + e1 * B;
-    const double* __restrict K1z = s.kz.data() + e1 * B;
-    const double* __restrict K2x = s.kx.data() + e2 * B;
-    const double* __restrict K2y = s.ky.data() + e2 * B;
-    const double* __restrict K2z = s.kz.data() + e2 * B;
-    const double* __restrict K3x = s.kx.data() + e3 * B;
-    const double* __restrict K3y = s.ky.data() + e3 * B;
-    const double* __restrict K3z = s.kz.data() + e3 * B;
+    const double* __restrict q1 = s.ir2.data() + i1 * B;
+    const double* __restrict q2 = s.ir2.data() + i2 * B;
+    const double* __restrict q3 = s.ir2.data() + i3 * B;
     double* __restrict w1 = s.w.data() + i1 * B;
     double* __restrict w2 = s.w.data() + i2 * B;
     double* __restrict w3 = s.w.data() + i3 * B;
@@ -223,36 +138,78 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     double* __restrict g3z = s.wz.data() + i3 * B;
     WARPFEM_IVDEP
     for (int p = 0; p < cnt; ++p) {
-      // N_1 = s_2 × s_3, N_2 = s_3 × s_1, N_3 = s_1 × s_2, from the shared edges.
-      const double n1x = o1 * N1x[p], n1y = o1 * N1y[p], n1z = o1 * N1z[p];
-      const double n2x = o2 * N2x[p], n2y = o2 * N2y[p], n2z = o2 * N2z[p];
-      const double n3x = o3 * N3x[p], n3y = o3 * N3y[p], n3z = o3 * N3z[p];
-      const double k1 = K1[p], k2 = K2[p], k3 = K3[p];
-      const double D = s1x[p] * n1x + s1y[p] * n1y + s1z[p] * n1z;
+      const double ax = s1x[p], ay = s1y[p], az = s1z[p];
+      const double bx = s2x[p], by = s2y[p], bz = s2z[p];
+      const double cx = s3x[p], cy = s3y[p], cz = s3z[p];
+      // N_1 = s_2 × s_3, N_2 = s_3 × s_1, N_3 = s_1 × s_2.
+      const double n1x = by * cz - bz * cy, n1y = bz * cx - bx * cz, n1z = bx * cy - by * cx;
+      const double n2x = cy * az - cz * ay, n2y = cz * ax - cx * az, n2z = cx * ay - cy * ax;
+      const double n3x = ay * bz - az * by, n3y = az * bx - ax * bz, n3z = ax * by - ay * bx;
+      const double L1 = std::sqrt(n1x * n1x + n1y * n1y + n1z * n1z);
+      const double L2 = std::sqrt(n2x * n2x + n2y * n2y + n2z * n2z);
+      const double L3 = std::sqrt(n3x * n3x + n3y * n3y + n3z * n3z);
+      const double c1 = bx * cx + by * cy + bz * cz, c2 = cx * ax + cy * ay + cz * az,
+                   c3 = ax * bx + ay * by + az * bz;
+      const double rr1 = r2[p] * r3[p], rr2 = r3[p] * r1[p], rr3 = r1[p] * r2[p];
+      // k_e = β_e / (2 L_e) with tan(β/2) = L / (rr + c) = (rr − c) / L: take the
+      // form whose value is <= 1, atan(L / den) with den = rr + |c|; above 0.66
+      // reduce by π/4: atan(z) = π/4 + atan((z − 1) / (z + 1)). One division
+      // gives both that argument and 1/L.
+      const auto half_angle = [](double L, double c, double rr, double& iL) {
+        const double den = rr + std::abs(c);
+        const bool big = L > 0.66 * den;
+        const double num_y = big ? L - den : L;
+        const double den_y = big ? L + den : den;
+        double R, Q;
+        atan_fraction(num_y, den_y, R, Q);
+        const double f = 1.0 / (L * den_y * Q);  // the one division: 1/L and atan(num_y/den_y)
+        iL = den_y * Q * f;
+        const double a = (big ? 0.78539816339744830962 : 0.0) + num_y * R * L * f;
+        return (c >= 0.0 ? a : 1.57079632679489661923 - a) * iL;
+      };
+      double iL1, iL2, iL3;
+      const double k1 = half_angle(L1, c1, rr1, iL1);
+      const double k2 = half_angle(L2, c2, rr2, iL2);
+      const double k3 = half_angle(L3, c3, rr3, iL3);
+      const double D = ax * n1x + ay * n1y + az * n1z;
       const double r12 = r1[p] < r2[p] ? r1[p] : r2[p];
       const double rmin = r12 < r3[p] ? r12 : r3[p];
-      s.flag[p] += std::abs(D) < kNearPlane * rmin * absM ? 1.0 : 0.0;
+      // Flags summed as numbers: boolean logic here makes GCC branch and not vectorize.
+      s.flag[p] += (std::abs(D) < kNearPlane * rmin * absM ? 1.0 : 0.0) + (L1 < kNearLine * rr1 ? 1.0 : 0.0) +
+                   (L2 < kNearLine * rr2 ? 1.0 : 0.0) + (L3 < kNearLine * rr3 ? 1.0 : 0.0);
       const double iD = 1.0 / D;
       const double mx = k1 * n1x + k2 * n2x + k3 * n3x;
       const double my = k1 * n1y + k2 * n2y + k3 * n3y;
       const double mz = k1 * n1z + k2 * n2z + k3 * n3z;
-      const double e1w = (mx * n1x + my * n1y + mz * n1z) * iD;
-      const double e2w = (mx * n2x + my * n2y + mz * n2z) * iD;
-      const double e3w = (mx * n3x + my * n3y + mz * n3z) * iD;
-      w1[p] += e1w;
-      w2[p] += e2w;
-      w3[p] += e3w;
+      const double e1 = (mx * n1x + my * n1y + mz * n1z) * iD;
+      const double e2 = (mx * n2x + my * n2y + mz * n2z) * iD;
+      const double e3 = (mx * n3x + my * n3y + mz * n3z) * iD;
+      w1[p] += e1;
+      w2[p] += e2;
+      w3[p] += e3;
       if constexpr (kGrad) {
         // Gram matrix of the N_e.
-        const double G11 = n1x * n1x + n1y * n1y + n1z * n1z;
-        const double G22 = n2x * n2x + n2y * n2y + n2z * n2z;
-        const double G33 = n3x * n3x + n3y * n3y + n3z * n3z;
+        const double G11 = L1 * L1, G22 = L2 * L2, G33 = L3 * L3;
         const double G12 = n1x * n2x + n1y * n2y + n1z * n2z;
         const double G13 = n1x * n3x + n1y * n3y + n1z * n3z;
         const double G23 = n2x * n3x + n2y * n3y + n2z * n3z;
-        const double k1x = K1x[p], k1y = K1y[p], k1z = K1z[p];
-        const double k2x = K2x[p], k2y = K2y[p], k2z = K2z[p];
-        const double k3x = K3x[p], k3y = K3y[p], k3z = K3z[p];
+        // ∇k_e = N_e × u_e / (2 L_e²), u_e = q_a − q_b + 2 k_e d_e, q = s / r².
+        const double qax = ax * q1[p], qay = ay * q1[p], qaz = az * q1[p];
+        const double qbx = bx * q2[p], qby = by * q2[p], qbz = bz * q2[p];
+        const double qcx = cx * q3[p], qcy = cy * q3[p], qcz = cz * q3[p];
+        const double h1 = 0.5 * iL1 * iL1, h2 = 0.5 * iL2 * iL2, h3 = 0.5 * iL3 * iL3;
+        const double u1x = qbx - qcx + 2 * k1 * d1x, u1y = qby - qcy + 2 * k1 * d1y,
+                     u1z = qbz - qcz + 2 * k1 * d1z;
+        const double u2x = qcx - qax + 2 * k2 * d2x, u2y = qcy - qay + 2 * k2 * d2y,
+                     u2z = qcz - qaz + 2 * k2 * d2z;
+        const double u3x = qax - qbx + 2 * k3 * d3x, u3y = qay - qby + 2 * k3 * d3y,
+                     u3z = qaz - qbz + 2 * k3 * d3z;
+        const double k1x = (n1y * u1z - n1z * u1y) * h1, k1y = (n1z * u1x - n1x * u1z) * h1,
+                     k1z = (n1x * u1y - n1y * u1x) * h1;
+        const double k2x = (n2y * u2z - n2z * u2y) * h2, k2y = (n2z * u2x - n2x * u2z) * h2,
+                     k2z = (n2x * u2y - n2y * u2x) * h2;
+        const double k3x = (n3y * u3z - n3z * u3y) * h3, k3y = (n3z * u3x - n3x * u3z) * h3,
+                     k3z = (n3x * u3y - n3y * u3x) * h3;
         const double Kx = k1 * d1x + k2 * d2x + k3 * d3x;
         const double Ky = k1 * d1y + k2 * d2y + k3 * d3y;
         const double Kz = k1 * d1z + k2 * d2z + k3 * d3z;
@@ -263,9 +220,9 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
           gy[p] += (Ga * k1y + Gb * k2y + Gc * k3y + Kz * nx - Kx * nz + dz * mx - dx * mz + wi * My) * iD;
           gz[p] += (Ga * k1z + Gb * k2z + Gc * k3z + Kx * ny - Ky * nx + dx * my - dy * mx + wi * Mz) * iD;
         };
-        grad(G11, G12, G13, n1x, n1y, n1z, d1x, d1y, d1z, e1w, g1x, g1y, g1z);
-        grad(G12, G22, G23, n2x, n2y, n2z, d2x, d2y, d2z, e2w, g2x, g2y, g2z);
-        grad(G13, G23, G33, n3x, n3y, n3z, d3x, d3y, d3z, e3w, g3x, g3y, g3z);
+        grad(G11, G12, G13, n1x, n1y, n1z, d1x, d1y, d1z, e1, g1x, g1y, g1z);
+        grad(G12, G22, G23, n2x, n2y, n2z, d2x, d2y, d2z, e2, g2x, g2y, g2z);
+        grad(G13, G23, G33, n3x, n3y, n3z, d3x, d3y, d3z, e3, g3x, g3y, g3z);
       }
     }
   }
