@@ -39,7 +39,7 @@ ComponentMasks finest_masks(const warpfem::Mesh<2>& mesh, const fem::DofMap& dof
 /// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
 /// checked.
 ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine_dofs,
-                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh& transfer) {
+                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh<2>& transfer) {
   const Index n = coarse_dofs.num_dofs();
   require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
           "ElasticityMultigrid: the coarse level has more DOFs than the refinement has nodes");
@@ -93,8 +93,9 @@ petsc::Matrix interleave(const std::array<petsc::Matrix, 2>& scalar, const fem::
 
 }  // namespace
 
-ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, const fem::VectorSpace& finest,
-                                         const fem::ElasticityData& data, MultigridSettings settings,
+ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy<2>& hierarchy,
+                                         const fem::VectorSpace& finest, const fem::ElasticityData& data,
+                                         MultigridSettings settings,
                                          const std::vector<std::vector<int>>& level_owners)
     : settings_(settings) {
   if (&hierarchy.finest() != &finest.mesh())

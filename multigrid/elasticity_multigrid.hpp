@@ -36,7 +36,7 @@ class ElasticityMultigrid {
   /// `level_owners`: cell owners of every level, as fem::nested_partitions()
   /// gives them (empty: computed here); the finest space should be built on
   /// the last entry. Throws warpfem::Error if the hierarchy does not match the space.
-  ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, const fem::VectorSpace& finest,
+  ElasticityMultigrid(const fem::MeshHierarchy<2>& hierarchy, const fem::VectorSpace& finest,
                       const fem::ElasticityData& data, MultigridSettings settings = galerkin_defaults(),
                       const std::vector<std::vector<int>>& level_owners = {});
   ~ElasticityMultigrid();
