@@ -158,7 +158,7 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
 
   // 2. The simple mesh of Ω0 and its uniform refinements (kept as a hierarchy for multigrid).
   watch.reset();
-  const fem::MeshHierarchy hierarchy(
+  const fem::MeshHierarchy<2> hierarchy(
       fem::make_coarse_mesh(*cfg.map.source, cfg.map.target ? *cfg.map.target : *cfg.map.source, *map,
                             cfg.mesh),
       cfg.mesh.refinements);

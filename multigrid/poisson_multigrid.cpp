@@ -9,8 +9,8 @@ namespace {
 /// The hierarchy partitioned for `comm`'s ranks; with `partial_levels` the
 /// levels above the base are built only around this rank's cells
 /// (fem/partial_refinement.hpp; elements with edge DOFs need whole levels).
-fem::MeshHierarchy timed_hierarchy(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements,
-                                   bool partial_levels, double& seconds) {
+fem::MeshHierarchy<2> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements,
+                                      bool partial_levels, double& seconds) {
   if (refinements < 0)
     throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
                 {.file = "", .key_path = "/mesh/refinements", .hint = "use 0 or more refinements"});
@@ -19,7 +19,7 @@ fem::MeshHierarchy timed_hierarchy(MPI_Comm comm, warpfem::Mesh<2> coarse, int r
   MPI_Comm_size(comm, &partition.parts);
   MPI_Comm_rank(comm, &partition.rank);
   partition.partial_levels = partial_levels;
-  fem::MeshHierarchy h(std::move(coarse), refinements, partition);
+  fem::MeshHierarchy<2> h(std::move(coarse), refinements, partition);
   seconds = watch.seconds();
   return h;
 }

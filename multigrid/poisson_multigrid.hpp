@@ -82,7 +82,7 @@ class PoissonMultigridSolver {
   /// Throws warpfem::Error if the Krylov method diverges.
   MultigridSolveReport solve();
 
-  const fem::MeshHierarchy& hierarchy() const { return hierarchy_; }
+  const fem::MeshHierarchy<2>& hierarchy() const { return hierarchy_; }
   /// The finest level's problem: matrix, rhs, solution, errors, output.
   fem::PoissonProblem& finest() { return *problems_.back(); }
   const fem::PoissonProblem& finest() const { return *problems_.back(); }
@@ -98,7 +98,7 @@ class PoissonMultigridSolver {
 
  private:
   MultigridTimings timings_;  // declared first: the hierarchy's construction is timed into it
-  fem::MeshHierarchy hierarchy_;
+  fem::MeshHierarchy<2> hierarchy_;
   std::vector<std::unique_ptr<fem::PoissonProblem>> problems_;
   std::unique_ptr<GeometricMultigrid> multigrid_;
   petsc::LinearSolver ksp_;

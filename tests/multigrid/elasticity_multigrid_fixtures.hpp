@@ -45,7 +45,7 @@ struct SolveResult {
 
 /// Solves J(0) x = b (b random, zero on constrained rows) with LU and with GMRES + multigrid.
 inline SolveResult solve_both(warpfem::CellType type, int order, int refinements) {
-  const fem::MeshHierarchy hierarchy(
+  const fem::MeshHierarchy<2> hierarchy(
       warpfem::structured_mesh(
           Polygon({Point<2>(0, 0), Point<2>(1, 0), Point<2>(1, 1), Point<2>(0, 1)}, "square"), 4, 4, type),
       refinements);

@@ -41,7 +41,7 @@ INSTANTIATE_TEST_SUITE_P(Elements, ElasticityMultigridTest,
                                            std::make_tuple(warpfem::CellType::quadrilateral, 2)));
 
 TEST(ElasticityMultigrid, RefusesASpaceOffTheHierarchy) {
-  const fem::MeshHierarchy hierarchy(
+  const fem::MeshHierarchy<2> hierarchy(
       warpfem::structured_mesh(test::unit_square(), 2, 2, warpfem::CellType::triangle), 1);
   const warpfem::Mesh<2> other = hierarchy.finest();  // a copy: not the hierarchy's mesh
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, other, warped_square(), 1, 0, clamped_block());
@@ -49,7 +49,7 @@ TEST(ElasticityMultigrid, RefusesASpaceOffTheHierarchy) {
 }
 
 TEST(ElasticityMultigrid, TakesCellOwnersForEveryLevelOrNone) {
-  const fem::MeshHierarchy hierarchy(
+  const fem::MeshHierarchy<2> hierarchy(
       warpfem::structured_mesh(test::unit_square(), 2, 2, warpfem::CellType::triangle), 2);
   const auto owners = fem::nested_partitions(hierarchy, 1);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(), warped_square(), 1, 0,
