@@ -85,7 +85,7 @@ struct Level {
 };
 
 /// Prolongations between consecutive levels (scalar: the scalar one itself).
-std::vector<petsc::Matrix> prolongations(const fem::MeshHierarchy& hierarchy,
+std::vector<petsc::Matrix> prolongations(const fem::MeshHierarchy<2>& hierarchy,
                                          const std::vector<Level>& levels, int components) {
   std::vector<petsc::Matrix> out;
   for (std::size_t l = 1; l < levels.size(); ++l) {
@@ -128,7 +128,7 @@ MultigridSettings resolved(MultigridSettings s, int order) {
 
 }  // namespace
 
-GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy& hierarchy,
+GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy,
                                        const std::vector<const fem::Problem<2>*>& levels,
                                        const MultigridSettings& settings) {
   require(!levels.empty() && static_cast<int>(levels.size()) == hierarchy.num_levels(),
@@ -144,7 +144,7 @@ GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy& hierarchy,
   prolongations_ = prolongations(hierarchy, spaces, components_);
 }
 
-GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy& hierarchy, const fem::Problem<2>& finest,
+GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, const fem::Problem<2>& finest,
                                        const MultigridSettings& settings,
                                        const std::vector<std::vector<int>>& level_owners)
     : components_(finest.components()) {

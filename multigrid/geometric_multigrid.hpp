@@ -35,7 +35,7 @@ class GeometricMultigrid {
   /// Rediscretized levels: `levels[l]` is the problem on hierarchy level l
   /// (coarse to fine), all with the same element and components. With smoothed
   /// prolongations call smooth() with the finest operator before configure().
-  GeometricMultigrid(const fem::MeshHierarchy& hierarchy, const std::vector<const fem::Problem<2>*>& levels,
+  GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, const std::vector<const fem::Problem<2>*>& levels,
                      const MultigridSettings& settings);
   /// Galerkin levels below `finest`, which must live on hierarchy.finest(): the
   /// coarser DOF maps and distributions are built here, a coarse unknown is
@@ -44,7 +44,7 @@ class GeometricMultigrid {
   /// computed here); the finest problem should be built on the last entry.
   /// Throws warpfem::Error if the hierarchy does not match the problem or the
   /// settings ask for smoothed prolongations (they need the operator at set-up).
-  GeometricMultigrid(const fem::MeshHierarchy& hierarchy, const fem::Problem<2>& finest,
+  GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, const fem::Problem<2>& finest,
                      const MultigridSettings& settings = galerkin_defaults(),
                      const std::vector<std::vector<int>>& level_owners = {});
   ~GeometricMultigrid();

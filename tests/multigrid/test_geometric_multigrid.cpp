@@ -109,7 +109,7 @@ double difference(Mat a, Mat b) {
 TEST(GeometricMultigrid, GalerkinLevelsConstrainWhatRediscretizedLevelsDo) {
   for (const int order : {1, 2}) {
     SCOPED_TRACE("P" + std::to_string(order));
-    const fem::MeshHierarchy h(test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 2);
+    const fem::MeshHierarchy<2> h(test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 2);
     const auto map = std::make_shared<mapping::IdentityMap<2>>();
     const fem::PoissonData data = test::mixed_problem();
     const auto owners = fem::nested_partitions(h, 1);
@@ -137,7 +137,7 @@ TEST(GeometricMultigrid, GalerkinLevelsConstrainWhatRediscretizedLevelsDo) {
 TEST(GeometricMultigrid, VectorProlongationIsTheScalarOnePerComponent) {
   // Elasticity clamped at the bottom, roller (u_x only) on the left: component c
   // of the vector prolongation is the scalar one with component c's constrained DOFs.
-  const fem::MeshHierarchy h(warpfem::structured_mesh(test::unit_square(), 3, 3, warpfem::CellType::triangle),
+  const fem::MeshHierarchy<2> h(warpfem::structured_mesh(test::unit_square(), 3, 3, warpfem::CellType::triangle),
                              1);
   const fem::HyperelasticOperator op(PETSC_COMM_SELF, h.finest(), test::warped_square(), 1, 0,
                                      test::clamped_block());
