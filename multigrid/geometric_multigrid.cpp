@@ -26,7 +26,7 @@ using ComponentMasks = std::vector<std::vector<char>>;
 /// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
 /// checked.
 ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine_dofs,
-                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh& transfer) {
+                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh<2>& transfer) {
   const Index n = coarse_dofs.num_dofs();
   require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
           "GeometricMultigrid: the coarse level has more DOFs than the refinement has nodes");
