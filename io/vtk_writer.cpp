@@ -59,13 +59,15 @@ vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   return a;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VtkOutput& output) {
-  const fem::OutputMesh& m = *output.mesh;
+template <int dim>
+vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VtkOutput<dim>& output) {
+  const fem::OutputMesh<dim>& m = *output.mesh;
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(m.points.rows());
-  for (Index i = 0; i < m.points.rows(); ++i) points->SetPoint(i, m.points(i, 0), m.points(i, 1), 0.0);
+  for (Index i = 0; i < m.points.rows(); ++i)
+    points->SetPoint(i, m.points(i, 0), m.points(i, 1), dim == 3 ? m.points(i, dim - 1) : 0.0);
   grid->SetPoints(points);
   vtkNew<vtkCellArray> cells;
   std::vector<vtkIdType> ids(static_cast<std::size_t>(m.cells.cols()));
@@ -103,7 +105,8 @@ std::string broadcast_string(MPI_Comm comm, std::string s) {
 
 }  // namespace
 
-std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory,
+template <int dim>
+std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::string& directory,
                       const std::string& name) {
   require(output.mesh != nullptr, "write_vtk: no mesh");
   int rank = 0, size = 1;
@@ -190,5 +193,8 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
   }
   return path;
 }
+
+template std::string write_vtk(MPI_Comm, const VtkOutput<2>&, const std::string&, const std::string&);
+template std::string write_vtk(MPI_Comm, const VtkOutput<3>&, const std::string&, const std::string&);
 
 }  // namespace warpfem::io

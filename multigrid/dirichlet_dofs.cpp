@@ -4,7 +4,7 @@
 
 namespace warpfem::multigrid {
 
-std::vector<char> dirichlet_dofs(const warpfem::Mesh<2>& mesh, const fem::DofMap& dofs,
+std::vector<char> dirichlet_dofs(const warpfem::Mesh<2>& mesh, const fem::DofMap<2>& dofs,
                                  const fem::PoissonData& data) {
   const fem::BoundaryParts parts(mesh, data.boundary_polygon);
   const std::vector<int> selected = fem::boundary_dof_conditions(mesh, dofs, parts, data.dirichlet);

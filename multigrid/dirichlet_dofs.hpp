@@ -11,7 +11,7 @@
 namespace warpfem::multigrid {
 
 /// Per mesh DOF of `dofs`: 1 if a Dirichlet condition of `data` applies at it, else 0.
-std::vector<char> dirichlet_dofs(const warpfem::Mesh<2>& mesh, const fem::DofMap& dofs,
+std::vector<char> dirichlet_dofs(const warpfem::Mesh<2>& mesh, const fem::DofMap<2>& dofs,
                                  const fem::PoissonData& data);
 
 }  // namespace warpfem::multigrid

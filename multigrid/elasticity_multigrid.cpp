@@ -10,8 +10,8 @@
 namespace warpfem::multigrid {
 
 struct ElasticityMultigrid::CoarseLevel {
-  fem::DofMap dofs;
-  fem::DofDistribution distribution;
+  fem::DofMap<2> dofs;
+  fem::DofDistribution<2> distribution;
   CoarseLevel(MPI_Comm comm, const warpfem::Mesh<2>& mesh, const fem::LagrangeElement<2>& element,
               const std::vector<int>& cell_owner)
       : dofs(mesh, element), distribution(comm, mesh, dofs, cell_owner) {}
@@ -22,7 +22,7 @@ namespace {
 using ComponentMasks = std::array<std::vector<char>, 2>;
 
 /// Constrained components of every node of the finest level (the operator's rule).
-ComponentMasks finest_masks(const warpfem::Mesh<2>& mesh, const fem::DofMap& dofs,
+ComponentMasks finest_masks(const warpfem::Mesh<2>& mesh, const fem::DofMap<2>& dofs,
                             const fem::ElasticityData& data) {
   const auto condition = fem::node_conditions(mesh, dofs, data);
   ComponentMasks m;
@@ -38,8 +38,8 @@ ComponentMasks finest_masks(const warpfem::Mesh<2>& mesh, const fem::DofMap& dof
 /// fine vertex at coarse node d is transfer.fine_vertex_of_node[d], and fine
 /// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
 /// checked.
-ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine_dofs,
-                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh& transfer) {
+ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap<2>& fine_dofs,
+                             const fem::DofMap<2>& coarse_dofs, const warpfem::RefinedMesh& transfer) {
   const Index n = coarse_dofs.num_dofs();
   require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
           "ElasticityMultigrid: the coarse level has more DOFs than the refinement has nodes");
@@ -61,8 +61,8 @@ ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine
 }
 
 /// P(2i + c, 2j + c) = P_c(i, j) for the owned rows, block size 2.
-petsc::Matrix interleave(const std::array<petsc::Matrix, 2>& scalar, const fem::DofDistribution& fine,
-                         const fem::DofDistribution& coarse) {
+petsc::Matrix interleave(const std::array<petsc::Matrix, 2>& scalar, const fem::DofDistribution<2>& fine,
+                         const fem::DofDistribution<2>& coarse) {
   std::vector<PetscInt> ia{0}, ja;
   std::vector<PetscScalar> va;
   for (PetscInt r = 0; r < fine.num_owned(); ++r)
@@ -93,8 +93,9 @@ petsc::Matrix interleave(const std::array<petsc::Matrix, 2>& scalar, const fem::
 
 }  // namespace
 
-ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, const fem::VectorSpace& finest,
-                                         const fem::ElasticityData& data, MultigridSettings settings,
+ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy,
+                                         const fem::VectorSpace<2>& finest, const fem::ElasticityData& data,
+                                         MultigridSettings settings,
                                          const std::vector<std::vector<int>>& level_owners)
     : settings_(settings) {
   if (&hierarchy.finest() != &finest.mesh())
@@ -124,10 +125,10 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
     coarse_.push_back(std::make_unique<CoarseLevel>(finest.comm(),
                                                     hierarchy.levels[static_cast<std::size_t>(l)], element,
                                                     owners[static_cast<std::size_t>(l)]));
-  const auto dofs_at = [&](int l) -> const fem::DofMap& {
+  const auto dofs_at = [&](int l) -> const fem::DofMap<2>& {
     return l + 1 == levels ? finest.dofs() : coarse_[static_cast<std::size_t>(l)]->dofs;
   };
-  const auto distribution_at = [&](int l) -> const fem::DofDistribution& {
+  const auto distribution_at = [&](int l) -> const fem::DofDistribution<2>& {
     return l + 1 == levels ? finest.nodes() : coarse_[static_cast<std::size_t>(l)]->distribution;
   };
   std::vector<ComponentMasks> masks(static_cast<std::size_t>(levels));
@@ -153,7 +154,7 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
 
 ElasticityMultigrid::~ElasticityMultigrid() = default;
 
-const fem::DofDistribution& ElasticityMultigrid::coarse_distribution(int level) const {
+const fem::DofDistribution<2>& ElasticityMultigrid::coarse_distribution(int level) const {
   require(level >= 0 && level + 1 < num_levels(), "ElasticityMultigrid::coarse_distribution: level " +
                                                       std::to_string(level) + " is not below the finest");
   return coarse_[static_cast<std::size_t>(level)]->distribution;

@@ -36,7 +36,7 @@ class ElasticityMultigrid {
   /// `level_owners`: cell owners of every level, as fem::nested_partitions()
   /// gives them (empty: computed here); the finest space should be built on
   /// the last entry. Throws warpfem::Error if the hierarchy does not match the space.
-  ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, const fem::VectorSpace& finest,
+  ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, const fem::VectorSpace<2>& finest,
                       const fem::ElasticityData& data, MultigridSettings settings = galerkin_defaults(),
                       const std::vector<std::vector<int>>& level_owners = {});
   ~ElasticityMultigrid();
@@ -49,7 +49,7 @@ class ElasticityMultigrid {
 
   int num_levels() const { return static_cast<int>(prolongations_.size()) + 1; }
   /// Node distribution of a level below the finest (0 = coarsest).
-  const fem::DofDistribution& coarse_distribution(int level) const;
+  const fem::DofDistribution<2>& coarse_distribution(int level) const;
   /// The vector prolongation from level fine_level − 1 to fine_level.
   Mat prolongation(int fine_level) const {
     return prolongations_.at(static_cast<std::size_t>(fine_level - 1)).get();

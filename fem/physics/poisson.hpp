@@ -71,8 +71,8 @@ class PoissonProblem {
   Vec rhs() const { return b_.get(); }
   Vec solution() const { return u_.get(); }
   const Mesh<2>& mesh() const { return mesh_; }
-  const DofMap& dofs() const { return dofs_; }
-  const DofDistribution& distribution() const { return dist_; }
+  const DofMap<2>& dofs() const { return dofs_; }
+  const DofDistribution<2>& distribution() const { return dist_; }
   const WarpedGeometry<2>& geometry() const { return geometry_; }
   const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
   const mapping::Map<2>& map() const { return *map_; }
@@ -96,7 +96,7 @@ class PoissonProblem {
   void assemble_neumann(petsc::MatrixAssembler& assembler) const;
   void create_matrix();
 
-  using DistributionMaker = std::function<DofDistribution(const DofMap&)>;
+  using DistributionMaker = std::function<DofDistribution<2>(const DofMap<2>&)>;
   PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
                  PoissonData data, GeometryStorage storage, const DistributionMaker& distribute);
 
@@ -106,8 +106,8 @@ class PoissonProblem {
   mapping::MapPtr<2> map_;
   PoissonData data_;
   BoundaryParts parts_;
-  DofMap dofs_;
-  DofDistribution dist_;
+  DofMap<2> dofs_;
+  DofDistribution<2> dist_;
   WarpedGeometry<2> geometry_;
   // Products of reference gradients per DOF pair (a, b), a <= b (rows in the
   // order a = 0, b = 0..n-1, then a = 1, ...) and quadrature point:

@@ -34,7 +34,7 @@ class HyperelasticOperator {
   HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
                        int quadrature_degree, ElasticityData data, const std::vector<int>& cell_owner = {});
 
-  const VectorSpace& space() const { return space_; }
+  const VectorSpace<2>& space() const { return space_; }
   const WarpedGeometry<2>& geometry() const { return geometry_; }
   const ElasticityData& data() const { return data_; }
   const Material& material() const { return data_.material; }
@@ -101,7 +101,7 @@ class HyperelasticOperator {
   MPI_Comm comm_;
   mapping::MapPtr<2> map_;
   ElasticityData data_;
-  VectorSpace space_;
+  VectorSpace<2> space_;
   WarpedGeometry<2> geometry_;
   std::vector<Constraint> constraints_;
   std::vector<PetscInt> constrained_rows_;  // global rows owned here
