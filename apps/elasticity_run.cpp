@@ -62,7 +62,7 @@ class ElasticityOutput {
                                          projection_.project(cells.von_mises));
     const VectorX det =
         mesh_.interpolate(projection_.dofs(), projection_.distribution(), projection_.project(cells.det_F));
-    io::VtkOutput vtk;
+    io::VtkOutput<2> vtk;
     vtk.mesh = &mesh_;
     vtk.compression = io::vtk_compression(cfg_.output.compression);
     vtk.point_fields.push_back({"displacement", 3, disp});
@@ -89,7 +89,7 @@ class ElasticityOutput {
   const io::ElasticityConfig& cfg_;
   const fem::HyperelasticOperator& op_;
   MPI_Comm comm_;
-  fem::OutputMesh mesh_;
+  fem::OutputMesh<2> mesh_;
   fem::NodalProjection projection_;
   io::PvdWriter pvd_;
   int last_index_ = -1;
@@ -106,7 +106,7 @@ fem::NewtonOptions newton_options(const io::NewtonSpec& s) {
   return o;
 }
 
-double max_nodal_displacement(const fem::VectorSpace& space, Vec u) {
+double max_nodal_displacement(const fem::VectorSpace<2>& space, Vec u) {
   const PetscScalar* a = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArrayRead(u, &a));
   double local = 0;

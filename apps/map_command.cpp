@@ -182,16 +182,16 @@ int map_command(const std::vector<std::string>& args) {
     const Polygon& source = *spec.source;
     const double h = edge > 0 ? edge : (source.bbox_max() - source.bbox_min()).norm() / 40.0;
     const warpfem::Mesh<2> mesh = warpfem::mesh_polygon(source, {.max_edge_length = h});
-    const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 1));
-    const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
-    const fem::OutputMesh grid = fem::make_output_mesh(mesh, dist, *map, 2);
+    const fem::DofMap<2> dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 1));
+    const fem::DofDistribution<2> dist(MPI_COMM_WORLD, mesh, dofs);
+    const fem::OutputMesh<2> grid = fem::make_output_mesh(mesh, dist, *map, 2);
     fem::log_untangling(MPI_COMM_WORLD, grid);
     Points<2> x;
     Jacobians<2> J;
     map->eval_with_jacobian(grid.reference_points, x, J);
     VectorX conformal, isometric;
     mapping::distortion<2>(J, conformal, isometric);
-    io::VtkOutput vtk;
+    io::VtkOutput<2> vtk;
     vtk.mesh = &grid;
     auto field = [](const char* n, const VectorX& v) {
       return io::VtkField{n, 1, std::vector<double>(v.data(), v.data() + v.size())};

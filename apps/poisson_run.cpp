@@ -124,14 +124,14 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
     watch.reset();
     const int order = cfg.output.vtk_order > 0 ? cfg.output.vtk_order
                                                : std::max(cfg.poisson.order, map->is_affine() ? 1 : 2);
-    const fem::OutputMesh out = fem::make_output_mesh(mesh, problem.distribution(), *map, order);
+    const fem::OutputMesh<2> out = fem::make_output_mesh(mesh, problem.distribution(), *map, order);
     fem::log_untangling(comm, out);
     result.output_subdivided_cells = out.num_subdivided_cells;
     result.output_folded_cells = out.num_tangled_cells;
     const VectorX u = out.interpolate(problem.dofs(), problem.distribution(),
                                       problem.distribution().gather_relevant(problem.solution()));
     const double nodes_seconds = watch.seconds();
-    io::VtkOutput vtk;
+    io::VtkOutput<2> vtk;
     vtk.mesh = &out;
     vtk.compression = io::vtk_compression(cfg.output.compression);
     vtk.point_fields.push_back({"u", 1, std::vector<double>(u.data(), u.data() + u.size())});

@@ -59,9 +59,9 @@ vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   return a;
 }
 
-template <class PointTable>
+template <class PointTable, int dim>
 vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const IndexTable& table,
-                                               warpfem::CellType type, int order, const VtkOutput& output) {
+                                               warpfem::CellType type, int order, const VtkOutput<dim>& output) {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -108,7 +108,8 @@ std::string broadcast_string(MPI_Comm comm, std::string s) {
 
 }  // namespace
 
-std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory,
+template <int dim>
+std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::string& directory,
                       const std::string& name) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -198,5 +199,8 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string&
   }
   return path;
 }
+
+template std::string write_vtk(MPI_Comm, const VtkOutput<2>&, const std::string&, const std::string&);
+template std::string write_vtk(MPI_Comm, const VtkOutput<3>&, const std::string&, const std::string&);
 
 }  // namespace warpfem::io

@@ -36,8 +36,9 @@ struct VtkCells {
 };
 
 /// Exactly one of `mesh` and `cells` is set.
+template <int dim>
 struct VtkOutput {
-  const fem::OutputMesh* mesh = nullptr;
+  const fem::OutputMesh<dim>* mesh = nullptr;
   const VtkCells* cells = nullptr;
   std::vector<VtkField> point_fields;
   std::vector<VtkField> cell_fields;
@@ -47,7 +48,8 @@ struct VtkOutput {
 /// Writes `<directory>/<name>.vtu` (one rank) or `<directory>/<name>.pvtu` with
 /// pieces `<directory>/<name>/<name>_<rank>.vtu` (several ranks). Collective.
 /// Returns the path of the file to open in ParaView.
-std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory,
+template <int dim>
+std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::string& directory,
                       const std::string& name);
 
 /// VTK cell type id used for a cell type and order (VTK_TRIANGLE, VTK_LAGRANGE_TRIANGLE, ...).

@@ -65,8 +65,8 @@ template <int dim, class Space>
 petsc::Matrix assemble(const fem::MeshHierarchy<dim>& hierarchy, int fine_level, const Space& coarse,
                        const Space& fine) {
   check_spaces(hierarchy, fine_level, coarse, fine);
-  const fem::DofDistribution& fdist = *fine.distribution;
-  const fem::DofDistribution& cdist = *coarse.distribution;
+  const fem::DofDistribution<2>& fdist = *fine.distribution;
+  const fem::DofDistribution<2>& cdist = *coarse.distribution;
   const warpfem::IndexTable& fdofs = fine.dofs->cell_dofs();
   const warpfem::IndexTable& cdofs = coarse.dofs->cell_dofs();
   const int n = static_cast<int>(fdofs.cols());  // fine nodes = coarse DOFs per cell

@@ -24,8 +24,8 @@ std::vector<MatrixX> child_prolongation_tables(const fem::LagrangeElement<dim>& 
 
 /// The Lagrange space of one level as the prolongation sees it.
 struct LevelSpace {
-  const fem::DofMap* dofs = nullptr;
-  const fem::DofDistribution* distribution = nullptr;
+  const fem::DofMap<2>* dofs = nullptr;
+  const fem::DofDistribution<2>* distribution = nullptr;
   /// Per mesh DOF: 1 if its row and column were eliminated (Dirichlet); empty = none.
   std::vector<char> dirichlet = {};
 };

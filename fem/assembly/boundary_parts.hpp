@@ -53,7 +53,8 @@ int select_condition(const std::vector<Condition>& conditions, const std::vector
 /// Per DOF of `dofs`: the index of the condition that applies to it, -1 for
 /// DOFs no condition reaches (and for DOFs off the stored boundary facets).
 template <class Condition>
-std::vector<int> boundary_dof_conditions(const Mesh<2>& mesh, const DofMap& dofs, const BoundaryParts& parts,
+std::vector<int> boundary_dof_conditions(const Mesh<2>& mesh, const DofMap<2>& dofs,
+                                         const BoundaryParts& parts,
                                          const std::vector<Condition>& conditions) {
   std::vector<int> out(static_cast<std::size_t>(dofs.num_dofs()), -1);
   if (conditions.empty()) return out;

@@ -10,10 +10,11 @@
 
 namespace warpfem::fem {
 
-/// Owner rank of every cell.
-std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts);
+/// Owner rank of every cell (2D and 3D meshes; whole meshes only).
+template <int dim>
+std::vector<int> partition_cells(const Mesh<dim>& mesh, int num_parts);
 
-/// Owner rank of every fine cell of a uniform refinement (refine_uniformly: the
+/// Owner rank of every fine cell of a 2D uniform refinement (refine_uniformly: the
 /// children of coarse cell c are fine cells 4c … 4c+3): the owner of the coarse
 /// cell it lies in. A partition inherited this way is nested: a rank's fine
 /// cells cover exactly its coarse cells, so transfers between the two levels

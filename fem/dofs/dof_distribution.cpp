@@ -24,11 +24,13 @@ int communicator_size(MPI_Comm comm) {
 }
 }  // namespace
 
-DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs)
+template <int dim>
+DofDistribution<dim>::DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, const DofMap<dim>& dofs)
     : DofDistribution(comm, mesh, dofs, partition_cells(mesh, communicator_size(comm))) {}
 
-DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs,
-                                 const std::vector<int>& cell_owner)
+template <int dim>
+DofDistribution<dim>::DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                      const std::vector<int>& cell_owner)
     : comm_(comm), dofs_(&dofs) {
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
@@ -48,11 +50,15 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
   number(mesh, dofs);
 }
 
-DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs,
-                                 const NestedBlocks& blocks)
+template <int dim>
+DofDistribution<dim>::DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                      const NestedBlocks& blocks)
     : comm_(comm), dofs_(&dofs) {
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
+  require(dim == 2,
+          "DofDistribution: nested blocks come from 2D uniform refinement; distribute a 3D mesh by a list of "
+          "cell owners (or partition_cells)");
   require(blocks.num_cells() == mesh.num_cells(), "DofDistribution: " + std::to_string(blocks.num_blocks()) +
                                                       " blocks of " + std::to_string(blocks.cells_per_block) +
                                                       " cells for a mesh of " +
@@ -97,7 +103,8 @@ DofDistribution::DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMa
   if (size_ > 1) candidate_cells_ = block_cell_ranges(blocks.blocks_near(rank_), per_block);
 }
 
-void DofDistribution::check_owners(Index num_cells, Index num_listed, int lowest, int highest) const {
+template <int dim>
+void DofDistribution<dim>::check_owners(Index num_cells, Index num_listed, int lowest, int highest) const {
   require(num_listed == num_cells, "DofDistribution: " + std::to_string(num_listed) + " cell owners for " +
                                        std::to_string(num_cells) + " cells");
   if (num_cells > 0 && (lowest < 0 || highest >= size_))
@@ -105,8 +112,10 @@ void DofDistribution::check_owners(Index num_cells, Index num_listed, int lowest
                 " is not a rank of a communicator of size " + std::to_string(size_));
 }
 
+template <int dim>
 template <class CellOwner>
-void DofDistribution::own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, const CellOwner& cell_owner) {
+void DofDistribution<dim>::own_by_cells(const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                        const CellOwner& cell_owner) {
   const Index nd = dofs.num_dofs();
   if (size_ == 1) {  // everything is rank 0's: no pass over the cells
     owner_.assign(static_cast<std::size_t>(nd), 0);
@@ -122,7 +131,8 @@ void DofDistribution::own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, cons
   }
 }
 
-void DofDistribution::number(const Mesh<2>& mesh, const DofMap& dofs) {
+template <int dim>
+void DofDistribution<dim>::number(const Mesh<dim>& mesh, const DofMap<dim>& dofs) {
   const IndexTable& cd = dofs.cell_dofs();
   const Index nd = dofs.num_dofs();
   std::vector<PetscInt> count(static_cast<std::size_t>(size_) + 1, 0);
@@ -151,7 +161,8 @@ void DofDistribution::number(const Mesh<2>& mesh, const DofMap& dofs) {
     if (global_[d] < 0) global_[d] = next[owner_[d]]++;
 }
 
-void DofDistribution::build_relevant() const {
+template <int dim>
+void DofDistribution<dim>::build_relevant() const {
   const IndexTable& cd = dofs_->cell_dofs();
   const Index nd = dofs_->num_dofs();
   relevant_index_.assign(static_cast<std::size_t>(nd), -1);
@@ -167,13 +178,15 @@ void DofDistribution::build_relevant() const {
     }
 }
 
-petsc::Vector DofDistribution::create_vector() const {
+template <int dim>
+petsc::Vector DofDistribution<dim>::create_vector() const {
   petsc::Vector v;
   WARPFEM_PETSC_CHECK(VecCreateMPI(comm_, num_owned(), num_global_, v.out()));
   return v;
 }
 
-VectorX DofDistribution::gather_relevant(Vec v) const {
+template <int dim>
+VectorX DofDistribution<dim>::gather_relevant(Vec v) const {
   const std::vector<Index>& relevant = relevant_dofs();
   const PetscInt n = static_cast<PetscInt>(relevant.size());
   if (!scatter_) {
@@ -187,15 +200,17 @@ VectorX DofDistribution::gather_relevant(Vec v) const {
   return petsc::scatter_forward(scatter_.get(), v, relevant_values_.get());
 }
 
-VectorX DofDistribution::gather_all(Vec v) const {
+template <int dim>
+VectorX DofDistribution<dim>::gather_all(Vec v) const {
   const std::vector<PetscScalar> a = petsc::gather_to_all(v);
   VectorX out(static_cast<Index>(global_.size()));
   for (std::size_t d = 0; d < global_.size(); ++d) out(static_cast<Index>(d)) = a[global_[d]];
   return out;
 }
 
-void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
-                                    std::vector<PetscInt>& o_nnz) const {
+template <int dim>
+void DofDistribution<dim>::preallocation(const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                         std::vector<PetscInt>& d_nnz, std::vector<PetscInt>& o_nnz) const {
   std::vector<PetscInt> row_ptr, cols;
   sparsity(mesh, dofs, row_ptr, cols);
   d_nnz.assign(static_cast<std::size_t>(num_owned()), 0);
@@ -205,20 +220,25 @@ void DofDistribution::preallocation(const Mesh<2>& mesh, const DofMap& dofs, std
       ++(cols[k] >= owned_begin_ && cols[k] < owned_end_ ? d_nnz : o_nnz)[static_cast<std::size_t>(r)];
 }
 
-void DofDistribution::sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
-                               std::vector<PetscInt>& cols) const {
+template <int dim>
+void DofDistribution<dim>::sparsity(const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                    std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& cols) const {
   pattern(mesh, dofs, row_ptr, cols, nullptr, nullptr);
 }
 
-void DofDistribution::sparsity_split(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
-                                     std::vector<PetscInt>& cols, std::vector<PetscInt>& off_row_ptr,
-                                     std::vector<PetscInt>& off_cols) const {
+template <int dim>
+void DofDistribution<dim>::sparsity_split(const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                          std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& cols,
+                                          std::vector<PetscInt>& off_row_ptr,
+                                          std::vector<PetscInt>& off_cols) const {
   pattern(mesh, dofs, row_ptr, cols, &off_row_ptr, &off_cols);
 }
 
-void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
-                              std::vector<PetscInt>& cols, std::vector<PetscInt>* off_row_ptr,
-                              std::vector<PetscInt>* off_cols) const {
+template <int dim>
+void DofDistribution<dim>::pattern(const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                   std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& cols,
+                                   std::vector<PetscInt>* off_row_ptr,
+                                   std::vector<PetscInt>* off_cols) const {
   const bool split = off_row_ptr != nullptr;
   const IndexTable& cd = dofs.cell_dofs();
   const Index nc = mesh.num_cells(), nloc = cd.cols();
@@ -269,7 +289,10 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
     case 3: offer(std::integral_constant<int, 3>{}); break;
     case 4: offer(std::integral_constant<int, 4>{}); break;
     case 6: offer(std::integral_constant<int, 6>{}); break;
+    case 8: offer(std::integral_constant<int, 8>{}); break;
     case 9: offer(std::integral_constant<int, 9>{}); break;
+    case 10: offer(std::integral_constant<int, 10>{}); break;
+    case 27: offer(std::integral_constant<int, 27>{}); break;
     default: {
       std::vector<PetscInt> global_cell(static_cast<std::size_t>(nloc));
       for (const auto& [first, last] : scanned)
@@ -349,5 +372,8 @@ void DofDistribution::pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vect
       }
   });
 }
+
+template class DofDistribution<2>;
+template class DofDistribution<3>;
 
 }  // namespace warpfem::fem

@@ -1,5 +1,5 @@
 #pragma once
-// Parallel ownership and PETSc numbering of the DOFs of a DofMap.
+// Parallel ownership and PETSc numbering of the DOFs of a DofMap (2D or 3D).
 //
 // Cells are owned by the rank partition_cells() (or the caller) gives them; a DOF is owned by
 // the owner of the first cell (in cell order) that contains it. PETSc global indices number
@@ -24,20 +24,23 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 class DofDistribution {
  public:
   /// Cells partitioned by partition_cells().
-  DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs);
+  DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, const DofMap<dim>& dofs);
   /// Cells partitioned by `cell_owner` (one rank in [0, size) per cell, the same
   /// on every rank), e.g. a nested partition of a hierarchy (nested_partitions()).
-  DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs, const std::vector<int>& cell_owner);
+  DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                  const std::vector<int>& cell_owner);
+  /// 2D only (nested blocks come from 2D uniform refinement).
   /// Cells partitioned by `blocks` (a level above the base of
   /// nested_level_partitions(), or of a MeshHierarchy built for a partition).
   /// The same distribution as with every cell's owner listed, but P1/Q1 owners
   /// and numbers follow from the blocks' vertex ranges (no pass over the cells:
   /// the mesh may be partial), and on several ranks the sparsity pattern visits
   /// only the cells of the blocks near the rank's.
-  DofDistribution(MPI_Comm comm, const Mesh<2>& mesh, const DofMap& dofs, const NestedBlocks& blocks);
+  DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, const DofMap<dim>& dofs, const NestedBlocks& blocks);
 
   MPI_Comm comm() const { return comm_; }
   int rank() const { return rank_; }
@@ -71,17 +74,17 @@ class DofDistribution {
   VectorX gather_all(Vec v) const;
   /// Per-row counts of nonzeros in the diagonal and off-diagonal blocks for
   /// the owned rows of a matrix coupling all DOFs of each cell.
-  void preallocation(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& d_nnz,
+  void preallocation(const Mesh<dim>& mesh, const DofMap<dim>& dofs, std::vector<PetscInt>& d_nnz,
                      std::vector<PetscInt>& o_nnz) const;
   /// The same pattern as compressed rows: owned row r (global index owned_begin() + r)
   /// couples to the sorted global columns cols[row_ptr[r] .. row_ptr[r + 1]).
-  void sparsity(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+  void sparsity(const Mesh<dim>& mesh, const DofMap<dim>& dofs, std::vector<PetscInt>& row_ptr,
                 std::vector<PetscInt>& cols) const;
   /// The same pattern split the way PETSc's MATMPIAIJ stores it (for
   /// petsc::adopt_split_rows): the columns in [owned_begin(), owned_end()) as
   /// local indices in (row_ptr, cols), the others as global indices in
   /// (off_row_ptr, off_cols). Saves adopting the unsplit rows a second pass.
-  void sparsity_split(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+  void sparsity_split(const Mesh<dim>& mesh, const DofMap<dim>& dofs, std::vector<PetscInt>& row_ptr,
                       std::vector<PetscInt>& cols, std::vector<PetscInt>& off_row_ptr,
                       std::vector<PetscInt>& off_cols) const;
 
@@ -96,14 +99,14 @@ class DofDistribution {
   std::vector<std::array<Index, 2>> candidate_cells_;
   void check_owners(Index num_cells, Index num_listed, int lowest, int highest) const;
   /// sparsity() and sparsity_split(): off_row_ptr / off_cols null for the unsplit pattern.
-  void pattern(const Mesh<2>& mesh, const DofMap& dofs, std::vector<PetscInt>& row_ptr,
+  void pattern(const Mesh<dim>& mesh, const DofMap<dim>& dofs, std::vector<PetscInt>& row_ptr,
                std::vector<PetscInt>& cols, std::vector<PetscInt>* off_row_ptr,
                std::vector<PetscInt>* off_cols) const;
   /// Owners of the DOFs by a pass over the cells (the first cell containing a DOF decides).
   template <class CellOwner>
-  void own_by_cells(const Mesh<2>& mesh, const DofMap& dofs, const CellOwner& cell_owner);
+  void own_by_cells(const Mesh<dim>& mesh, const DofMap<dim>& dofs, const CellOwner& cell_owner);
   /// PETSc numbers from owner_: rank by rank (see the class comment).
-  void number(const Mesh<2>& mesh, const DofMap& dofs);
+  void number(const Mesh<dim>& mesh, const DofMap<dim>& dofs);
   void build_relevant() const;
   // relevant_dofs() and its inverse, built once on demand (the flag on the heap
   // keeps the class movable).
@@ -112,7 +115,7 @@ class DofDistribution {
   mutable std::vector<Index> relevant_index_;
   mutable petsc::Scatter scatter_;
   mutable petsc::Vector relevant_values_;
-  const DofMap* dofs_;
+  const DofMap<dim>* dofs_;
 };
 
 }  // namespace warpfem::fem

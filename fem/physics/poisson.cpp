@@ -27,17 +27,18 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
                                int quadrature_degree, PoissonData data, GeometryStorage storage,
                                const std::vector<int>& cell_owner)
     : PoissonProblem(comm, mesh, std::move(map), order, quadrature_degree, std::move(data), storage,
-                     DistributionMaker([&](const DofMap& dofs) {
-                       return cell_owner.empty() ? DofDistribution(comm, mesh, dofs)
-                                                 : DofDistribution(comm, mesh, dofs, cell_owner);
+                     DistributionMaker([&](const DofMap<2>& dofs) {
+                       return cell_owner.empty() ? DofDistribution<2>(comm, mesh, dofs)
+                                                 : DofDistribution<2>(comm, mesh, dofs, cell_owner);
                      })) {}
 
 PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
                                int quadrature_degree, PoissonData data, GeometryStorage storage,
                                const NestedBlocks& blocks)
-    : PoissonProblem(
-          comm, mesh, std::move(map), order, quadrature_degree, std::move(data), storage,
-          DistributionMaker([&](const DofMap& dofs) { return DofDistribution(comm, mesh, dofs, blocks); })) {}
+    : PoissonProblem(comm, mesh, std::move(map), order, quadrature_degree, std::move(data), storage,
+                     DistributionMaker([&](const DofMap<2>& dofs) {
+                       return DofDistribution<2>(comm, mesh, dofs, blocks);
+                     })) {}
 
 PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
                                int quadrature_degree, PoissonData data, GeometryStorage storage,
@@ -48,7 +49,7 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
       data_(std::move(data)),
       parts_(mesh, data_.boundary_polygon),
       dofs_(timed(setup_timings_.dof_map,
-                  [&] { return DofMap(mesh, LagrangeElement<2>(mesh.cell_type, order)); })),
+                  [&] { return DofMap<2>(mesh, LagrangeElement<2>(mesh.cell_type, order)); })),
       dist_(timed(setup_timings_.distribution, [&] { return distribute(dofs_); })),
       geometry_(timed(setup_timings_.geometry, [&] {
         return WarpedGeometry<2>(mesh, dist_.local_cells(), WarpedGeometry<2>::BorrowCells{},

@@ -73,9 +73,9 @@ class PoissonProblem final : public LinearProblem<2> {
   Vec solution() const override { return u_.get(); }
   MPI_Comm comm() const override { return comm_; }
   const Mesh<2>& mesh() const override { return mesh_; }
-  const DofMap& dofs() const override { return dofs_; }
-  const DofDistribution& nodes() const override { return dist_; }
-  const DofDistribution& distribution() const { return dist_; }
+  const DofMap<2>& dofs() const override { return dofs_; }
+  const DofDistribution<2>& nodes() const override { return dist_; }
+  const DofDistribution<2>& distribution() const { return dist_; }
   int components() const override { return 1; }
   /// The Dirichlet DOFs (eliminated rows and columns), selected per DOF node
   /// through the boundary polygon if PoissonData has one, else by facet tag.
@@ -110,7 +110,7 @@ class PoissonProblem final : public LinearProblem<2> {
   void assemble_neumann(petsc::MatrixAssembler& assembler) const;
   void create_matrix();
 
-  using DistributionMaker = std::function<DofDistribution(const DofMap&)>;
+  using DistributionMaker = std::function<DofDistribution<2>(const DofMap<2>&)>;
   PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
                  PoissonData data, GeometryStorage storage, const DistributionMaker& distribute);
 
@@ -120,8 +120,8 @@ class PoissonProblem final : public LinearProblem<2> {
   mapping::MapPtr<2> map_;
   PoissonData data_;
   BoundaryParts parts_;
-  DofMap dofs_;
-  DofDistribution dist_;
+  DofMap<2> dofs_;
+  DofDistribution<2> dist_;
   WarpedGeometry<2> geometry_;
   // Products of reference gradients per DOF pair (a, b), a <= b (rows in the
   // order a = 0, b = 0..n-1, then a = 1, ...) and quadrature point:

@@ -35,8 +35,8 @@ class Problem {
   virtual MPI_Comm comm() const = 0;
   virtual const Mesh<dim>& mesh() const = 0;
   /// The scalar DOF map of the nodes (mesh numbering) and its distribution.
-  virtual const DofMap& dofs() const = 0;
-  virtual const DofDistribution& nodes() const = 0;
+  virtual const DofMap<dim>& dofs() const = 0;
+  virtual const DofDistribution<dim>& nodes() const = 0;
   /// Unknowns per node.
   virtual int components() const = 0;
   /// Per component c and mesh DOF d: 1 if unknown (d, c) is constrained, i.e.

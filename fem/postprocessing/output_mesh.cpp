@@ -1,5 +1,6 @@
 #include "fem/postprocessing/output_mesh.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -19,15 +20,25 @@ namespace {
 // Where the geometric Jacobian of an output cell is checked: its nodes and a
 // lattice of step 1/8 on the reference cell (which contains the 5×5 lattice a
 // viewer samples).
-Points<2> jacobian_check_points(const LagrangeElement<2>& element) {
+template <int dim>
+Points<dim> jacobian_check_points(const LagrangeElement<dim>& element) {
   constexpr int steps = 8;
-  std::vector<Point<2>> pts;
+  std::vector<Point<dim>> pts;
   for (Index k = 0; k < element.nodes().rows(); ++k) pts.push_back(element.nodes().row(k).transpose());
-  const bool triangle = element.cell_type() == CellType::triangle;
-  for (int i = 0; i <= steps; ++i)
-    for (int j = 0; j <= (triangle ? steps - i : steps); ++j)
-      pts.push_back(Point<2>(static_cast<double>(i) / steps, static_cast<double>(j) / steps));
-  Points<2> out(static_cast<Index>(pts.size()), 2);
+  const bool simplex =
+      element.cell_type() == CellType::triangle || element.cell_type() == CellType::tetrahedron;
+  if constexpr (dim == 2) {
+    for (int i = 0; i <= steps; ++i)
+      for (int j = 0; j <= (simplex ? steps - i : steps); ++j)
+        pts.push_back(Point<2>(static_cast<double>(i) / steps, static_cast<double>(j) / steps));
+  } else {
+    for (int i = 0; i <= steps; ++i)
+      for (int j = 0; j <= (simplex ? steps - i : steps); ++j)
+        for (int k = 0; k <= (simplex ? steps - i - j : steps); ++k)
+          pts.push_back(Point<3>(static_cast<double>(i) / steps, static_cast<double>(j) / steps,
+                                 static_cast<double>(k) / steps));
+  }
+  Points<dim> out(static_cast<Index>(pts.size()), dim);
   for (std::size_t p = 0; p < pts.size(); ++p) out.row(static_cast<Index>(p)) = pts[p].transpose();
   return out;
 }
@@ -84,19 +95,22 @@ std::vector<Region> split(const Region& r, CellType type) {
 
 }  // namespace
 
-OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, const mapping::Map<2>& map,
-                            int order) {
-  OutputMesh out;
+template <int dim>
+OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
+                                 const mapping::Map<dim>& map, int order) {
+  OutputMesh<dim> out;
   out.cell_type = mesh.cell_type;
   out.order = order;
-  const LagrangeElement<2> element(mesh.cell_type, order);
+  const LagrangeElement<dim> element(mesh.cell_type, order);
   require(element.dofs_per_edge() <= 1, "make_output_mesh: output order " + std::to_string(order) +
                                             " is not supported (at most one node per edge)");
   const int nloc = element.num_dofs(), nvert = element.num_vertex_dofs();
-  const int edge_nodes_end =
-      nvert + static_cast<int>(cell_edges(mesh.cell_type).size()) * element.dofs_per_edge();
   const auto& edges = cell_edges(mesh.cell_type);
-  const LagrangeElement<2> linear(mesh.cell_type, 1);
+  const int edge_nodes_end = nvert + static_cast<int>(edges.size()) * element.dofs_per_edge();
+  const int face_nodes_end =
+      edge_nodes_end +
+      (dim == 3 ? static_cast<int>(cell_faces(mesh.cell_type).size()) : 0) * element.dofs_per_face();
+  const LagrangeElement<dim> linear(mesh.cell_type, 1);
   // Node positions in Ω0: the straight cell geometry at the element's nodes.
   const MatrixX geometry = linear.values(element.nodes());  // nodes x vertices
   const auto& cells = dist.local_cells();
@@ -105,31 +119,41 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
   out.source_cells.resize(cells.size());
   for (std::size_t i = 0; i < cells.size(); ++i) out.source_cells[i] = static_cast<Index>(i);
   // Nodes the local cells share: vertices by their number, edge nodes by their
-  // edge's two vertex numbers (no mesh-wide numbering of edges, so the output
-  // of a level stored only around this rank's cells works too); interior nodes
+  // edge's two vertex numbers, face nodes (Q2 hexahedra) by their face's sorted
+  // vertex numbers (no mesh-wide numbering of edges or faces, so the output of
+  // a level stored only around this rank's cells works too); interior nodes
   // belong to one cell.
-  struct Key {
-    Index a, b;
-    bool operator==(const Key&) const = default;
-  };
+  using Key = std::array<Index, dim == 2 ? 2 : 4>;
   struct KeyHash {
     std::size_t operator()(const Key& k) const {
-      return std::hash<Index>()(k.a) ^ (std::hash<Index>()(k.b) * 0x9E3779B97F4A7C15ULL);
+      std::size_t h = std::hash<Index>()(k[0]);
+      for (std::size_t i = 1; i < k.size(); ++i)
+        h ^= std::hash<Index>()(k[i]) * (i == 1 ? 0x9E3779B97F4A7C15ULL : 0xC2B2AE3D27D4EB4FULL * i);
+      return h;
     }
   };
   std::unordered_map<Key, Index, KeyHash> index;
   index.reserve(cells.size() * static_cast<std::size_t>(nloc) / 2 + 1);
-  std::vector<Point<2>> positions;
+  std::vector<Point<dim>> positions;
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const Index c = cells[i];
     for (int k = 0; k < nloc; ++k) {
       Index node = -1;
-      if (k < edge_nodes_end) {
-        Key key{mesh.cells(c, k), -1};
-        if (k >= nvert) {
+      if (k < face_nodes_end) {
+        Key key;
+        key.fill(-1);
+        if (k < nvert) {
+          key[0] = mesh.cells(c, k);
+        } else if (k < edge_nodes_end) {
           const auto& e = edges[static_cast<std::size_t>(k - nvert)];
           const Index p = mesh.cells(c, e[0]), q = mesh.cells(c, e[1]);
-          key = {std::min(p, q), std::max(p, q)};
+          key[0] = std::min(p, q);
+          key[1] = std::max(p, q);
+        } else if constexpr (dim == 3) {
+          const auto& f = cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)];
+          for (std::size_t j = 0; j < f.size(); ++j) key[j] = mesh.cells(c, f[j]);
+          for (std::size_t a = 1; a < f.size(); ++a)  // sorted: insertion into at most four
+            for (std::size_t b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
         }
         const auto [it, inserted] = index.try_emplace(key, static_cast<Index>(positions.size()));
         node = it->second;
@@ -139,7 +163,7 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
         }
       }
       if (node < 0) node = static_cast<Index>(positions.size());
-      Point<2> x = Point<2>::Zero();
+      Point<dim> x = Point<dim>::Zero();
       for (int v = 0; v < nvert; ++v) x += geometry(k, v) * mesh.vertex(mesh.cells(c, v));
       positions.push_back(x);
       out.node_source_.push_back({c, element.nodes().row(k).transpose()});
@@ -147,127 +171,141 @@ OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, co
     }
   }
   const Index n = static_cast<Index>(positions.size());
-  out.reference_points.resize(n, 2);
+  out.reference_points.resize(n, dim);
   for (Index i = 0; i < n; ++i)
     out.reference_points.row(i) = positions[static_cast<std::size_t>(i)].transpose();
   out.points = warp_nodes(map, out.reference_points, &out.map_det);
   out.num_mesh_cells = static_cast<Index>(cells.size());
 
   // The quadratic interpolant of f can fold a cell even where det J_f > 0 (a
-  // strongly curved cell near a reentrant vertex of Ω1): such cells are
+  // strongly curved cell near a reentrant vertex of Ω1): in 2D such cells are
   // replaced by four children whose nodes are again placed by f, recursively.
-  const Points<2> check = jacobian_check_points(element);
+  const Points<dim> check = jacobian_check_points(element);
   const auto check_gradients = element.gradients(check);
   const auto tangled = [&](const std::vector<Index>& nodes) {
     for (Index p = 0; p < check.rows(); ++p) {
-      Eigen::Matrix2d J = Eigen::Matrix2d::Zero();
+      Eigen::Matrix<double, dim, dim> J = Eigen::Matrix<double, dim, dim>::Zero();
       for (int k = 0; k < nloc; ++k) {
-        const Point<2> x = out.points.row(nodes[static_cast<std::size_t>(k)]).transpose();
-        J.col(0) += check_gradients[0](p, k) * x;
-        J.col(1) += check_gradients[1](p, k) * x;
+        const Point<dim> x = out.points.row(nodes[static_cast<std::size_t>(k)]).transpose();
+        for (int d = 0; d < dim; ++d) J.col(d) += check_gradients[static_cast<std::size_t>(d)](p, k) * x;
       }
-      if (!(J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0) > 0)) return true;
+      if constexpr (dim == 2) {
+        if (!(J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0) > 0)) return true;
+      } else {
+        if (!(J.determinant() > 0)) return true;
+      }
     }
     return false;
   };
-  std::vector<std::vector<Index>> kept;
-  std::vector<Index> kept_ids, kept_sources;
-  std::vector<Region> pending;
-  std::vector<std::vector<Index>> pending_nodes;
-  std::array<Point<2>, 4> reference_vertices{};
-  for (int v = 0; v < nvert; ++v)
-    reference_vertices[static_cast<std::size_t>(v)] = linear.nodes().row(v).transpose();
-  for (Index i = 0; i < out.cells.rows(); ++i) {
-    std::vector<Index> nodes(static_cast<std::size_t>(nloc));
-    for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(i, k);
-    if (tangled(nodes)) {
-      pending.push_back({i, reference_vertices});
-      pending_nodes.push_back(std::move(nodes));
-    } else {
-      kept.push_back(std::move(nodes));
-      kept_ids.push_back(cells[static_cast<std::size_t>(i)]);
-      kept_sources.push_back(i);
+  if constexpr (dim == 3) {
+    for (Index i = 0; i < out.cells.rows(); ++i) {
+      std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(i, k);
+      if (tangled(nodes)) ++out.num_tangled_cells;
     }
-  }
-  std::unordered_map<XiKey, Index, XiKeyHash> by_xi;
-  std::vector<char> subdivided(cells.size(), 0);
-  constexpr int max_depth = 4;
-  for (int depth = 1; depth <= max_depth && !pending.empty(); ++depth) {
-    // Nodes of the regions being split are reused by the children they touch.
-    for (std::size_t r = 0; r < pending.size(); ++r) {
-      subdivided[static_cast<std::size_t>(pending[r].cell_index)] = 1;
-      for (int k = 0; k < nloc; ++k) {
-        Point<2> xi = Point<2>::Zero();
-        for (int v = 0; v < nvert; ++v) xi += geometry(k, v) * pending[r].xi[static_cast<std::size_t>(v)];
-        by_xi.try_emplace(xi_key(pending[r].cell_index, xi), pending_nodes[r][static_cast<std::size_t>(k)]);
+    return out;
+  } else {
+    std::vector<std::vector<Index>> kept;
+    std::vector<Index> kept_ids, kept_sources;
+    std::vector<Region> pending;
+    std::vector<std::vector<Index>> pending_nodes;
+    std::array<Point<2>, 4> reference_vertices{};
+    for (int v = 0; v < nvert; ++v)
+      reference_vertices[static_cast<std::size_t>(v)] = linear.nodes().row(v).transpose();
+    for (Index i = 0; i < out.cells.rows(); ++i) {
+      std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(i, k);
+      if (tangled(nodes)) {
+        pending.push_back({i, reference_vertices});
+        pending_nodes.push_back(std::move(nodes));
+      } else {
+        kept.push_back(std::move(nodes));
+        kept_ids.push_back(cells[static_cast<std::size_t>(i)]);
+        kept_sources.push_back(i);
       }
     }
-    std::vector<Region> next;
-    std::vector<std::vector<Index>> next_nodes;
-    std::vector<std::pair<Index, Point<2>>> new_sources;
-    for (std::size_t r = 0; r < pending.size(); ++r)
-      for (const Region& child : split(pending[r], mesh.cell_type)) {
-        std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+    std::unordered_map<XiKey, Index, XiKeyHash> by_xi;
+    std::vector<char> subdivided(cells.size(), 0);
+    constexpr int max_depth = 4;
+    for (int depth = 1; depth <= max_depth && !pending.empty(); ++depth) {
+      // Nodes of the regions being split are reused by the children they touch.
+      for (std::size_t r = 0; r < pending.size(); ++r) {
+        subdivided[static_cast<std::size_t>(pending[r].cell_index)] = 1;
         for (int k = 0; k < nloc; ++k) {
           Point<2> xi = Point<2>::Zero();
-          for (int v = 0; v < nvert; ++v) xi += geometry(k, v) * child.xi[static_cast<std::size_t>(v)];
-          const auto [it, inserted] = by_xi.try_emplace(
-              xi_key(child.cell_index, xi), out.points.rows() + static_cast<Index>(new_sources.size()));
-          if (inserted) new_sources.emplace_back(child.cell_index, xi);
-          nodes[static_cast<std::size_t>(k)] = it->second;
+          for (int v = 0; v < nvert; ++v) xi += geometry(k, v) * pending[r].xi[static_cast<std::size_t>(v)];
+          by_xi.try_emplace(xi_key(pending[r].cell_index, xi), pending_nodes[r][static_cast<std::size_t>(k)]);
         }
-        next.push_back(child);
-        next_nodes.push_back(std::move(nodes));
       }
-    // Place the new nodes: Ω0 positions by the mesh cell's straight geometry, Ω1 by f.
-    const Index old_count = out.points.rows(), added = static_cast<Index>(new_sources.size());
-    Points<2> xi(added, 2);
-    for (Index j = 0; j < added; ++j) xi.row(j) = new_sources[static_cast<std::size_t>(j)].second.transpose();
-    const MatrixX weights = linear.values(xi);
-    Points<2> x0(added, 2);
-    for (Index j = 0; j < added; ++j) {
-      const Index c = cells[static_cast<std::size_t>(new_sources[static_cast<std::size_t>(j)].first)];
-      Point<2> x = Point<2>::Zero();
-      for (int v = 0; v < nvert; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(c, v));
-      x0.row(j) = x.transpose();
-    }
-    VectorX det;
-    const Points<2> x1 = warp_nodes(map, x0, &det);
-    out.reference_points.conservativeResize(old_count + added, 2);
-    out.points.conservativeResize(old_count + added, 2);
-    out.map_det.conservativeResize(old_count + added);
-    out.reference_points.bottomRows(added) = x0;
-    out.points.bottomRows(added) = x1;
-    out.map_det.tail(added) = det;
-    for (const auto& s : new_sources)
-      out.node_source_.push_back({cells[static_cast<std::size_t>(s.first)], s.second});
-    pending.clear();
-    pending_nodes.clear();
-    for (std::size_t r = 0; r < next.size(); ++r) {
-      if (depth < max_depth && tangled(next_nodes[r])) {
-        pending.push_back(next[r]);
-        pending_nodes.push_back(std::move(next_nodes[r]));
-      } else {
-        if (tangled(next_nodes[r])) ++out.num_tangled_cells;
-        kept.push_back(std::move(next_nodes[r]));
-        kept_ids.push_back(cells[static_cast<std::size_t>(next[r].cell_index)]);
-        kept_sources.push_back(next[r].cell_index);
+      std::vector<Region> next;
+      std::vector<std::vector<Index>> next_nodes;
+      std::vector<std::pair<Index, Point<2>>> new_sources;
+      for (std::size_t r = 0; r < pending.size(); ++r)
+        for (const Region& child : split(pending[r], mesh.cell_type)) {
+          std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+          for (int k = 0; k < nloc; ++k) {
+            Point<2> xi = Point<2>::Zero();
+            for (int v = 0; v < nvert; ++v) xi += geometry(k, v) * child.xi[static_cast<std::size_t>(v)];
+            const auto [it, inserted] = by_xi.try_emplace(
+                xi_key(child.cell_index, xi), out.points.rows() + static_cast<Index>(new_sources.size()));
+            if (inserted) new_sources.emplace_back(child.cell_index, xi);
+            nodes[static_cast<std::size_t>(k)] = it->second;
+          }
+          next.push_back(child);
+          next_nodes.push_back(std::move(nodes));
+        }
+      // Place the new nodes: Ω0 positions by the mesh cell's straight geometry, Ω1 by f.
+      const Index old_count = out.points.rows(), added = static_cast<Index>(new_sources.size());
+      Points<2> xi(added, 2);
+      for (Index j = 0; j < added; ++j)
+        xi.row(j) = new_sources[static_cast<std::size_t>(j)].second.transpose();
+      const MatrixX weights = linear.values(xi);
+      Points<2> x0(added, 2);
+      for (Index j = 0; j < added; ++j) {
+        const Index c = cells[static_cast<std::size_t>(new_sources[static_cast<std::size_t>(j)].first)];
+        Point<2> x = Point<2>::Zero();
+        for (int v = 0; v < nvert; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(c, v));
+        x0.row(j) = x.transpose();
+      }
+      VectorX det;
+      const Points<2> x1 = warp_nodes(map, x0, &det);
+      out.reference_points.conservativeResize(old_count + added, 2);
+      out.points.conservativeResize(old_count + added, 2);
+      out.map_det.conservativeResize(old_count + added);
+      out.reference_points.bottomRows(added) = x0;
+      out.points.bottomRows(added) = x1;
+      out.map_det.tail(added) = det;
+      for (const auto& s : new_sources)
+        out.node_source_.push_back({cells[static_cast<std::size_t>(s.first)], s.second});
+      pending.clear();
+      pending_nodes.clear();
+      for (std::size_t r = 0; r < next.size(); ++r) {
+        if (depth < max_depth && tangled(next_nodes[r])) {
+          pending.push_back(next[r]);
+          pending_nodes.push_back(std::move(next_nodes[r]));
+        } else {
+          if (tangled(next_nodes[r])) ++out.num_tangled_cells;
+          kept.push_back(std::move(next_nodes[r]));
+          kept_ids.push_back(cells[static_cast<std::size_t>(next[r].cell_index)]);
+          kept_sources.push_back(next[r].cell_index);
+        }
       }
     }
+    out.num_subdivided_cells = static_cast<Index>(std::count(subdivided.begin(), subdivided.end(), 1));
+    if (out.num_subdivided_cells > 0) {
+      out.cells.resize(static_cast<Index>(kept.size()), nloc);
+      for (std::size_t r = 0; r < kept.size(); ++r)
+        for (int k = 0; k < nloc; ++k)
+          out.cells(static_cast<Index>(r), k) = kept[r][static_cast<std::size_t>(k)];
+      out.cell_ids = std::move(kept_ids);
+      out.source_cells = std::move(kept_sources);
+    }
+    return out;
   }
-  out.num_subdivided_cells = static_cast<Index>(std::count(subdivided.begin(), subdivided.end(), 1));
-  if (out.num_subdivided_cells > 0) {
-    out.cells.resize(static_cast<Index>(kept.size()), nloc);
-    for (std::size_t r = 0; r < kept.size(); ++r)
-      for (int k = 0; k < nloc; ++k)
-        out.cells(static_cast<Index>(r), k) = kept[r][static_cast<std::size_t>(k)];
-    out.cell_ids = std::move(kept_ids);
-    out.source_cells = std::move(kept_sources);
-  }
-  return out;
 }
 
-void log_untangling(MPI_Comm comm, const OutputMesh& out) {
+template <int dim>
+void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out) {
   long long counts[3] = {out.num_mesh_cells, out.num_subdivided_cells, out.num_tangled_cells};
   MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_LONG_LONG, MPI_SUM, comm);
   if (counts[1] > 0)
@@ -279,20 +317,22 @@ void log_untangling(MPI_Comm comm, const OutputMesh& out) {
                  "unaffected (f is strongly anisotropic there; a finer mesh or another map helps)");
 }
 
-std::vector<double> OutputMesh::cell_values(const VectorX& per_local_cell) const {
+template <int dim>
+std::vector<double> OutputMesh<dim>::cell_values(const VectorX& per_local_cell) const {
   std::vector<double> values(source_cells.size());
   for (std::size_t i = 0; i < source_cells.size(); ++i) values[i] = per_local_cell(source_cells[i]);
   return values;
 }
 
-VectorX OutputMesh::interpolate(const DofMap& dofs, const DofDistribution& dist,
-                                const VectorX& relevant_values) const {
+template <int dim>
+VectorX OutputMesh<dim>::interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
+                                     const VectorX& relevant_values) const {
   VectorX values(static_cast<Index>(node_source_.size()));
   // In blocks, so the matrix of basis values stays small on large meshes.
   constexpr Index block = 4096;
   for (Index start = 0; start < values.size(); start += block) {
     const Index count = std::min(block, values.size() - start);
-    Points<2> xi(count, 2);
+    Points<dim> xi(count, dim);
     for (Index p = 0; p < count; ++p)
       xi.row(p) = node_source_[static_cast<std::size_t>(start + p)].xi.transpose();
     const MatrixX phi = dofs.element().values(xi);  // nodes x element dofs
@@ -306,5 +346,14 @@ VectorX OutputMesh::interpolate(const DofMap& dofs, const DofDistribution& dist,
   }
   return values;
 }
+
+template struct OutputMesh<2>;
+template struct OutputMesh<3>;
+template OutputMesh<2> make_output_mesh(const Mesh<2>&, const DofDistribution<2>&, const mapping::Map<2>&,
+                                        int);
+template OutputMesh<3> make_output_mesh(const Mesh<3>&, const DofDistribution<3>&, const mapping::Map<3>&,
+                                        int);
+template void log_untangling(MPI_Comm, const OutputMesh<2>&);
+template void log_untangling(MPI_Comm, const OutputMesh<3>&);
 
 }  // namespace warpfem::fem

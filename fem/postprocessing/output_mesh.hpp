@@ -1,8 +1,9 @@
 #pragma once
 // The warped mesh as it is written for visualization: the local cells of this
 // rank as Lagrange cells of order `order` whose nodes are placed by f, so
-// curved cells are shown curved (order 2 for any non-affine map). Fields of a
-// finite element function are evaluated at these nodes.
+// curved cells are shown curved (order 2 for any non-affine map): VTK Lagrange
+// triangles and quadrilaterals in 2D, tetrahedra and hexahedra in 3D. Fields
+// of a finite element function are evaluated at these nodes.
 
 #include <vector>
 
@@ -12,46 +13,54 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 struct OutputMesh {
-  CellType cell_type = CellType::triangle;
+  CellType cell_type = dim == 2 ? CellType::triangle : CellType::tetrahedron;
   int order = 1;
-  Points<2> reference_points;       ///< node positions in Ω0
-  Points<2> points;                 ///< node positions f(x0) in Ω1
+  Points<dim> reference_points;     ///< node positions in Ω0
+  Points<dim> points;               ///< node positions f(x0) in Ω1
   VectorX map_det;                  ///< det J_f at the nodes
   IndexTable cells;                 ///< local cells x nodes, VTK Lagrange node order
   std::vector<Index> cell_ids;      ///< mesh cell id of every output cell
   std::vector<Index> source_cells;  ///< index into the local cells of every output cell
   /// Mesh cells whose curved geometry folded and were written as smaller
-  /// curved cells, and output cells still folded at the depth limit.
+  /// curved cells (2D), and output cells still folded (at the depth limit in
+  /// 2D; every folded cell in 3D, where cells are not subdivided).
   Index num_mesh_cells = 0, num_subdivided_cells = 0, num_tangled_cells = 0;
 
-  /// Values at the nodes of the FE function with coefficients `relevant_values`
-  /// (ordered as dist.relevant_dofs()).
   /// A per-local-cell field spread onto the output cells (pieces of a
   /// subdivided cell get their cell's value).
   std::vector<double> cell_values(const VectorX& per_local_cell) const;
 
-  VectorX interpolate(const DofMap& dofs, const DofDistribution& dist, const VectorX& relevant_values) const;
+  /// Values at the nodes of the FE function with coefficients `relevant_values`
+  /// (ordered as dist.relevant_dofs()).
+  VectorX interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
+                      const VectorX& relevant_values) const;
 
  private:
-  friend OutputMesh make_output_mesh(const Mesh<2>&, const DofDistribution&, const mapping::Map<2>&, int);
+  template <int d>
+  friend OutputMesh<d> make_output_mesh(const Mesh<d>&, const DofDistribution<d>&, const mapping::Map<d>&,
+                                        int);
   struct NodeSource {
-    Index cell;   ///< mesh cell the node lies in
-    Point<2> xi;  ///< its reference coordinates in that cell
+    Index cell;     ///< mesh cell the node lies in
+    Point<dim> xi;  ///< its reference coordinates in that cell
   };
   std::vector<NodeSource> node_source_;  ///< where the FE function is evaluated for each node
 };
 
 /// Builds the output mesh of the cells owned by this rank. `order` 0 picks
-/// max(element order, 1 if f is affine else 2). A cell whose curved geometry
-/// would fold (det of its geometric Jacobian ≤ 0 at a node or on a lattice of
-/// its reference cell) is split into four, recursively up to four times, with
-/// every node placed by f.
-OutputMesh make_output_mesh(const Mesh<2>& mesh, const DofDistribution& dist, const mapping::Map<2>& map,
-                            int order);
+/// max(element order, 1 if f is affine else 2). A 2D cell whose curved
+/// geometry would fold (det of its geometric Jacobian ≤ 0 at a node or on a
+/// lattice of its reference cell) is split into four, recursively up to four
+/// times, with every node placed by f; a folded 3D cell is written as it is
+/// and counted in num_tangled_cells.
+template <int dim>
+OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
+                                 const mapping::Map<dim>& map, int order);
 
 /// Logs (collectively over `comm`) how many mesh cells were subdivided to keep
 /// the written cells untangled, and warns about any that still fold.
-void log_untangling(MPI_Comm comm, const OutputMesh& out);
+template <int dim>
+void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out);
 
 }  // namespace warpfem::fem

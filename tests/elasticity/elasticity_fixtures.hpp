@@ -39,7 +39,7 @@ inline mapping::MapPtr<2> identity_map() {
 }
 
 /// Global vector values as an Eigen vector (owned entries gathered to every rank).
-inline VectorX to_eigen(const fem::VectorSpace& space, Vec v) {
+inline VectorX to_eigen(const fem::VectorSpace<2>& space, Vec v) {
   return space.gather_all(v);
 }
 

@@ -23,8 +23,8 @@ namespace {
 /// On every rank of MPI_COMM_WORLD (this file also runs under mpiexec -n 2 as
 /// test_mpi_dof_distribution): every owned row is the brute-force coupling.
 void expect_sparsity_is_the_cell_coupling(const warpfem::Mesh<2>& mesh, int order) {
-  const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, order));
-  const fem::DofDistribution dist(MPI_COMM_WORLD, mesh, dofs);
+  const fem::DofMap<2> dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, order));
+  const fem::DofDistribution<2> dist(MPI_COMM_WORLD, mesh, dofs);
   std::vector<PetscInt> row_ptr, cols;
   dist.sparsity(mesh, dofs, row_ptr, cols);
   // Brute force: the global DOFs coupled through some cell with an owned DOF.
@@ -92,17 +92,17 @@ TEST(Sparsity, RowsAreTheSortedCellCouplingOfQuadrilaterals) {
 TEST(DofDistribution, GivenCellOwnersAreCheckedAndUsed) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
   const warpfem::Mesh<2> mesh = warpfem::mesh_polygon(square, {.max_edge_length = 0.3});
-  const fem::DofMap dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 2));
+  const fem::DofMap<2> dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 2));
   const std::vector<int> all_mine(static_cast<std::size_t>(mesh.num_cells()), 0);
-  const fem::DofDistribution given(MPI_COMM_SELF, mesh, dofs, all_mine), morton(MPI_COMM_SELF, mesh, dofs);
+  const fem::DofDistribution<2> given(MPI_COMM_SELF, mesh, dofs, all_mine), morton(MPI_COMM_SELF, mesh, dofs);
   EXPECT_EQ(given.local_cells(), morton.local_cells());
   EXPECT_EQ(given.num_owned(), dofs.num_dofs());
   // One owner too few, or a rank the communicator does not have.
   const std::vector<int> short_list(all_mine.begin(), all_mine.end() - 1);
-  EXPECT_THROW(fem::DofDistribution(MPI_COMM_SELF, mesh, dofs, short_list), warpfem::Error);
+  EXPECT_THROW(fem::DofDistribution<2>(MPI_COMM_SELF, mesh, dofs, short_list), warpfem::Error);
   std::vector<int> foreign = all_mine;
   foreign[3] = 1;
-  EXPECT_THROW(fem::DofDistribution(MPI_COMM_SELF, mesh, dofs, foreign), warpfem::Error);
+  EXPECT_THROW(fem::DofDistribution<2>(MPI_COMM_SELF, mesh, dofs, foreign), warpfem::Error);
 }
 
 TEST(DofDistribution, NumbersDofsByFirstUseInTheCells) {
@@ -118,8 +118,8 @@ TEST(DofDistribution, NumbersDofsByFirstUseInTheCells) {
           .mesh;
   for (const warpfem::Mesh<2>* mesh : {&triangles, &quads})
     for (int order : {1, 2}) {
-      const fem::DofMap dofs(*mesh, fem::LagrangeElement<2>(mesh->cell_type, order));
-      const fem::DofDistribution dist(MPI_COMM_SELF, *mesh, dofs);
+      const fem::DofMap<2> dofs(*mesh, fem::LagrangeElement<2>(mesh->cell_type, order));
+      const fem::DofDistribution<2> dist(MPI_COMM_SELF, *mesh, dofs);
       std::vector<char> seen(static_cast<std::size_t>(dofs.num_dofs()), 0);
       PetscInt next = 0;
       const auto& cd = dofs.cell_dofs();
@@ -138,12 +138,12 @@ TEST(DofMap, FirstOrderDofsAreTheMeshVerticesWithoutACopy) {
   const warpfem::Mesh<2> triangles = warpfem::mesh_polygon(square, {.max_edge_length = 0.3});
   const warpfem::Mesh<2> quads = warpfem::split_into_quadrilaterals(triangles);
   for (const warpfem::Mesh<2>* mesh : {&triangles, &quads}) {
-    const fem::DofMap p1(*mesh, fem::LagrangeElement<2>(mesh->cell_type, 1));
+    const fem::DofMap<2> p1(*mesh, fem::LagrangeElement<2>(mesh->cell_type, 1));
     EXPECT_EQ(p1.num_dofs(), mesh->num_vertices());
     EXPECT_EQ(&p1.cell_dofs(), &mesh->cells);  // documented: P1/Q1 refer to the mesh
     EXPECT_EQ(&p1.dof_points(), &mesh->vertices);
     // Order 2 numbers its own table: vertices first, then one DOF per edge.
-    const fem::DofMap p2(*mesh, fem::LagrangeElement<2>(mesh->cell_type, 2));
+    const fem::DofMap<2> p2(*mesh, fem::LagrangeElement<2>(mesh->cell_type, 2));
     EXPECT_EQ(p2.cell_dofs().leftCols(mesh->cells.cols()), mesh->cells);
     EXPECT_EQ(p2.dof_points().topRows(mesh->num_vertices()), mesh->vertices);
   }

@@ -111,9 +111,9 @@ TEST(NestedBlocks, DistributionEqualsTheOneFromListedCellOwners) {
       if (!blocks) continue;
       const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];
       for (int order : {1, 2}) {
-        const DofMap dofs(mesh, LagrangeElement<2>(mesh.cell_type, order));
-        const DofDistribution a(MPI_COMM_WORLD, mesh, dofs, listed[static_cast<std::size_t>(l)]);
-        const DofDistribution b(MPI_COMM_WORLD, mesh, dofs, *blocks);
+        const DofMap<2> dofs(mesh, LagrangeElement<2>(mesh.cell_type, order));
+        const DofDistribution<2> a(MPI_COMM_WORLD, mesh, dofs, listed[static_cast<std::size_t>(l)]);
+        const DofDistribution<2> b(MPI_COMM_WORLD, mesh, dofs, *blocks);
         const std::string where = "level " + std::to_string(l) + ", order " + std::to_string(order);
         EXPECT_EQ(a.local_cells(), b.local_cells()) << where;
         ASSERT_EQ(a.owned_begin(), b.owned_begin()) << where;

@@ -61,7 +61,7 @@ std::pair<VectorX, VectorX> operator_and_load(MPI_Comm comm, const warpfem::Mesh
   fem::PoissonProblem problem(comm, mesh, map, order, 2 * order + 2, data);
   problem.assemble();
   problem.assemble();
-  const fem::DofDistribution& dist = problem.distribution();
+  const fem::DofDistribution<2>& dist = problem.distribution();
   petsc::Vector x = dist.create_vector(), y = dist.create_vector();
   const Points<2>& nodes = problem.dofs().dof_points();
   for (Index d = 0; d < problem.dofs().num_dofs(); ++d)

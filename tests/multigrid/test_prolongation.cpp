@@ -29,7 +29,8 @@ std::string name(const ::testing::TestParamInfo<Case>& info) {
   return (info.param.type == warpfem::CellType::triangle ? "P" : "Q") + std::to_string(info.param.order);
 }
 
-petsc::Vector interpolate(const fem::DofMap& dofs, const fem::DofDistribution& dist, const Polynomial& g) {
+petsc::Vector interpolate(const fem::DofMap<2>& dofs, const fem::DofDistribution<2>& dist,
+                          const Polynomial& g) {
   petsc::Vector v = dist.create_vector();
   for (Index d = 0; d < dofs.num_dofs(); ++d)
     if (dist.owns(d)) {
@@ -49,16 +50,16 @@ double prolongation_error(const Case& c, const Polynomial& g) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   // On two ranks (test_mpi_prolongation) the levels above the base are nested blocks.
   const auto parts = fem::nested_level_partitions(h, size, 4);
-  const auto distribute = [&](int l, const fem::DofMap& dofs) {
+  const auto distribute = [&](int l, const fem::DofMap<2>& dofs) {
     const fem::LevelPartition& p = parts[static_cast<std::size_t>(l)];
-    return p.blocks ? fem::DofDistribution(MPI_COMM_WORLD, h.levels[l], dofs, *p.blocks)
-                    : fem::DofDistribution(MPI_COMM_WORLD, h.levels[l], dofs, p.cell_owner);
+    return p.blocks ? fem::DofDistribution<2>(MPI_COMM_WORLD, h.levels[l], dofs, *p.blocks)
+                    : fem::DofDistribution<2>(MPI_COMM_WORLD, h.levels[l], dofs, p.cell_owner);
   };
   double worst = 0;
   for (int l = 1; l < h.num_levels(); ++l) {
     const fem::LagrangeElement<2> element(c.type, c.order);
-    const fem::DofMap cdofs(h.levels[l - 1], element), fdofs(h.levels[l], element);
-    const fem::DofDistribution cdist = distribute(l - 1, cdofs), fdist = distribute(l, fdofs);
+    const fem::DofMap<2> cdofs(h.levels[l - 1], element), fdofs(h.levels[l], element);
+    const fem::DofDistribution<2> cdist = distribute(l - 1, cdofs), fdist = distribute(l, fdofs);
     const petsc::Matrix P = multigrid::assemble_prolongation(h, l, {.dofs = &cdofs, .distribution = &cdist},
                                                              {.dofs = &fdofs, .distribution = &fdist});
     const petsc::Vector uc = interpolate(cdofs, cdist, g), expected = interpolate(fdofs, fdist, g);

@@ -98,7 +98,7 @@ TEST_P(SmoothedProlongation, IsOneDampedJacobiStepOnTheGeometricInterpolation) {
 
     const fem::PoissonProblem& level = mg->level(l);
     const std::vector<char> fixed = level.constrained().front();
-    const fem::DofDistribution& dist = level.distribution();
+    const fem::DofDistribution<2>& dist = level.distribution();
     std::vector<char> fixed_row(static_cast<std::size_t>(dist.num_owned()), 0);
     for (Index d = 0; d < level.dofs().num_dofs(); ++d)
       if (fixed[static_cast<std::size_t>(d)] && dist.owns(d))

@@ -46,7 +46,7 @@ struct ElasticityData {
 /// The displacement condition that constrains each node of `dofs` (nullptr:
 /// free), by the rule of fem/boundary_parts.hpp. Component c of node d is fixed iff
 /// result[d] && result[d]->value[c]. Every node of the mesh, on every rank.
-std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap& dofs,
+std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap<2>& dofs,
                                                           const ElasticityData& data);
 
 }  // namespace warpfem::fem

@@ -11,7 +11,7 @@
 
 namespace warpfem::fem {
 
-std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap& dofs,
+std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap<2>& dofs,
                                                           const ElasticityData& data) {
   const std::vector<int> selected =
       boundary_dof_conditions(mesh, dofs, BoundaryParts(mesh, data.boundary_polygon), data.dirichlet);
@@ -61,7 +61,7 @@ HyperelasticOperator::HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, m
 }
 
 void HyperelasticOperator::setup_constraints() {
-  const DofDistribution& dist = space_.nodes();
+  const DofDistribution<2>& dist = space_.nodes();
   // The owned constrained nodes, in the order the boundary facets reach them.
   const std::vector<const DisplacementCondition*> condition =
       node_conditions(space_.mesh(), space_.dofs(), data_);
@@ -322,7 +322,7 @@ void HyperelasticOperator::jacobian(Vec u, double mass_shift, Mat J, bool constr
 }
 
 void HyperelasticOperator::set_near_null_space(Mat J) const {
-  const DofDistribution& dist = space_.nodes();
+  const DofDistribution<2>& dist = space_.nodes();
   std::vector<Index> owned;
   for (Index d : dist.relevant_dofs())
     if (dist.owns(d)) owned.push_back(d);

@@ -35,11 +35,11 @@ class HyperelasticOperator final : public Problem<2> {
   HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
                        int quadrature_degree, ElasticityData data, const std::vector<int>& cell_owner = {});
 
-  const VectorSpace& space() const { return space_; }
+  const VectorSpace<2>& space() const { return space_; }
   MPI_Comm comm() const override { return comm_; }
   const Mesh<2>& mesh() const override { return space_.mesh(); }
-  const DofMap& dofs() const override { return space_.dofs(); }
-  const DofDistribution& nodes() const override { return space_.nodes(); }
+  const DofMap<2>& dofs() const override { return space_.dofs(); }
+  const DofDistribution<2>& nodes() const override { return space_.nodes(); }
   int components() const override { return space_.components(); }
   /// Component c of node d is constrained iff node_conditions() gives it a condition with value[c].
   std::vector<std::vector<char>> constrained() const override;
@@ -117,7 +117,7 @@ class HyperelasticOperator final : public Problem<2> {
   MPI_Comm comm_;
   mapping::MapPtr<2> map_;
   ElasticityData data_;
-  VectorSpace space_;
+  VectorSpace<2> space_;
   WarpedGeometry<2> geometry_;
   std::vector<Constraint> constraints_;
   std::vector<PetscInt> constrained_rows_;  // global rows owned here

@@ -12,8 +12,8 @@ NodalProjection::NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const Warpe
                                  const std::vector<int>& cell_owner)
     : geometry_(geometry),
       dofs_(mesh, LagrangeElement<2>(mesh.cell_type, 1)),
-      dist_(cell_owner.empty() ? DofDistribution(comm, mesh, dofs_)
-                               : DofDistribution(comm, mesh, dofs_, cell_owner)) {
+      dist_(cell_owner.empty() ? DofDistribution<2>(comm, mesh, dofs_)
+                               : DofDistribution<2>(comm, mesh, dofs_, cell_owner)) {
   require(std::equal(dist_.local_cells().begin(), dist_.local_cells().end(), geometry_.cells().begin(),
                      geometry_.cells().end()),
           "NodalProjection: the geometry's cells are not this rank's cells of the partition");

@@ -26,8 +26,8 @@ class NodalProjection {
   /// values at distribution().relevant_dofs(). Collective.
   VectorX project(const std::vector<std::vector<double>>& values) const;
 
-  const DofMap& dofs() const { return dofs_; }
-  const DofDistribution& distribution() const { return dist_; }
+  const DofMap<2>& dofs() const { return dofs_; }
+  const DofDistribution<2>& distribution() const { return dist_; }
 
  private:
   /// sum_k = Σ_cells ∫ value(i, q) φ_k dx (value at quadrature point q of geometry cell i).
@@ -35,8 +35,8 @@ class NodalProjection {
   void accumulate(Vec sum, Value&& value) const;
 
   const WarpedGeometry<2>& geometry_;
-  DofMap dofs_;
-  DofDistribution dist_;
+  DofMap<2> dofs_;
+  DofDistribution<2> dist_;
   petsc::Vector weights_;
 };
 

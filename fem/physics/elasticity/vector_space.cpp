@@ -7,15 +7,17 @@
 
 namespace warpfem::fem {
 
-VectorSpace::VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement<2>& element,
-                         int components, const std::vector<int>& cell_owner)
+template <int dim>
+VectorSpace<dim>::VectorSpace(MPI_Comm comm, const Mesh<dim>& mesh, const LagrangeElement<dim>& element,
+                              int components, const std::vector<int>& cell_owner)
     : mesh_(mesh),
       components_(components),
       dofs_(mesh, element),
-      dist_(cell_owner.empty() ? DofDistribution(comm, mesh, dofs_)
-                               : DofDistribution(comm, mesh, dofs_, cell_owner)) {}
+      dist_(cell_owner.empty() ? DofDistribution<dim>(comm, mesh, dofs_)
+                               : DofDistribution<dim>(comm, mesh, dofs_, cell_owner)) {}
 
-petsc::Vector VectorSpace::create_vector() const {
+template <int dim>
+petsc::Vector VectorSpace<dim>::create_vector() const {
   petsc::Vector v;
   WARPFEM_PETSC_CHECK(VecCreate(comm(), v.out()));
   WARPFEM_PETSC_CHECK(VecSetSizes(v.get(), num_owned(), num_global()));
@@ -25,7 +27,8 @@ petsc::Vector VectorSpace::create_vector() const {
   return v;
 }
 
-petsc::Matrix VectorSpace::create_matrix(const char* options_prefix) const {
+template <int dim>
+petsc::Matrix VectorSpace<dim>::create_matrix(const char* options_prefix) const {
   std::vector<PetscInt> d_nnz, o_nnz;
   dist_.preallocation(mesh_, dofs_, d_nnz, o_nnz);  // per node row: node columns = block columns
   petsc::Matrix A;
@@ -43,7 +46,8 @@ petsc::Matrix VectorSpace::create_matrix(const char* options_prefix) const {
   return A;
 }
 
-VectorX VectorSpace::gather_relevant(Vec v) const {
+template <int dim>
+VectorX VectorSpace<dim>::gather_relevant(Vec v) const {
   const auto& rel = dist_.relevant_dofs();
   const PetscInt n = static_cast<PetscInt>(rel.size()) * components_;
   if (!scatter_) {
@@ -58,7 +62,8 @@ VectorX VectorSpace::gather_relevant(Vec v) const {
   return petsc::scatter_forward(scatter_.get(), v, relevant_values_.get());
 }
 
-VectorX VectorSpace::gather_all(Vec v) const {
+template <int dim>
+VectorX VectorSpace<dim>::gather_all(Vec v) const {
   const std::vector<PetscScalar> a = petsc::gather_to_all(v);
   const Index nd = dofs_.num_dofs();
   VectorX out(nd * components_);
@@ -67,11 +72,15 @@ VectorX VectorSpace::gather_all(Vec v) const {
   return out;
 }
 
-VectorX VectorSpace::component(const VectorX& interleaved, int c) const {
+template <int dim>
+VectorX VectorSpace<dim>::component(const VectorX& interleaved, int c) const {
   const Index n = interleaved.size() / components_;
   VectorX out(n);
   for (Index i = 0; i < n; ++i) out(i) = interleaved(i * components_ + c);
   return out;
 }
+
+template class VectorSpace<2>;
+template class VectorSpace<3>;
 
 }  // namespace warpfem::fem

@@ -1,6 +1,6 @@
 #pragma once
-// A vector-valued Lagrange space: `components` copies of a scalar P1/P2/Q1/Q2
-// space sharing one fem::DofMap (mesh numbering of the nodes) and one
+// A vector-valued Lagrange space: `components` (by default dim) copies of a
+// scalar P1/P2/Q1/Q2 space sharing one fem::DofMap (mesh numbering of the nodes) and one
 // fem::DofDistribution (cell partition and node ownership). PETSc vectors and
 // matrices have block size `components`, interleaved by node:
 //   PETSc global index of component c of node d = components * dist.global(d) + c.
@@ -17,21 +17,22 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 class VectorSpace {
  public:
   /// `cell_owner`: the rank of every cell (empty: partition_cells()), e.g. the
   /// finest entry of fem::nested_partitions() for a multigrid hierarchy.
-  VectorSpace(MPI_Comm comm, const Mesh<2>& mesh, const LagrangeElement<2>& element, int components = 2,
+  VectorSpace(MPI_Comm comm, const Mesh<dim>& mesh, const LagrangeElement<dim>& element, int components = dim,
               const std::vector<int>& cell_owner = {});
   VectorSpace(const VectorSpace&) = delete;
   VectorSpace& operator=(const VectorSpace&) = delete;
 
   MPI_Comm comm() const { return dist_.comm(); }
   int components() const { return components_; }
-  const Mesh<2>& mesh() const { return mesh_; }
-  const DofMap& dofs() const { return dofs_; }
+  const Mesh<dim>& mesh() const { return mesh_; }
+  const DofMap<dim>& dofs() const { return dofs_; }
   /// The scalar (node) distribution.
-  const DofDistribution& nodes() const { return dist_; }
+  const DofDistribution<dim>& nodes() const { return dist_; }
   PetscInt num_owned() const { return components_ * dist_.num_owned(); }
   PetscInt num_global() const { return components_ * dist_.num_global(); }
   PetscInt global(Index node, int component) const { return components_ * dist_.global(node) + component; }
@@ -46,14 +47,14 @@ class VectorSpace {
   VectorX gather_relevant(Vec v) const;
   /// Values of every node (mesh order) x components on every rank (tests, small outputs).
   VectorX gather_all(Vec v) const;
-  /// Component `c` of an interleaved relevant vector (as fem::OutputMesh::interpolate expects).
+  /// Component `c` of an interleaved relevant vector (as fem::OutputMesh<dim>::interpolate expects).
   VectorX component(const VectorX& interleaved, int c) const;
 
  private:
-  const Mesh<2>& mesh_;
+  const Mesh<dim>& mesh_;
   int components_;
-  DofMap dofs_;
-  DofDistribution dist_;
+  DofMap<dim> dofs_;
+  DofDistribution<dim> dist_;
   mutable petsc::Scatter scatter_;
   mutable petsc::Vector relevant_values_;
 };
