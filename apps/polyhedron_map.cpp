@@ -156,7 +156,7 @@ int polyhedron_map_command(const nlohmann::json& json, const std::string& config
 
   // The grid is mapped and checked before anything is written.
   io::VtkCells cells;
-  io::VtkOutput vtk;
+  io::VtkOutput<3> vtk;
   Index grid_cells = 0;
   Real global_min = 1;
   if (write_vtk) {

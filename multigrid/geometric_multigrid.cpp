@@ -9,8 +9,8 @@
 namespace warpfem::multigrid {
 
 struct GeometricMultigrid::CoarseLevel {
-  fem::DofMap dofs;
-  fem::DofDistribution distribution;
+  fem::DofMap<2> dofs;
+  fem::DofDistribution<2> distribution;
   CoarseLevel(MPI_Comm comm, const warpfem::Mesh<2>& mesh, const fem::LagrangeElement<2>& element,
               const std::vector<int>& cell_owner)
       : dofs(mesh, element), distribution(comm, mesh, dofs, cell_owner) {}
@@ -25,8 +25,8 @@ using ComponentMasks = std::vector<std::vector<char>>;
 /// fine vertex at coarse node d is transfer.fine_vertex_of_node[d], and fine
 /// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
 /// checked.
-ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine_dofs,
-                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh<2>& transfer) {
+ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap<2>& fine_dofs,
+                             const fem::DofMap<2>& coarse_dofs, const warpfem::RefinedMesh<2>& transfer) {
   const Index n = coarse_dofs.num_dofs();
   require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
           "GeometricMultigrid: the coarse level has more DOFs than the refinement has nodes");
@@ -46,8 +46,8 @@ ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine
 }
 
 /// P(k i + c, k j + c) = P_c(i, j) for the owned rows, block size k.
-petsc::Matrix interleave(const std::vector<petsc::Matrix>& scalar, const fem::DofDistribution& fine,
-                         const fem::DofDistribution& coarse) {
+petsc::Matrix interleave(const std::vector<petsc::Matrix>& scalar, const fem::DofDistribution<2>& fine,
+                         const fem::DofDistribution<2>& coarse) {
   const PetscInt k = static_cast<PetscInt>(scalar.size());
   std::vector<PetscInt> ia{0}, ja;
   std::vector<PetscScalar> va;
@@ -79,8 +79,8 @@ petsc::Matrix interleave(const std::vector<petsc::Matrix>& scalar, const fem::Do
 
 /// The space of one level as the prolongation needs it.
 struct Level {
-  const fem::DofMap* dofs = nullptr;
-  const fem::DofDistribution* nodes = nullptr;
+  const fem::DofMap<2>* dofs = nullptr;
+  const fem::DofDistribution<2>* nodes = nullptr;
   ComponentMasks constrained;
 };
 
@@ -190,7 +190,7 @@ GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, c
 
 GeometricMultigrid::~GeometricMultigrid() = default;
 
-const fem::DofDistribution& GeometricMultigrid::coarse_distribution(int level) const {
+const fem::DofDistribution<2>& GeometricMultigrid::coarse_distribution(int level) const {
   require(level >= 0 && level < static_cast<int>(coarse_.size()),
           "GeometricMultigrid::coarse_distribution: level " + std::to_string(level) +
               " is not a coarse level built here");

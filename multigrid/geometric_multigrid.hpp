@@ -58,7 +58,7 @@ class GeometricMultigrid {
   /// estimates), smoothed levels handed over as given operators.
   const MultigridSettings& settings() const { return settings_; }
   /// Node distribution of a level below the finest built here (Galerkin constructor only).
-  const fem::DofDistribution& coarse_distribution(int level) const;
+  const fem::DofDistribution<2>& coarse_distribution(int level) const;
   /// The geometric prolongation from level fine_level − 1 to fine_level.
   Mat prolongation(int fine_level) const {
     return prolongations_.at(static_cast<std::size_t>(fine_level - 1)).get();

@@ -35,7 +35,7 @@ double jacobian_mismatch(const fem::Problem<2>& problem, double u_scale) {
   WARPFEM_PETSC_CHECK(VecScale(u.get(), u_scale));
   // The Jacobian's constrained columns are the identity's: compare along free directions.
   const auto constrained = problem.constrained();
-  const fem::DofDistribution& nodes = problem.nodes();
+  const fem::DofDistribution<2>& nodes = problem.nodes();
   const int k = problem.components();
   for (Index d = 0; d < problem.dofs().num_dofs(); ++d)
     for (int c = 0; c < k; ++c)
@@ -146,8 +146,8 @@ TEST(GeometricMultigrid, VectorProlongationIsTheScalarOnePerComponent) {
   const auto constrained = op.constrained();
   for (int c = 0; c < 2; ++c) {
     // The scalar prolongation with component c's constrained DOFs.
-    const fem::DofMap coarse_dofs(h.levels[0], op.dofs().element());
-    const fem::DofDistribution coarse_nodes(MPI_COMM_SELF, h.levels[0], coarse_dofs);
+    const fem::DofMap<2> coarse_dofs(h.levels[0], op.dofs().element());
+    const fem::DofDistribution<2> coarse_nodes(MPI_COMM_SELF, h.levels[0], coarse_dofs);
     std::vector<char> coarse_mask(static_cast<std::size_t>(coarse_dofs.num_dofs()));
     for (Index d = 0; d < coarse_dofs.num_dofs(); ++d)
       coarse_mask[static_cast<std::size_t>(d)] = constrained[static_cast<std::size_t>(
