@@ -152,8 +152,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   if (linear.pc_type == "mg") linear.pc_type = "gamg";  // the study solves each level on its own
   const int first = cfg.mesh.refinements;
   const int finest = first + spec.levels - 1;
-  const fem::MeshHierarchy hierarchy(fem::make_coarse_mesh(*cfg.map.source, domain, *f, cfg.mesh),
-                                     finest + (exact ? 0 : spec.reference_levels));
+  const fem::MeshHierarchy<2> hierarchy(fem::make_coarse_mesh(*cfg.map.source, domain, *f, cfg.mesh),
+                                        finest + (exact ? 0 : spec.reference_levels));
 
   std::optional<io::Expression> u_exact;
   if (exact) u_exact.emplace(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");

@@ -9,6 +9,8 @@
 
 #include "apps/command_line.hpp"
 #include "apps/commands.hpp"
+#include "apps/points_csv.hpp"
+#include "apps/polyhedron_map.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -18,6 +20,7 @@
 #include "fem/postprocessing/output_mesh.hpp"
 #include "io/atomic_file.hpp"
 #include "io/collective_error.hpp"
+#include "io/polyhedron_config.hpp"
 #include "io/run_config.hpp"
 #include "io/vtk_writer.hpp"
 #include "mapping/adaptive_partition.hpp"
@@ -37,36 +40,6 @@ std::string fmt(double v, int precision = 4) {
   std::ostringstream os;
   os << std::setprecision(precision) << v;
   return os.str();
-}
-
-/// Reads "x,y" (or "x y") per line; '#' comments and one header line allowed.
-Points<2> read_points_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open points file", {.file = path, .key_path = "", .hint = "check the path"});
-  std::vector<Point<2>> pts;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (auto h = line.find('#'); h != std::string::npos) line.erase(h);
-    for (char& c : line)
-      if (c == ',' || c == ';' || c == '\t') c = ' ';
-    std::istringstream ls(line);
-    std::string first;
-    if (!(ls >> first)) continue;
-    double x, y;
-    std::istringstream fs(first);
-    if (!(fs >> x)) {
-      if (pts.empty() && number == 1) continue;  // header line such as "x,y"
-      throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"",
-                  {.file = path, .key_path = "", .hint = "one point per line"});
-    }
-    if (!(ls >> y))
-      throw Error("line " + std::to_string(number) + ": expected two numbers \"x,y\"",
-                  {.file = path, .key_path = "", .hint = "one point per line"});
-    pts.emplace_back(x, y);
-  }
-  Points<2> out(static_cast<Index>(pts.size()), 2);
-  for (std::size_t i = 0; i < pts.size(); ++i) out.row(static_cast<Index>(i)) = pts[i].transpose();
-  return out;
 }
 
 void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec, const mapping::MapCheck& check) {
@@ -160,6 +133,8 @@ int map_command(const std::vector<std::string>& args) {
     throw Error("--points and --out go together", {.file = "", .key_path = "", .hint = kMapUsage});
 
   const nlohmann::json json = io::ConfigNode::parse_file(config_path);
+  if (io::is_polyhedron_map(json))
+    return polyhedron_map_command(json, config_path, points_in, points_out, output_dir);
   const io::ConfigNode root(json, config_path);
   log::set_level(log::parse_level(io::parse_verbosity(root)));
   const mapping::MapSpec spec = io::parse_required_map(root);
@@ -184,7 +159,7 @@ int map_command(const std::vector<std::string>& args) {
   report_map(*map, spec, check);
 
   if (!points_in.empty()) {
-    Points<2> x0 = read_points_csv(points_in);
+    Points<2> x0 = read_points_csv<2>(points_in);
     const mapping::SourcePointsReport accepted = mapping::accept_source_points(*spec.source, x0, points_in);
     if (accepted.snapped > 0)
       log::info(

@@ -59,21 +59,26 @@ vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   return a;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VtkOutput& output) {
-  const fem::OutputMesh& m = *output.mesh;
+template <class PointTable>
+vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const IndexTable& table,
+                                               warpfem::CellType type, int order, const VtkOutput& output) {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(m.points.rows());
-  for (Index i = 0; i < m.points.rows(); ++i) points->SetPoint(i, m.points(i, 0), m.points(i, 1), 0.0);
+  points->SetNumberOfPoints(xyz.rows());
+  for (Index i = 0; i < xyz.rows(); ++i)
+    if constexpr (PointTable::ColsAtCompileTime == 3)
+      points->SetPoint(i, xyz(i, 0), xyz(i, 1), xyz(i, 2));
+    else
+      points->SetPoint(i, xyz(i, 0), xyz(i, 1), 0.0);
   grid->SetPoints(points);
   vtkNew<vtkCellArray> cells;
-  std::vector<vtkIdType> ids(static_cast<std::size_t>(m.cells.cols()));
-  for (Index c = 0; c < m.cells.rows(); ++c) {
-    for (Index k = 0; k < m.cells.cols(); ++k) ids[static_cast<std::size_t>(k)] = m.cells(c, k);
+  std::vector<vtkIdType> ids(static_cast<std::size_t>(table.cols()));
+  for (Index c = 0; c < table.rows(); ++c) {
+    for (Index k = 0; k < table.cols(); ++k) ids[static_cast<std::size_t>(k)] = table(c, k);
     cells->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
   }
-  grid->SetCells(vtk_cell_type(m.cell_type, m.order), cells);
+  grid->SetCells(vtk_cell_type(type, order), cells);
   for (const auto& f : output.point_fields) grid->GetPointData()->AddArray(make_array(f));
   for (const auto& f : output.cell_fields) grid->GetCellData()->AddArray(make_array(f));
   return grid;
@@ -105,11 +110,14 @@ std::string broadcast_string(MPI_Comm comm, std::string s) {
 
 std::string write_vtk(MPI_Comm comm, const VtkOutput& output, const std::string& directory,
                       const std::string& name) {
-  require(output.mesh != nullptr, "write_vtk: no mesh");
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  auto grid = make_grid(output);
+  require((output.mesh != nullptr) != (output.cells != nullptr), "write_vtk: give a mesh or cells");
+  auto grid = output.mesh ? make_grid(output.mesh->points, output.mesh->cells, output.mesh->cell_type,
+                                      output.mesh->order, output)
+                          : make_grid(output.cells->points, output.cells->cells, output.cells->cell_type,
+                                      output.cells->order, output);
 
   if (size == 1) {
     const std::string path = (fs::path(directory) / (name + ".vtu")).string();

@@ -26,8 +26,19 @@ struct VtkField {
   std::vector<double> values;  ///< components * count, interleaved
 };
 
+/// Plain cells with 3D points, for output that is no fem::OutputMesh (such as
+/// the warped tetrahedral grid of `warpfem map` on polyhedra).
+struct VtkCells {
+  warpfem::CellType cell_type = warpfem::CellType::tetrahedron;
+  int order = 1;
+  Points<3> points;  ///< N x 3
+  IndexTable cells;  ///< cells x nodes, VTK node order
+};
+
+/// Exactly one of `mesh` and `cells` is set.
 struct VtkOutput {
   const fem::OutputMesh* mesh = nullptr;
+  const VtkCells* cells = nullptr;
   std::vector<VtkField> point_fields;
   std::vector<VtkField> cell_fields;
   VtkCompression compression = VtkCompression::none;

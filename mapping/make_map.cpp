@@ -1,5 +1,6 @@
 #include "mapping/make_map.hpp"
 
+#include <iomanip>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -8,6 +9,7 @@
 #include "mapping/composite_mean_value_map.hpp"
 #include "mapping/harmonic/make_harmonic_map.hpp"
 #include "mapping/map_check.hpp"
+#include "mapping/polyhedron_composite_map.hpp"
 #include "mapping/spec_context.hpp"
 
 namespace warpfem::mapping {
@@ -83,7 +85,84 @@ MapPtr<2> build_map(const MapSpec& spec) {
                .hint = "use \"adaptive\", \"greedy\", \"uniform\" or \"explicit\""});
 }
 
+std::string point_text(const Point<3>& p) {
+  std::ostringstream os;
+  os << std::setprecision(6) << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return os.str();
+}
+
+std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const PolyhedronMapSpec& spec) {
+  if (!spec.source || !spec.target)
+    throw Error(
+        "map type \"" + spec.type + "\" needs a source and a target polyhedron",
+        {.file = spec.origin,
+         .key_path = spec.source ? "/map/target" : "/map/source",
+         .hint =
+             "give {\"vertices\": [[x, y, z], ...], \"triangles\": [[i, j, k], ...]} or {\"file\": ...}"});
+  const Polyhedron& source = *spec.source;
+  const Polyhedron& target = *spec.target;
+  with_spec_context(spec, "/map/target", [&] { require_same_triangulation(source, target); });
+  if (spec.partition == "adaptive") {
+    PolyhedronPartitionOptions o;
+    o.epsilon = spec.min_det;
+    o.max_halvings = spec.max_halvings;
+    return with_spec_context(spec, "/map/partition", [&] {
+      try {
+        return std::make_shared<const PolyhedronCompositeMap>(build_polyhedron_composite(source, target, o));
+      } catch (const Error& e) {
+        if (e.message().rfind("intermediate polyhedron", 0) != 0) throw;
+        // The cage itself is fine: the straight vertex path from source to target crushes it.
+        throw Error("the linear vertex path passes through a degenerate cage: " + e.message(),
+                    {.file = "",
+                     .key_path = "",
+                     .hint = "deform the target less (e.g. a smaller twist), or map in several stages "
+                             "through intermediate targets"});
+      }
+    });
+  }
+  std::vector<Real> times = spec.times;
+  if (spec.partition == "uniform") {
+    times.clear();
+    for (int k = 0; k <= spec.steps; ++k) times.push_back(k == spec.steps ? 1.0 : Real(k) / spec.steps);
+  }
+  return with_spec_context(spec, spec.partition == "uniform" ? "/map/steps" : "/map/times", [&] {
+    return std::make_shared<const PolyhedronCompositeMap>(source, target, times);
+  });
+}
+
 }  // namespace
+
+MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check) {
+  if (spec.type == "identity") return std::make_shared<IdentityMap<3>>();
+  if (spec.type != "composite_mean_value")
+    throw Error("unknown map type \"" + spec.type + "\" for polyhedra",
+                {.file = spec.origin,
+                 .key_path = "/map/type",
+                 .hint = "use \"identity\" or \"composite_mean_value\""});
+  const auto map = build_polyhedron_map(spec);
+  const PolyhedronMapCheck c =
+      check_polyhedron_map(*map, *spec.source, *spec.target, spec.sample_per_feature);
+  if (!c.passed()) {
+    std::ostringstream why;
+    why << std::setprecision(4) << "the map is not bijective on its check sample (" << c.samples
+        << " points clustered at every vertex, edge and face): ";
+    if (c.nonpositive > 0)
+      why << c.nonpositive << " samples with det J_f <= 0 or not finite, min det J_f = " << c.min_det
+          << " at " << point_text(c.min_det_at);
+    else if (c.outside > 0)
+      why << c.outside << " images outside the target polyhedron";
+    else
+      why << c.failed_inverse << " samples whose inverse misses them, by up to " << c.max_round_trip
+          << " of the source's size, at " << point_text(c.worst_inverse_at);
+    throw Error(why.str(),
+                {.file = spec.origin,
+                 .key_path = "/map",
+                 .hint = "use a finer partition (more steps, or \"partition\": \"adaptive\" with more "
+                         "max_halvings), or deform the target less"});
+  }
+  if (check) *check = c;
+  return map;
+}
 
 MapPtr<2> make_map(const MapSpec& spec, MapCheck* check) {
   if (spec.type == "identity") return std::make_shared<IdentityMap<2>>();

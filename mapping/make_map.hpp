@@ -2,6 +2,7 @@
 #include "mapping/map.hpp"
 #include "mapping/map_check.hpp"
 #include "mapping/map_spec.hpp"
+#include "mapping/polyhedron_map_check.hpp"
 
 namespace warpfem::mapping {
 
@@ -11,5 +12,10 @@ namespace warpfem::mapping {
 /// spec.origin and the offending field when the spec is inconsistent or the
 /// map is refused. `check`, if given, receives the check's numbers.
 MapPtr<2> make_map(const MapSpec& spec, MapCheck* check = nullptr);
+
+/// The same for polyhedra: the map is refused (an error naming spec.origin,
+/// the field, the interval or the worst sample point, and a fix) unless its
+/// check passes (polyhedron_map_check.hpp).
+MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check = nullptr);
 
 }  // namespace warpfem::mapping

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/polygon.hpp"
+#include "core/polyhedron.hpp"
 
 namespace warpfem::mapping {
 
@@ -37,6 +38,20 @@ struct MapSpec {
       source_edge_speeds;  ///< per edge linear | quadratic | quadratic_reversed; empty = linear
   std::vector<std::string> target_edge_speeds;  ///< same, for the target's edges
   std::string origin = "map";                   ///< where this spec came from (file name) for messages
+};
+
+/// The same for maps between polyhedra (mapping/polyhedron_composite_map.hpp).
+struct PolyhedronMapSpec {
+  std::string type = "identity";  ///< identity | composite_mean_value
+  std::optional<Polyhedron> source;
+  std::optional<Polyhedron> target;    ///< same triangulation as the source
+  std::string partition = "adaptive";  ///< adaptive | uniform | explicit
+  int steps = 1;                       ///< uniform: number of steps m
+  std::vector<double> times;           ///< explicit: 0 = t0 < t1 < ... < tm = 1
+  double min_det = 1e-8;               ///< adaptive: det J_k every step must exceed
+  int max_halvings = 8;                ///< adaptive: halvings of an interval before refusal
+  int sample_per_feature = 3;          ///< check sample: offsets per vertex, edge and face
+  std::string origin = "map";          ///< where this spec came from (file name) for messages
 };
 
 }  // namespace warpfem::mapping

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/polygon.hpp"
+#include "core/polyhedron.hpp"
 #include "core/types.hpp"
 
 namespace warpfem::mapping {
@@ -22,5 +23,9 @@ struct SourcePointsReport {
 /// Moves the boundary points of `x` onto ∂`polygon`; throws warpfem::Error
 /// naming `file` and listing up to ten points that lie farther outside.
 SourcePointsReport accept_source_points(const Polygon& polygon, Points<2>& x, const std::string& file);
+
+/// The same for a polyhedron: points outside by up to kBoundaryTolerance ·
+/// diameter are moved onto the nearest triangle.
+SourcePointsReport accept_source_points(const Polyhedron& polyhedron, Points<3>& x, const std::string& file);
 
 }  // namespace warpfem::mapping

@@ -1,5 +1,5 @@
 #pragma once
-// Errors raised while building a map from a MapSpec get the spec's file and,
+// Errors raised while building a map from a MapSpec (or PolyhedronMapSpec) get the spec's file and,
 // if they carry none, the key path of the field being built.
 
 #include <string>
@@ -9,8 +9,8 @@
 
 namespace warpfem::mapping {
 
-template <class F>
-auto with_spec_context(const MapSpec& spec, const std::string& key_path, F&& f) -> decltype(f()) {
+template <class Spec, class F>
+auto with_spec_context(const Spec& spec, const std::string& key_path, F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const Error& e) {

@@ -13,25 +13,28 @@
 #include "core/prefault.hpp"
 
 namespace warpfem::multigrid {
+
+template <int dim>
+std::vector<MatrixX> child_prolongation_tables(const fem::LagrangeElement<dim>& element) {
+  const fem::LagrangeElement<dim> geometry(element.cell_type(), 1);
+  const MatrixX to_child = geometry.values(element.nodes());
+  const int children = warpfem::refinement_table(element.cell_type()).children;
+  std::vector<MatrixX> tables(static_cast<std::size_t>(children));
+  for (int k = 0; k < children; ++k)
+    tables[static_cast<std::size_t>(k)] =
+        element.values(to_child * warpfem::child_reference_vertices<dim>(element.cell_type(), k));
+  return tables;
+}
+
+template std::vector<MatrixX> child_prolongation_tables(const fem::LagrangeElement<2>&);
+template std::vector<MatrixX> child_prolongation_tables(const fem::LagrangeElement<3>&);
+
 namespace {
 
 constexpr double kZero = 1e-13;  // |φ| below this is a structural zero
 
-/// Coarse shape values at the fine nodes of each of the four children of a
-/// refined cell (fine nodes x coarse DOFs): the fine element's nodes mapped
-/// into the parent's reference cell by the child's P1/Q1 geometry.
-std::array<MatrixX, 4> child_tables(const fem::LagrangeElement<2>& element) {
-  const fem::LagrangeElement<2> geometry(element.cell_type(), 1);
-  const MatrixX to_child = geometry.values(element.nodes());
-  std::array<MatrixX, 4> tables;
-  for (int k = 0; k < 4; ++k)
-    tables[static_cast<std::size_t>(k)] =
-        element.values(to_child * warpfem::child_reference_vertices(element.cell_type(), k));
-  return tables;
-}
-
-void check_spaces(const fem::MeshHierarchy& h, int fine_level, const LevelSpace& coarse,
-                  const LevelSpace& fine) {
+template <int dim, class Space>
+void check_spaces(const fem::MeshHierarchy<dim>& h, int fine_level, const Space& coarse, const Space& fine) {
   require(fine_level >= 1 && fine_level < h.num_levels(), "assemble_prolongation: fine level " +
                                                               std::to_string(fine_level) + " is not in 1.." +
                                                               std::to_string(h.num_levels() - 1));
@@ -46,7 +49,7 @@ void check_spaces(const fem::MeshHierarchy& h, int fine_level, const LevelSpace&
               fine.dofs->cell_dofs().rows() == h.levels[static_cast<std::size_t>(fine_level)].num_cells(),
           "assemble_prolongation: the DOF maps do not belong to the hierarchy's levels");
   require(h.levels[static_cast<std::size_t>(fine_level)].num_cells() ==
-              warpfem::RefinedMesh::children_per_cell *
+              warpfem::RefinedMesh<dim>::children_per_cell *
                   h.levels[static_cast<std::size_t>(fine_level - 1)].num_cells(),
           "assemble_prolongation: level " + std::to_string(fine_level) +
               " is not a uniform refinement of the level below (levels must come from refine_uniformly)");
@@ -57,17 +60,17 @@ void check_spaces(const fem::MeshHierarchy& h, int fine_level, const LevelSpace&
           "assemble_prolongation: fine Dirichlet mask has the wrong size");
 }
 
-}  // namespace
-
-petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fine_level,
-                                    const LevelSpace& coarse, const LevelSpace& fine) {
+/// assemble_prolongation for any dimension (`Space`: a LevelSpace of that dimension).
+template <int dim, class Space>
+petsc::Matrix assemble(const fem::MeshHierarchy<dim>& hierarchy, int fine_level, const Space& coarse,
+                       const Space& fine) {
   check_spaces(hierarchy, fine_level, coarse, fine);
   const fem::DofDistribution& fdist = *fine.distribution;
   const fem::DofDistribution& cdist = *coarse.distribution;
   const warpfem::IndexTable& fdofs = fine.dofs->cell_dofs();
   const warpfem::IndexTable& cdofs = coarse.dofs->cell_dofs();
   const int n = static_cast<int>(fdofs.cols());  // fine nodes = coarse DOFs per cell
-  const auto is_dirichlet = [](const LevelSpace& s, Index d) {
+  const auto is_dirichlet = [](const Space& s, Index d) {
     return !s.dirichlet.empty() && s.dirichlet[static_cast<std::size_t>(d)];
   };
 
@@ -78,15 +81,16 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
   const PetscInt rows = fdist.num_owned();
   constexpr std::int64_t kUnset = -1;
   std::vector<std::int64_t> source(static_cast<std::size_t>(rows), kUnset);  // fine cell * n + place
-  // refine_uniformly makes fine cells 4c .. 4c+3 the children of coarse cell c,
-  // always in the same layout, so a child's table depends only on f − 4c.
-  const std::array<MatrixX, 4> tables = child_tables(fine.dofs->element());
+  // refine_uniformly makes fine cells 2^dim c … the children of coarse cell c,
+  // always in the same layout, so a child's table depends only on f − 2^dim c.
+  const std::vector<MatrixX> tables = child_prolongation_tables(fine.dofs->element());
   // The entries of fine DOF d at place k of fine cell f: coarse DOF j of the
   // parent with a nonzero coarse shape value (no coupling across the
   // eliminated Dirichlet block; Dirichlet rows are injections).
   const auto for_each_entry = [&](Index f, int k, auto&& emit) {
-    const Index c = warpfem::RefinedMesh::parent_of(f);
-    const MatrixX& table = tables[static_cast<std::size_t>(f - 4 * c)];
+    const Index c = warpfem::RefinedMesh<dim>::parent_of(f);
+    const MatrixX& table =
+        tables[static_cast<std::size_t>(f - warpfem::RefinedMesh<dim>::children_per_cell * c)];
     const bool fixed = is_dirichlet(fine, fdofs(f, k));
     for (int j = 0; j < n; ++j) {
       const double v = table(k, j);
@@ -153,6 +157,13 @@ petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fin
                                    fdist.num_global(), cdist.num_global(), {.inodes = false});
   return petsc::adopt_owned_rows(fdist.comm(), std::move(csr), cdist.num_owned(), cdist.owned_begin(),
                                  fdist.num_global(), cdist.num_global(), {.inodes = false});
+}
+
+}  // namespace
+
+petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<2>& hierarchy, int fine_level,
+                                    const LevelSpace& coarse, const LevelSpace& fine) {
+  return assemble(hierarchy, fine_level, coarse, fine);
 }
 
 }  // namespace warpfem::multigrid

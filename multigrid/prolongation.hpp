@@ -14,6 +14,14 @@
 
 namespace warpfem::multigrid {
 
+/// The coarse shape values at the fine nodes of each child of a refined cell
+/// (one table per child, fine nodes x coarse DOFs): P(i, j) = φ_j(x_i) with
+/// the fine element's nodes mapped into the parent's reference cell by the
+/// child's P1/Q1 geometry (child_reference_vertices). The same for every cell,
+/// so a level's prolongation reads one table per child.
+template <int dim>
+std::vector<MatrixX> child_prolongation_tables(const fem::LagrangeElement<dim>& element);
+
 /// The Lagrange space of one level as the prolongation sees it.
 struct LevelSpace {
   const fem::DofMap* dofs = nullptr;
@@ -34,7 +42,7 @@ struct LevelSpace {
 ///
 /// Throws warpfem::Error if the two spaces differ in element, or do not belong
 /// to the meshes of the two levels.
-petsc::Matrix assemble_prolongation(const fem::MeshHierarchy& hierarchy, int fine_level,
+petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<2>& hierarchy, int fine_level,
                                     const LevelSpace& coarse, const LevelSpace& fine);
 
 }  // namespace warpfem::multigrid

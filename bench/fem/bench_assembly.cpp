@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
     std::printf("warped / identity assembly time: %.2f\n", best[0] / best[1]);
   }
   if (argc > 4 && std::string(argv[4]) == "assembly_only") return 0;
-  // WarpedGeometry alone (the one-time cost of issue 5's target), rebuilt on each
+  // WarpedGeometry alone (the one-time geometry cost), rebuilt on each
   // rank's own cells: best of 3.
   {
     const std::vector<Index> cells(problems[0]->geometry().cells().begin(),

@@ -2,11 +2,21 @@
 // batched kernel (one thread, two threads) against a straightforward scalar
 // implementation of the same formulas (per point, per triangle, std::atan2),
 // on a 96-triangle non-convex cage and random interior points. Rounds
-// alternate between the variants; medians are reported. Also: the share of
-// points the kernel hands to the robust path, and a divide/sqrt throughput
-// micro-benchmark to relate the kernel's rate to the machine's limit.
+// alternate between the variants; medians are reported. One-thread kernel
+// rates and the machine limits are also taken in thread CPU time, which holds
+// on a loaded machine; everything else is wall time. Also: the share of
+// points the kernel hands to the robust path, VTK's
+// vtkMeanValueCoordinatesInterpolator (values only) as a peer, and divide/sqrt
+// and FMA throughput micro-benchmarks to relate the kernel's rate to the
+// machine's limits.
 //
 // Run (Release):  build/bench/mapping/bench_mean_value_3d [rounds]
+
+#include <time.h>
+#include <vtkCellArray.h>
+#include <vtkMeanValueCoordinatesInterpolator.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -148,23 +158,74 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// CPU time of the calling thread: one-thread rates count only the time the
+/// thread ran, so they hold on a shared, loaded machine (two-thread scaling
+/// needs wall time and does not).
+double thread_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
 }
 
+/// VTK's vtkMeanValueCoordinatesInterpolator (values only), point by point.
+struct VtkPeer {
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> triangles;
+  explicit VtkPeer(const Polyhedron& P) {
+    for (const auto& v : P.vertices()) points->InsertNextPoint(v.x(), v.y(), v.z());
+    for (const auto& t : P.triangles()) {
+      const vtkIdType ids[3] = {t[0], t[1], t[2]};
+      triangles->InsertNextCell(3, ids);
+    }
+  }
+  void values(const Points<3>& x, MatrixX& phi) {
+    const Index n = points->GetNumberOfPoints();
+    phi.resize(n, x.rows());  // one column per point
+    for (Index p = 0; p < x.rows(); ++p) {
+      const double q[3] = {x(p, 0), x(p, 1), x(p, 2)};
+      vtkMeanValueCoordinatesInterpolator::ComputeInterpolationWeights(q, points, triangles,
+                                                                       phi.col(p).data());
+    }
+  }
+};
+
+/// Independent fused multiply-adds (vectorized): the machine's rate for the
+/// arithmetic of the kernel (per core, FMA instructions on doubles per second).
+/// Compiled like the kernels (target clones), so it runs the same vector instructions.
+WARPFEM_KERNEL_CLONES double fma_rate() {
+  constexpr int L = 256, reps = 40000;
+  alignas(64) double a[L];
+  for (int i = 0; i < L; ++i) a[i] = 1.0 + i * 1e-6;
+  const double b = 0.999999, c = 1e-7;
+  const double t0 = thread_seconds();
+  for (int r = 0; r < reps; ++r) {
+    WARPFEM_IVDEP
+    for (int i = 0; i < L; ++i) a[i] = a[i] * b + c;  // contracted to one FMA
+  }
+  const double t = thread_seconds() - t0;
+  double sink = 0;
+  for (double v : a) sink += v;
+  if (sink == 42) std::puts("");
+  return static_cast<double>(L) * reps / t;
+}
+
 /// Independent vector divides and square roots: the machine's rate for the
 /// operations that bound the kernel (per core, doubles per second).
-double divide_sqrt_rate() {
+WARPFEM_KERNEL_CLONES double divide_sqrt_rate() {
   constexpr int L = 512, reps = 4000;
   alignas(64) double a[L], b[L];
   for (int i = 0; i < L; ++i) a[i] = 1.0 + i * 1e-3, b[i] = 2.0 + i * 1e-3;
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = thread_seconds();
   for (int r = 0; r < reps; ++r) {
     WARPFEM_IVDEP
     for (int i = 0; i < L; ++i) a[i] = std::sqrt(b[i] / a[i]);
   }
-  const double t = seconds_since(t0);
+  const double t = thread_seconds() - t0;
   double sink = 0;
   for (double v : a) sink += v;
   if (sink == 42) std::puts("");
@@ -212,13 +273,20 @@ int main(int argc, char** argv) {
               std::max({(dx - rdx).cwiseAbs().maxCoeff(), (dy - rdy).cwiseAbs().maxCoeff(),
                         (dz - rdz).cwiseAbs().maxCoeff()}));
 
-  std::vector<double> t_fast1, t_fast2, t_scalar, t_values1;
+  VtkPeer vtk(P);
+  MatrixX vphi;
+  vtk.values(chunks[0], vphi);
+  std::printf("max |phi - VTK| = %.2e\n", (phi - vphi.transpose()).cwiseAbs().maxCoeff());
+
+  std::vector<double> t_fast1, t_fast1_wall, t_fast2, t_scalar, t_values1, t_vtk;
   const Index scalar_points = kPoints / 10;  // the scalar code is slow: time a tenth of the points
   for (int r = 0; r < rounds; ++r) {
     warpfem::set_thread_count(1);
+    double c0 = thread_seconds();
     auto t0 = std::chrono::steady_clock::now();
     for (const auto& x : chunks) wm::mean_value_coordinates(A, x, phi, dx, dy, dz);
-    t_fast1.push_back(kPoints / seconds_since(t0));
+    t_fast1_wall.push_back(kPoints / seconds_since(t0));
+    t_fast1.push_back(kPoints / (thread_seconds() - c0));
     t0 = std::chrono::steady_clock::now();
     for (Index made = 0, c = 0; made < scalar_points; made += chunks[c].rows(), ++c)
       scalar_reference(P, chunks[c], rphi, rdx, rdy, rdz);
@@ -232,13 +300,26 @@ int main(int argc, char** argv) {
     t0 = std::chrono::steady_clock::now();
     for (const auto& x : chunks) wm::mean_value_coordinates(A, x, phi);
     t_values1.push_back(kPoints / seconds_since(t0));
+    t0 = std::chrono::steady_clock::now();
+    for (Index made = 0, c = 0; made < scalar_points; made += chunks[c].rows(), ++c)
+      vtk.values(chunks[c], vphi);
+    t_vtk.push_back(static_cast<double>((scalar_points + kChunk - 1) / kChunk * kChunk) / seconds_since(t0));
   }
   const double m = static_cast<double>(P.triangle_count());
-  const double f1 = median(t_fast1), f2 = median(t_fast2), sc = median(t_scalar), v1 = median(t_values1);
-  std::printf("values + gradients, 1 thread : %8.3f M points/s (%.3g point-triangle/s)\n", f1 / 1e6, f1 * m);
-  std::printf("values + gradients, 2 threads: %8.3f M points/s (x%.2f of 1 thread)\n", f2 / 1e6, f2 / f1);
+  const double f1 = median(t_fast1), f2 = median(t_fast2), sc = median(t_scalar), v1 = median(t_values1),
+               vt = median(t_vtk);
+  std::printf("values + gradients, 1 thread : %8.3f M points/s in thread CPU time (%.3g point-triangle/s)\n",
+              f1 / 1e6, f1 * m);
+  const double f1w = median(t_fast1_wall);
+  std::printf("values + gradients, 1 thread : %8.3f M points/s in wall time\n", f1w / 1e6);
+  std::printf(
+      "values + gradients, 2 threads: %8.3f M points/s in wall time (x%.2f of 1 thread in wall time)\n",
+      f2 / 1e6, f2 / f1w);
   std::printf("values only, 1 thread        : %8.3f M points/s\n", v1 / 1e6);
-  std::printf("scalar reference, 1 thread   : %8.3f M points/s (vectorized is x%.1f)\n", sc / 1e6, f1 / sc);
+  std::printf("scalar reference, 1 thread   : %8.3f M points/s (vectorized is x%.1f, both in wall time)\n",
+              sc / 1e6, f1w / sc);
+  std::printf("VTK values only, 1 thread    : %8.3f M points/s (vectorized values only is x%.1f)\n", vt / 1e6,
+              v1 / vt);
   const double rate = divide_sqrt_rate();
   // Per point and triangle the kernel takes 3 sqrt and 4 divides, plus 1 sqrt
   // and 1 divide per vertex (n / m per triangle).
@@ -247,5 +328,14 @@ int main(int argc, char** argv) {
       "divide+sqrt throughput: %.3g /s per core; kernel needs %.1f per point-triangle -> bound %.3f M "
       "points/s, reached %.0f %%\n",
       rate, ops, rate / ops / m / 1e6, 100 * f1 * m * ops / rate);
+  // Arithmetic instructions per point-triangle with gradients, counted by hand in
+  // the kernel's source (an FMA, add, multiply, min, compare or select is one):
+  // about 83 for each of the three edges and 150 to combine them.
+  const double arith = 150 + 3 * 83;
+  const double fma = fma_rate();
+  std::printf(
+      "FMA throughput: %.3g /s per core; kernel needs ~%.0f arithmetic instructions per point-triangle -> "
+      "bound %.3f M points/s, reached %.0f %%\n",
+      fma, arith, fma / arith / m / 1e6, 100 * f1 * m * arith / fma);
   std::printf("(medians of %d alternated rounds)\n", rounds);
 }

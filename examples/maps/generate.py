@@ -82,3 +82,49 @@ with open("../poisson_gear_curved.json", "w") as f:
     text = json.dumps(config, indent=2)
     text = re.sub(r"\[\s*(-?[0-9.e-]+),\s*(-?[0-9.e-]+)\s*\]", r"[\1, \2]", text)
     f.write(text + "\n")
+
+# 3D: a 3 x 3 x 3 subdivided cube cage (56 vertices, 108 triangles) to a twisted and bent
+# version (three eighths of a turn about the vertical axis from bottom to top, top bent sideways).
+# The cages are OFF files next to the config (the same cube as tests/mapping/test_polyhedra.hpp).
+def subdivided_cube(k):
+    verts, index, tris = [], {}, []
+    def vertex(c):
+        if c not in index:
+            index[c] = len(verts)
+            verts.append([c[0] / k, c[1] / k, c[2] / k])
+        return index[c]
+    for a in range(3):
+        for side in range(2):
+            for i in range(k):
+                for j in range(k):
+                    u, w = (a + 1) % 3, (a + 2) % 3
+                    def corner(di, dj):
+                        c = [0, 0, 0]
+                        c[a], c[u], c[w] = side * k, i + di, j + dj
+                        return vertex(tuple(c))
+                    q0, q1, q2, q3 = corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)
+                    tris += [[q0, q1, q2], [q0, q2, q3]] if side == 1 else [[q0, q2, q1], [q0, q3, q2]]
+    return verts, tris
+
+def twist_and_bend(p, turn=0.75 * math.pi, bend=0.3):
+    a = turn * p[2]
+    x, y = p[0] - 0.5, p[1] - 0.5
+    return [round(0.5 + math.cos(a) * x - math.sin(a) * y + bend * p[2] ** 2, 12),
+            round(0.5 + math.sin(a) * x + math.cos(a) * y, 12), round(p[2], 12)]
+
+def write_off(name, verts, tris):
+    with open(name, "w") as f:
+        f.write(f"OFF\n{len(verts)} {len(tris)} 0\n")
+        f.writelines(f"{v[0]:.12g} {v[1]:.12g} {v[2]:.12g}\n" for v in verts)
+        f.writelines(f"3 {t[0]} {t[1]} {t[2]}\n" for t in tris)
+
+cube, cube_tris = subdivided_cube(3)
+write_off("cube_cage.off", cube, cube_tris)
+write_off("cube_twisted.off", [twist_and_bend(p) for p in cube], cube_tris)
+with open("cube_to_twisted.json", "w") as f:
+    f.write(json.dumps({"map": {"type": "composite_mean_value", "source": {"file": "cube_cage.off"},
+                                "target": {"file": "cube_twisted.off"}, "partition": "adaptive",
+                                "max_halvings": 8},
+                        "output": {"directory": "output/cube_to_twisted", "grid_max_volume": 2e-4,
+                                   "slices": [0.1, 0.5, 0.9]}},
+                       indent=2) + "\n")

@@ -61,9 +61,9 @@ std::vector<int> partition_cells(const Mesh<2>& mesh, int num_parts) {
 }
 
 std::vector<int> inherit_partition(const std::vector<int>& coarse_owner) {
-  std::vector<int> owner(coarse_owner.size() * RefinedMesh::children_per_cell);
+  std::vector<int> owner(coarse_owner.size() * RefinedMesh<2>::children_per_cell);
   for (std::size_t c = 0; c < owner.size(); ++c)
-    owner[c] = coarse_owner[static_cast<std::size_t>(RefinedMesh::parent_of(static_cast<Index>(c)))];
+    owner[c] = coarse_owner[static_cast<std::size_t>(RefinedMesh<2>::parent_of(static_cast<Index>(c)))];
   return owner;
 }
 

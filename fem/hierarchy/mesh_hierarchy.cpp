@@ -9,12 +9,14 @@
 
 namespace warpfem::fem {
 
-MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements) {
+template <int dim>
+MeshHierarchy<dim>::MeshHierarchy(Mesh<dim> coarse, int refinements) {
   levels.push_back(std::move(coarse));
   refine_whole(refinements, refinements);
 }
 
-std::optional<EdgeNumbering> MeshHierarchy::refine_whole(int count, int total) {
+template <int dim>
+std::optional<EdgeNumbering> MeshHierarchy<dim>::refine_whole(int count, int total) {
   // Each refinement numbers the next level's edges from its own (no search),
   // except for a level nobody refines (the total-th).
   std::optional<EdgeNumbering> edges;
@@ -37,7 +39,7 @@ std::vector<int> cut_level(const Mesh<2>& mesh, int num_parts) {
                         : partition_cells(mesh, num_parts);
 }
 
-int partition_base_level(const MeshHierarchy& h, int num_parts, Index min_cells_per_part) {
+int partition_base_level(const MeshHierarchy<2>& h, int num_parts, Index min_cells_per_part) {
   require(num_parts >= 1, "nested_partitions: need at least one part");
   for (const Mesh<2>& level : h.levels)
     level.require_whole(
@@ -48,7 +50,18 @@ int partition_base_level(const MeshHierarchy& h, int num_parts, Index min_cells_
 }
 }  // namespace
 
-MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPartition& partition) {
+template <int dim>
+MeshHierarchy<dim>::MeshHierarchy(Mesh<dim> coarse, int refinements, const HierarchyPartition& partition) {
+  if constexpr (dim != 2)
+    throw Error("MeshHierarchy: a hierarchy partitioned over ranks is 2D only so far",
+                {.file = "", .key_path = "", .hint = "build the 3D hierarchy without a partition"});
+  else
+    build_partitioned(std::move(coarse), refinements, partition);
+}
+
+template <int dim>
+void MeshHierarchy<dim>::build_partitioned(Mesh<dim> coarse, int refinements,
+                                           const HierarchyPartition& partition) requires(dim == 2) {
   const int parts = partition.parts;
   require(parts >= 1 && partition.rank >= 0 && partition.rank < parts,
           "MeshHierarchy: rank " + std::to_string(partition.rank) + " is not in a partition of " +
@@ -87,7 +100,7 @@ MeshHierarchy::MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPar
     partitions[static_cast<std::size_t>(base) + 1 + k].blocks = std::move(blocks[k]);
 }
 
-std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
+std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<2>& h, int num_parts,
                                                 Index min_cells_per_part) {
   const int base = partition_base_level(h, num_parts, min_cells_per_part);
   std::vector<std::vector<int>> owners(static_cast<std::size_t>(h.num_levels()));
@@ -104,7 +117,7 @@ std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_
   return owners;
 }
 
-std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int num_parts,
+std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<2>& h, int num_parts,
                                                     Index min_cells_per_part) {
   const int base = partition_base_level(h, num_parts, num_parts == 1 ? 0 : min_cells_per_part);
   std::vector<LevelPartition> levels(static_cast<std::size_t>(h.num_levels()));
@@ -117,5 +130,8 @@ std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int 
         nested_blocks(h, base, l, levels[static_cast<std::size_t>(base)].cell_owner);
   return levels;
 }
+
+template struct MeshHierarchy<2>;
+template struct MeshHierarchy<3>;
 
 }  // namespace warpfem::fem

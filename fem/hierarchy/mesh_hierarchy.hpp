@@ -31,18 +31,20 @@ struct HierarchyPartition {
 };
 
 /// Nested meshes: level 0 is the coarse mesh, level k + 1 the uniform refinement of level k.
+template <int dim>
 struct MeshHierarchy {
-  std::vector<Mesh<2>> levels;
+  std::vector<Mesh<dim>> levels;
   /// transfers[k] describes how level k + 1 refines level k (where the coarse nodes went; parents of cells by
   /// RefinedMesh::parent_of); its `mesh` member is moved into `levels` and left empty.
-  std::vector<RefinedMesh> transfers;
+  std::vector<RefinedMesh<dim>> transfers;
 
-  MeshHierarchy(Mesh<2> coarse, int refinements);
+  MeshHierarchy(Mesh<dim> coarse, int refinements);
   /// The same levels, partitioned as nested_level_partitions() partitions
   /// them (kept in `partitions`), with the levels above the base built only
   /// around `partition.rank`'s cells (partial meshes, fem/partial_refinement.hpp)
   /// when there are several parts and the cells are triangles; otherwise whole.
-  MeshHierarchy(Mesh<2> coarse, int refinements, const HierarchyPartition& partition);
+  /// 2D only (the partition and its blocks are 2D): throws for dim = 3.
+  MeshHierarchy(Mesh<dim> coarse, int refinements, const HierarchyPartition& partition);
   // Movable, not copyable: `partitions` point into `levels` (a moved vector keeps its elements).
   MeshHierarchy(MeshHierarchy&&) = default;
   MeshHierarchy& operator=(MeshHierarchy&&) = default;
@@ -50,13 +52,15 @@ struct MeshHierarchy {
   MeshHierarchy& operator=(const MeshHierarchy&) = delete;
   /// Every level's partition (the partitioned constructor only; else empty).
   std::vector<LevelPartition> partitions;
-  const Mesh<2>& finest() const { return levels.back(); }
+  const Mesh<dim>& finest() const { return levels.back(); }
   int num_levels() const { return static_cast<int>(levels.size()); }
 
  private:
   /// Appends `count` whole refinements of the finest level, of `total` to come;
   /// returns the last new level's edge numbering if a further refinement needs it.
   std::optional<EdgeNumbering> refine_whole(int count, int total);
+  void build_partitioned(Mesh<dim> coarse, int refinements,
+                         const HierarchyPartition& partition) requires(dim == 2);
 };
 
 /// Cell owners for every level of `h` (the same on every rank, no communication):
@@ -67,13 +71,13 @@ struct MeshHierarchy {
 /// only prolongation rows along the interface read other ranks' coarse DOFs)
 /// and balanced to one base cell's descendants; the per-level Morton sort of
 /// the large levels is skipped.
-std::vector<std::vector<int>> nested_partitions(const MeshHierarchy& h, int num_parts,
+std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<2>& h, int num_parts,
                                                 Index min_cells_per_part = kBaseCellsPerPart);
 
 /// The same partition, with the levels above the base described as
 /// NestedBlocks (no per-cell owner lists for the large levels). One part: the
 /// base is level 0.
-std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy& h, int num_parts,
+std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<2>& h, int num_parts,
                                                     Index min_cells_per_part = kBaseCellsPerPart);
 
 }  // namespace warpfem::fem

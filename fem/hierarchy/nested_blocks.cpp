@@ -44,7 +44,7 @@ std::vector<Index> NestedBlocks::blocks_near(int rank) const {
   return list;
 }
 
-NestedBlocks nested_blocks(const MeshHierarchy& h, int base, int level, std::vector<int> base_owner) {
+NestedBlocks nested_blocks(const MeshHierarchy<2>& h, int base, int level, std::vector<int> base_owner) {
   require(base >= 0 && base < level && level < h.num_levels(),
           "nested_blocks: level " + std::to_string(level) + " is not above base level " +
               std::to_string(base) + " in a hierarchy of " + std::to_string(h.num_levels()) + " levels");
@@ -58,8 +58,8 @@ NestedBlocks nested_blocks(const MeshHierarchy& h, int base, int level, std::vec
   // The blocks' first coarse cells on level - 1 are 4^(k-1) apart; the
   // refinement into `level` recorded where each coarse cell's new vertices start.
   Index coarse_per_block = 1;
-  for (int l = base; l + 1 < level; ++l) coarse_per_block *= RefinedMesh::children_per_cell;
-  blocks.cells_per_block = coarse_per_block * RefinedMesh::children_per_cell;
+  for (int l = base; l + 1 < level; ++l) coarse_per_block *= RefinedMesh<2>::children_per_cell;
+  blocks.cells_per_block = coarse_per_block * RefinedMesh<2>::children_per_cell;
   const std::vector<TableIndex>& first_new =
       h.transfers[static_cast<std::size_t>(level - 1)].first_new_vertex;
   const Index nb = blocks.num_blocks();

@@ -19,6 +19,7 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 struct MeshHierarchy;
 
 struct NestedBlocks {
@@ -57,6 +58,6 @@ struct LevelPartition {
 
 /// The blocks of level `level` of `h` over the partitioned level `base` < `level`
 /// (`base_owner`: one rank per cell of level `base`).
-NestedBlocks nested_blocks(const MeshHierarchy& h, int base, int level, std::vector<int> base_owner);
+NestedBlocks nested_blocks(const MeshHierarchy<2>& h, int base, int level, std::vector<int> base_owner);
 
 }  // namespace warpfem::fem

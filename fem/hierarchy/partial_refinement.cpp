@@ -71,8 +71,9 @@ constexpr TableIndex kUnknown = -1;
 
 }  // namespace
 
-void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const std::vector<int>& base_owner,
-                      int rank, int levels_above, std::vector<NestedBlocks>& blocks) {
+void refine_partially(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
+                      const std::vector<int>& base_owner, int rank, int levels_above,
+                      std::vector<NestedBlocks>& blocks) {
   const int base_level = h.num_levels() - 1;
   const Mesh<2>& base = h.levels.back();
   require(base.cell_type == CellType::triangle && !base.partial,

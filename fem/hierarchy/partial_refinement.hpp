@@ -28,6 +28,7 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 struct MeshHierarchy;
 
 /// Appends `levels_above` levels to `h`, whose finest level is the partitioned
@@ -36,7 +37,8 @@ struct MeshHierarchy;
 /// their NestedBlocks to `blocks`. The new levels are partial meshes (their
 /// present_cells: the rank's blocks and their neighbours); h.transfers get the
 /// parent layout only (no fine_vertex_of_node / first_new_vertex).
-void refine_partially(MeshHierarchy& h, const EdgeNumbering& base_edges, const std::vector<int>& base_owner,
-                      int rank, int levels_above, std::vector<NestedBlocks>& blocks);
+void refine_partially(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
+                      const std::vector<int>& base_owner, int rank, int levels_above,
+                      std::vector<NestedBlocks>& blocks);
 
 }  // namespace warpfem::fem

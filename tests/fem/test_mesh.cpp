@@ -63,7 +63,7 @@ TEST(PolygonMesher, CoversPolygonRespectsSizeAndTagsEdges) {
 
 TEST(UniformRefinement, QuadruplesCellsKeepsAreaAndIsNested) {
   const Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.5});
-  const RefinedMesh fine = refine_uniformly(coarse);
+  const RefinedMesh<2> fine = refine_uniformly(coarse);
   EXPECT_EQ(fine.mesh.num_cells(), 4 * coarse.num_cells());
   EXPECT_EQ(fine.mesh.num_boundary_facets(), 2 * coarse.num_boundary_facets());
   EXPECT_NEAR(mesh_area(fine.mesh), 3.0, 1e-12);
@@ -77,13 +77,13 @@ TEST(UniformRefinement, ChildrenSitAtTheirReferencePositionsInTheParent) {
   for (const bool quads : {false, true}) {
     Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.5});
     if (quads) coarse = split_into_quadrilaterals(coarse);
-    const RefinedMesh r = refine_uniformly(coarse);
+    const RefinedMesh<2> r = refine_uniformly(coarse);
     const int nv = vertices_per_cell(coarse.cell_type);
-    ASSERT_EQ(r.mesh.num_cells(), RefinedMesh::children_per_cell * coarse.num_cells());
+    ASSERT_EQ(r.mesh.num_cells(), RefinedMesh<2>::children_per_cell * coarse.num_cells());
     for (Index f = 0; f < r.mesh.num_cells(); ++f) {
-      const Index c = RefinedMesh::parent_of(f);
+      const Index c = RefinedMesh<2>::parent_of(f);
       ASSERT_EQ(c, f / 4);
-      const Points<2>& eta = child_reference_vertices(coarse.cell_type, static_cast<int>(f % 4));
+      const Points<2>& eta = child_reference_vertices<2>(coarse.cell_type, static_cast<int>(f % 4));
       ASSERT_EQ(eta.rows(), nv);
       for (int a = 0; a < nv; ++a) {
         // The parent's straight (bilinear) geometry at eta(a).
@@ -98,7 +98,7 @@ TEST(UniformRefinement, ChildrenSitAtTheirReferencePositionsInTheParent) {
       }
     }
   }
-  EXPECT_THROW(child_reference_vertices(CellType::triangle, 4), warpfem::Error);
+  EXPECT_THROW(child_reference_vertices<2>(CellType::triangle, 4), warpfem::Error);
 }
 
 // Fine vertices are numbered by first use in the fine cells (locality of every DOF-ordered
@@ -107,7 +107,7 @@ TEST(UniformRefinement, NumbersVerticesByFirstUseAndRecordsWhereCoarseNodesWent)
   for (const bool quads : {false, true}) {
     Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.4});
     if (quads) coarse = split_into_quadrilaterals(coarse);
-    const RefinedMesh r = refine_uniformly(coarse);
+    const RefinedMesh<2> r = refine_uniformly(coarse);
     const Mesh<2>& fine = r.mesh;
     Index next = 0;
     for (Index c = 0; c < fine.num_cells(); ++c)
@@ -154,7 +154,7 @@ TEST(CellPartition, BalancedAndDeterministic) {
 }
 
 TEST(CellPartition, NestedPartitionsInheritTheBaseLevelsOwners) {
-  const MeshHierarchy h(mesh_polygon(lshape(), {.max_edge_length = 0.5}), 4);
+  const MeshHierarchy<2> h(mesh_polygon(lshape(), {.max_edge_length = 0.5}), 4);
   const int parts = 3;
   const Index min_cells_per_part = 8;
   const auto owners = nested_partitions(h, parts, min_cells_per_part);
@@ -173,7 +173,7 @@ TEST(CellPartition, NestedPartitionsInheritTheBaseLevelsOwners) {
     std::vector<Index> count(parts, 0);
     for (std::size_t c = 0; c < owner.size(); ++c) {
       ASSERT_EQ(owner[c], owners[static_cast<std::size_t>(l - 1)]
-                                [static_cast<std::size_t>(RefinedMesh::parent_of(static_cast<Index>(c)))])
+                                [static_cast<std::size_t>(RefinedMesh<2>::parent_of(static_cast<Index>(c)))])
           << "level " << l << ", cell " << c;
       ++count[static_cast<std::size_t>(owner[c])];
     }
@@ -226,15 +226,15 @@ TEST(EdgeNumbering, NumbersEachEdgeOnceInFirstUseOrder) {
 // so the second refinement runs on a derived numbering.
 TEST(EdgeNumbering, DerivedFromTheRefinementEqualsTheSearchedOne) {
   const Mesh<2> coarse = mesh_polygon(lshape(), {.max_edge_length = 0.3});
-  RefinedMesh once = refine_uniformly(coarse, nullptr, true);
+  RefinedMesh<2> once = refine_uniformly(coarse, nullptr, true);
   ASSERT_TRUE(once.fine_edges.has_value());
-  RefinedMesh twice = refine_uniformly(once.mesh, &*once.fine_edges, true);
-  const RefinedMesh twice_searched = refine_uniformly(once.mesh);
+  RefinedMesh<2> twice = refine_uniformly(once.mesh, &*once.fine_edges, true);
+  const RefinedMesh<2> twice_searched = refine_uniformly(once.mesh);
   ASSERT_TRUE(twice.mesh.cells == twice_searched.mesh.cells);
   ASSERT_TRUE(twice.mesh.vertices == twice_searched.mesh.vertices);
   ASSERT_TRUE(twice.mesh.boundary_facets == twice_searched.mesh.boundary_facets);
   EXPECT_EQ(twice.fine_vertex_of_node, twice_searched.fine_vertex_of_node);
-  for (const RefinedMesh* r : {&once, &twice}) {
+  for (const RefinedMesh<2>* r : {&once, &twice}) {
     const Mesh<2>& fine = r->mesh;
     const EdgeNumbering& derived = *r->fine_edges;
     const EdgeNumbering searched(fine);

@@ -47,7 +47,7 @@ int world_size() {
 
 TEST(NestedBlocks, VertexRangesAreWhereTheBlocksUseTheirVerticesFirst) {
   for (const Mesh<2>& coarse : {lshape_triangles(), square_quadrilaterals()}) {
-    const MeshHierarchy h(coarse, 3);
+    const MeshHierarchy<2> h(coarse, 3);
     const std::vector<LevelPartition> parts = nested_level_partitions(h, 3, kCellsPerPart);
     int levels_with_blocks = 0;
     for (int l = 0; l < h.num_levels(); ++l) {
@@ -78,7 +78,7 @@ TEST(NestedBlocks, VertexRangesAreWhereTheBlocksUseTheirVerticesFirst) {
 }
 
 TEST(NestedBlocks, NearBlocksShareABaseVertexWithTheRanksBlocks) {
-  const MeshHierarchy h(lshape_triangles(), 2);
+  const MeshHierarchy<2> h(lshape_triangles(), 2);
   const std::vector<LevelPartition> parts = nested_level_partitions(h, 3, kCellsPerPart);
   const NestedBlocks& blocks = *parts.back().blocks;
   const Mesh<2>& base = *blocks.base;
@@ -103,7 +103,7 @@ TEST(NestedBlocks, NearBlocksShareABaseVertexWithTheRanksBlocks) {
 TEST(NestedBlocks, DistributionEqualsTheOneFromListedCellOwners) {
   const int size = world_size();
   for (const Mesh<2>& coarse : {lshape_triangles(), square_quadrilaterals()}) {
-    const MeshHierarchy h(coarse, 3);
+    const MeshHierarchy<2> h(coarse, 3);
     const auto listed = nested_partitions(h, size, kCellsPerPart);
     const auto nested = nested_level_partitions(h, size, kCellsPerPart);
     for (int l = 0; l < h.num_levels(); ++l) {
@@ -138,11 +138,11 @@ TEST(NestedBlocks, DistributionEqualsTheOneFromListedCellOwners) {
 // boundary facets the whole refinement gives them (checked for every rank of
 // two, three and five parts, in one process).
 TEST(PartialRefinement, PresentCellsMatchTheWholeHierarchy) {
-  const MeshHierarchy whole(lshape_triangles(), 5);
+  const MeshHierarchy<2> whole(lshape_triangles(), 5);
   for (const int parts : {2, 3, 5}) {
     const auto whole_parts = nested_level_partitions(whole, parts, kCellsPerPart);
     for (int rank = 0; rank < parts; ++rank) {
-      const MeshHierarchy h(
+      const MeshHierarchy<2> h(
           lshape_triangles(), 5,
           HierarchyPartition{.parts = parts, .rank = rank, .min_cells_per_part = kCellsPerPart});
       ASSERT_EQ(h.num_levels(), whole.num_levels());

@@ -78,7 +78,7 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
   };
   const auto mg = solver(MPI_COMM_WORLD);
-  const fem::MeshHierarchy& h = mg->hierarchy();
+  const fem::MeshHierarchy<2>& h = mg->hierarchy();
   int nested_levels = 0;
   for (int l = 1; l < h.num_levels(); ++l) {
     if (h.levels[static_cast<std::size_t>(l - 1)].num_cells() < fem::kBaseCellsPerPart * size)
@@ -89,7 +89,7 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
     const auto& fine_cells = mg->level(l).distribution().local_cells();
     EXPECT_EQ(fine_cells.size(), 4 * coarse_cells.size()) << "level " << l;
     for (const Index c : fine_cells)
-      ASSERT_TRUE(coarse.count(warpfem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
+      ASSERT_TRUE(coarse.count(warpfem::RefinedMesh<2>::parent_of(c))) << "level " << l << ", cell " << c;
   }
   EXPECT_GE(nested_levels, 2);
   // The Chebyshev bound is global: the same on two ranks as on one.
@@ -124,12 +124,12 @@ TEST(MpiElasticityMultigrid, CoarseLevelsAreNestedUnderAFinestSpaceOnTheNestedPa
   ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
   // An unstructured coarse mesh: per-level Morton cuts of its refinements are not
   // nested (those of a structured square would be).
-  const fem::MeshHierarchy hierarchy(multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 5);
+  const fem::MeshHierarchy<2> hierarchy(multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 5);
   const std::vector<std::vector<int>> owners = fem::nested_partitions(hierarchy, size);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(),
                                      std::make_shared<mapping::IdentityMap<2>>(), 1, 0,
                                      multigrid::test::clamped_block(), owners.back());
-  const multigrid::ElasticityMultigrid mg(hierarchy, op.space(), op.data());
+  const multigrid::GeometricMultigrid mg(hierarchy, op);
   const auto local_cells = [&](int l) -> const std::vector<Index>& {
     return l + 1 == mg.num_levels() ? op.space().nodes().local_cells()
                                     : mg.coarse_distribution(l).local_cells();
@@ -142,7 +142,7 @@ TEST(MpiElasticityMultigrid, CoarseLevelsAreNestedUnderAFinestSpaceOnTheNestedPa
     const std::set<Index> coarse(local_cells(l - 1).begin(), local_cells(l - 1).end());
     EXPECT_EQ(local_cells(l).size(), 4 * coarse.size()) << "level " << l;
     for (const Index c : local_cells(l))
-      ASSERT_TRUE(coarse.count(warpfem::RefinedMesh::parent_of(c))) << "level " << l << ", cell " << c;
+      ASSERT_TRUE(coarse.count(warpfem::RefinedMesh<2>::parent_of(c))) << "level " << l << ", cell " << c;
   }
   EXPECT_GE(nested_levels, 2);
   EXPECT_THROW(mg.coarse_distribution(mg.num_levels() - 1), Error);

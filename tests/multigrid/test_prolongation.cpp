@@ -10,7 +10,6 @@
 #include "fem/dofs/dof_distribution.hpp"
 #include "fem/hierarchy/mesh_factory.hpp"
 #include "fem/hierarchy/mesh_hierarchy.hpp"
-#include "multigrid/dirichlet_dofs.hpp"
 #include "multigrid/prolongation.hpp"
 #include "multigrid_fixtures.hpp"
 
@@ -45,7 +44,7 @@ petsc::Vector interpolate(const fem::DofMap& dofs, const fem::DofDistribution& d
 
 /// max_i |(P g_coarse)_i − g(x_i)| over the finest level of a 3-level hierarchy (both prolongations).
 double prolongation_error(const Case& c, const Polynomial& g) {
-  const fem::MeshHierarchy h(coarse_l_shape(c.type, 0.6), 2);
+  const fem::MeshHierarchy<2> h(coarse_l_shape(c.type, 0.6), 2);
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   // On two ranks (test_mpi_prolongation) the levels above the base are nested blocks.
@@ -112,7 +111,7 @@ TEST_P(GalerkinConsistency, GalerkinCoarseOperatorEqualsRediscretization) {
   const Polygon rectangle = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {0, 1}});
   const warpfem::Mesh<2> mesh =
       triangles ? coarse_l_shape(c.type, 0.5) : warpfem::structured_mesh(rectangle, 5, 3, c.type);
-  const fem::MeshHierarchy h(mesh, 1);
+  const fem::MeshHierarchy<2> h(mesh, 1);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   // Triangles: boundary parts selected by facet tag; rectangles: per node on the polygon (as apps/ does).
   const fem::PoissonData data =
@@ -121,8 +120,8 @@ TEST_P(GalerkinConsistency, GalerkinCoarseOperatorEqualsRediscretization) {
   fem::PoissonProblem fine(MPI_COMM_SELF, h.levels[1], map, c.order, 2 * c.order + 2, data);
   coarse.assemble();
   fine.assemble();
-  const std::vector<char> cmask = multigrid::dirichlet_dofs(coarse.mesh(), coarse.dofs(), data);
-  const std::vector<char> fmask = multigrid::dirichlet_dofs(fine.mesh(), fine.dofs(), data);
+  const std::vector<char> cmask = coarse.constrained().front();
+  const std::vector<char> fmask = fine.constrained().front();
   const petsc::Matrix P = multigrid::assemble_prolongation(
       h, 1, {.dofs = &coarse.dofs(), .distribution = &coarse.distribution(), .dirichlet = cmask},
       {.dofs = &fine.dofs(), .distribution = &fine.distribution(), .dirichlet = fmask});

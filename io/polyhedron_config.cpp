@@ -1,0 +1,133 @@
+#include "io/polyhedron_config.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+namespace warpfem::io {
+namespace fs = std::filesystem;
+
+bool is_polyhedron_map(const nlohmann::json& root) {
+  if (!root.is_object()) return false;
+  const auto map = root.find("map");
+  if (map == root.end() || !map->is_object()) return false;
+  const auto source = map->find("source");
+  return source != map->end() && source->is_object();
+}
+
+namespace {
+
+std::vector<Point<3>> parse_vertices(const ConfigNode& node) {
+  const nlohmann::json& v = node.raw("vertices");
+  if (!v.is_array() || v.size() < 4)
+    throw node.error("vertices",
+                     "expected an array of at least four [x, y, z] vertices, got " + json_excerpt(v));
+  std::vector<Point<3>> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const auto& p = v[i];
+    const bool ok = p.is_array() && p.size() == 3 && p[0].is_number() && p[1].is_number() && p[2].is_number();
+    if (!ok || !std::isfinite(p[0].get<double>()) || !std::isfinite(p[1].get<double>()) ||
+        !std::isfinite(p[2].get<double>()))
+      throw node.error("vertices/" + std::to_string(i),
+                       "expected a vertex [x, y, z] of finite numbers, got " + json_excerpt(p));
+    out.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+  }
+  return out;
+}
+
+std::vector<Polyhedron::Triangle> parse_triangles(const ConfigNode& node, std::size_t vertices) {
+  const nlohmann::json& t = node.raw("triangles");
+  if (!t.is_array() || t.size() < 4)
+    throw node.error("triangles",
+                     "expected an array of at least four [i, j, k] triangles, got " + json_excerpt(t));
+  std::vector<Polyhedron::Triangle> out;
+  for (std::size_t f = 0; f < t.size(); ++f) {
+    const auto& tri = t[f];
+    Polyhedron::Triangle ijk{};
+    bool ok = tri.is_array() && tri.size() == 3;
+    for (std::size_t k = 0; ok && k < 3; ++k) {
+      ok = tri[k].is_number_unsigned() && tri[k].get<std::uint64_t>() < vertices;
+      if (ok) ijk[k] = static_cast<Index>(tri[k].get<std::uint64_t>());
+    }
+    if (!ok)
+      throw node.error(
+          "triangles/" + std::to_string(f),
+          "expected three vertex indices in [0, " + std::to_string(vertices) + "), got " + json_excerpt(tri),
+          "indices are 0-based into \"vertices\"");
+    out.push_back(ijk);
+  }
+  return out;
+}
+
+}  // namespace
+
+Polyhedron parse_polyhedron(const ConfigNode& parent, const std::string& key, const std::string& name) {
+  const nlohmann::json& raw = parent.raw(key);
+  if (!raw.is_object())
+    throw parent.error(key,
+                       "expected a polyhedron {\"vertices\": [...], \"triangles\": [...]} or {\"file\": ...}",
+                       "the source is a polyhedron, so the target must be one too");
+  const ConfigNode node = parent.child(key);
+  if (node.has("file")) {
+    fs::path p(node.get_string("file", ""));
+    if (p.is_relative()) p = fs::path(parent.file()).parent_path() / p;
+    node.finish();
+    const Polyhedron read = [&] {
+      try {
+        return Polyhedron::read(p.string());
+      } catch (const Error& e) {
+        // The file is named; the field says which polyhedron it is.
+        throw Error(e.message(),
+                    {.file = e.context().file, .key_path = node.path_of("file"), .hint = e.context().hint});
+      }
+    }();
+    return Polyhedron(read.vertices(), read.triangles(), name + " (" + p.filename().string() + ")");
+  }
+  if (!node.has("vertices") || !node.has("triangles"))
+    throw node.error(
+        "", "a polyhedron needs \"vertices\" and \"triangles\" (or a \"file\")",
+        "add \"vertices\": [[x, y, z], ...], \"triangles\": [[i, j, k], ...] (0-based, outward)");
+  const std::vector<Point<3>> v = parse_vertices(node);
+  std::vector<Polyhedron::Triangle> t = parse_triangles(node, v.size());
+  node.finish();
+  try {
+    return Polyhedron::checked(v, std::move(t), name);
+  } catch (const Error& e) {
+    throw Error(e.message(),
+                {.file = parent.file(), .key_path = parent.path_of(key), .hint = e.context().hint});
+  }
+}
+
+mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node) {
+  mapping::PolyhedronMapSpec spec;
+  spec.origin = node.file();
+  spec.type = node.get_choice("type", "identity", {"identity", "composite_mean_value"});
+  spec.source = parse_polyhedron(node, "source", "source polyhedron");
+  if (spec.type != "identity") {
+    if (!node.has("target"))
+      throw node.error("target",
+                       "missing required field: the target polyhedron Ω1 for map type \"" + spec.type + "\"",
+                       "add \"target\" with the source's triangles and moved vertices");
+    spec.target = parse_polyhedron(node, "target", "target polyhedron");
+    try {
+      require_same_triangulation(*spec.source, *spec.target);
+    } catch (const Error& e) {
+      throw node.error("target", e.message(), e.context().hint);
+    }
+  } else if (node.has("target")) {
+    throw node.error("target", "the identity map takes no target polyhedron",
+                     "remove \"target\" or set \"type\": \"composite_mean_value\"");
+  }
+  spec.partition = node.get_choice("partition", spec.partition, {"adaptive", "uniform", "explicit"});
+  spec.steps = static_cast<int>(node.get_int("steps", spec.steps, 1, 100000));
+  spec.times = node.get_doubles("times");
+  spec.min_det = node.get_double("min_det", spec.min_det, 1e-14, 0.99);
+  spec.max_halvings = static_cast<int>(node.get_int("max_halvings", spec.max_halvings, 0, 30));
+  spec.sample_per_feature =
+      static_cast<int>(node.get_int("sample_per_feature", spec.sample_per_feature, 1, 4));
+  if (spec.partition == "explicit" && spec.times.empty())
+    throw node.error("times", "the explicit partition needs \"times\"", "give 0 = t0 < t1 < ... < tm = 1");
+  node.finish();
+  return spec;
+}
+
+}  // namespace warpfem::io
