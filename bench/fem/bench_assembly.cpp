@@ -2,8 +2,11 @@
 // cost of WarpedGeometry (map evaluation at every quadrature point).
 //
 //   bench_assembly [cells_per_side = 800] [map json = examples/maps/square_to_gear.json] [partition]
-// The optional partition ("adaptive", "greedy", ...) overrides the file's /map/partition.
+// The optional partition ("adaptive", "greedy", ...) overrides the file's /map/partition;
+// a fourth argument "assembly_only" stops after the assembly rounds (A/B runs of the assembly).
 // Prints one line per measurement; run under mpiexec for the parallel figures.
+
+#include <time.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -21,6 +24,16 @@
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
+
+namespace {
+/// CPU seconds of the calling thread: on a host shared with other jobs this
+/// counts the assembly's own work, not the time it waited for a core.
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   Environment env(argc, argv);
@@ -68,21 +81,26 @@ int main(int argc, char** argv) {
           name.c_str(), setup, static_cast<long long>(qp), st.dof_map, st.distribution, st.geometry,
           st.matrix, st.other);
   }
-  double best[2] = {1e300, 1e300};
+  double best[2] = {1e300, 1e300}, best_cpu[2] = {1e300, 1e300};
   for (int round = 0; round < 5; ++round)
     for (int k = 0; k < 2; ++k) {
       MPI_Barrier(MPI_COMM_WORLD);
       w.reset();
+      const double cpu = thread_cpu_seconds();
       problems[static_cast<std::size_t>(k)]->assemble();
+      best_cpu[k] = std::min(best_cpu[k], thread_cpu_seconds() - cpu);
       MPI_Barrier(MPI_COMM_WORLD);
       best[k] = std::min(best[k], w.seconds());
     }
   if (rank == 0) {
     for (int k = 0; k < 2; ++k)
-      std::printf("%-8s assembly %.3f s (%.2f M DOFs/s; best of 5 alternating rounds)\n",
-                  cases[k].first.c_str(), best[k], static_cast<double>(mesh.num_vertices()) / best[k] / 1e6);
+      std::printf(
+          "%-8s assembly %.3f s, rank 0 thread CPU %.3f s (%.2f M DOFs/s; best of 5 alternating rounds)\n",
+          cases[k].first.c_str(), best[k], best_cpu[k],
+          static_cast<double>(mesh.num_vertices()) / best[k] / 1e6);
     std::printf("warped / identity assembly time: %.2f\n", best[0] / best[1]);
   }
+  if (argc > 4 && std::string(argv[4]) == "assembly_only") return 0;
   // WarpedGeometry alone (the one-time geometry cost), rebuilt on each
   // rank's own cells: best of 3.
   {

@@ -19,9 +19,16 @@ namespace warpfem::fem {
 
 /// Visits every cell of `geometry` in cells() order (chunk by chunk when the
 /// geometry is streamed), with `values` reinitialized on it.
+///
+/// The loop (and a LambdaKernel's calls) is forced inline into its caller: a
+/// kernel's lambdas share the caller's accumulators by reference, and only
+/// when all of them are inlined there can the compiler keep those in
+/// registers; one lambda left out of line turns them into memory that every
+/// point re-reads and re-writes (a large lambda may need the same attribute).
 template <int dim, class Kernel>
-void integrate_cells(const WarpedGeometry<dim>& geometry, CellValues<dim>& values, Kernel&& kernel) {
-  geometry.for_each_chunk([&](const GeometryChunk<dim>& chunk) {
+[[gnu::always_inline]] inline void integrate_cells(const WarpedGeometry<dim>& geometry,
+                                                   CellValues<dim>& values, Kernel&& kernel) {
+  geometry.for_each_chunk([&](const GeometryChunk<dim>& chunk) __attribute__((always_inline)) {
     for (Index i = 0; i < chunk.num_cells(); ++i) {
       values.reinit(chunk, i);
       if (!kernel.begin(values)) continue;
@@ -50,15 +57,15 @@ struct LambdaKernel {
   AtPoint point_;
   End end_;
   template <class Values>
-  bool begin(const Values& v) {
+  [[gnu::always_inline]] bool begin(const Values& v) {
     return begin_(v);
   }
   template <class Values>
-  void point(const Values& v, Index q) {
+  [[gnu::always_inline]] void point(const Values& v, Index q) {
     point_(v, q);
   }
   template <class Values>
-  void end(const Values& v) {
+  [[gnu::always_inline]] void end(const Values& v) {
     end_(v);
   }
 };

@@ -108,9 +108,9 @@ class WarpedGeometry {
   /// Calls body(chunk) for consecutive chunks covering all cells, in order
   /// (cached: one chunk viewing the stored arrays; streamed: the map evaluated
   /// per chunk of chunk_points points). The map must outlive a streamed geometry.
-  /// A template, so that the body (an assembly loop) inlines into its caller.
+  /// A template forced inline, so that the body (an assembly loop) inlines into its caller.
   template <class Body>
-  void for_each_chunk(Body&& body) const {
+  [[gnu::always_inline]] void for_each_chunk(Body&& body) const {
     if (storage_ == GeometryStorage::cached) {
       body(GeometryChunk<dim>(0, num_cells(), nq_, x_.data(), JinvT_.data(), JxW_.data(), num_cells() * nq_));
       return;

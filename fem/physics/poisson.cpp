@@ -135,6 +135,9 @@ void PoissonProblem::assemble() {
   PetscInt idx[kMaxDofs];
   double packed[kMaxPairs];  // stiffness entries (a, b), a <= b, in gradient_products_' row order
   double s0 = 0, s1 = 0, s2 = 0;
+  // w det J g(x) per point: the load vector is summed from it once per cell.
+  std::vector<double> weighted_source(static_cast<std::size_t>(geometry_.points_per_cell()));
+  double* wg = weighted_source.data();
   const ConstantFunction* constant_source = data_.source.target<ConstantFunction>();
   const double source_value = constant_source ? constant_source->value : 0.0;
   const bool constant_gradients = constant_gradients_;
@@ -151,7 +154,6 @@ void PoissonProblem::assemble() {
           [&](const CellValues<2>&) {
             s0 = s1 = s2 = 0;
             if (!constant_gradients) std::fill(packed, packed + np, 0.0);
-            std::fill(fe, fe + n, 0.0);
             return true;
           },
           [&](const CellValues<2>& v, Index q) {
@@ -168,9 +170,14 @@ void PoissonProblem::assemble() {
               for (Index p = 0; p < np; ++p) packed[p] += m0 * t0[p] + m1 * t1[p] + m2 * t2[p];
             }
             const double g = wp * (constant_source ? source_value : data_.source(v.point(q), 0.0));
-            for (int k = 0; k < n; ++k) fe[k] += g * v.shape_value(q, k);
+            wg[q] = g;
           },
-          [&](const CellValues<2>& v) {
+          [&](const CellValues<2>& v) __attribute__((always_inline)) {
+            for (int k = 0; k < n; ++k) {
+              double sum = 0;
+              for (Index q = 0; q < v.num_points(); ++q) sum += wg[q] * v.shape_value(q, k);
+              fe[k] = sum;
+            }
             if (constant_gradients) {
               const double *t0 = constant_products_[0].data(), *t1 = constant_products_[1].data(),
                            *t2 = constant_products_[2].data();
