@@ -31,7 +31,9 @@ TEST(Quadrature, GaussLegendreStaysAccurateForManyPoints) {
   for (int n : {7, 12, 16, 24, 32, 48, 64}) {
     const auto rule = gauss_legendre(n);
     for (Index q = 0; q < n; ++q) {
-      if (q > 0) EXPECT_GT(rule.points(q, 0), rule.points(q - 1, 0)) << "n=" << n;
+      if (q > 0) {
+        EXPECT_GT(rule.points(q, 0), rule.points(q - 1, 0)) << "n=" << n;
+      }
       // The rule is symmetric about 1/2: asymmetry measures the error of the nodes and weights.
       EXPECT_NEAR(rule.points(q, 0) + rule.points(n - 1 - q, 0), 1.0, 4e-16) << "n=" << n << " q=" << q;
       EXPECT_NEAR(rule.weights(q) / rule.weights(n - 1 - q), 1.0, 1e-14) << "n=" << n << " q=" << q;

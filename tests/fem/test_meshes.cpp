@@ -171,7 +171,9 @@ void expect_consistent_neighbours(const Mesh<dim>& m) {
         bool in_c = false;
         for (int j = 0; j <= dim; ++j) in_c = in_c || (j != i && m.cells(c, j) == v);
         shared += in_c;
-        if (!in_c) EXPECT_EQ(nb(d, k), c);
+        if (!in_c) {
+          EXPECT_EQ(nb(d, k), c);
+        }
         back += nb(d, k) == c;
       }
       EXPECT_EQ(shared, dim);
