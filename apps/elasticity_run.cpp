@@ -16,10 +16,17 @@
 #include "io/pvd_writer.hpp"
 #include "io/vtk_writer.hpp"
 #include "mapping/make_map.hpp"
-#include "multigrid/elasticity_multigrid.hpp"
+#include "multigrid/geometric_multigrid.hpp"
 
 namespace warpfem::apps {
 namespace {
+
+/// A solver that gives up names no config field; `key` (the load or time stepping) is
+/// what the user can change, so the error is placed there.
+Error at_config_key(const Error& e, const std::string& file, const std::string& key) {
+  if (!e.context().file.empty() || !e.context().key_path.empty()) return e;
+  return Error(e.message(), {.file = file, .key_path = key, .hint = e.context().hint});
+}
 
 /// Writes numbered VTK files of the displacement, von Mises stress and det F, and the PVD index.
 class ElasticityOutput {
@@ -184,16 +191,16 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   if (options.write_output && cfg.output.vtk)
     output = std::make_unique<ElasticityOutput>(cfg, op, mesh, comm, cell_owner);
   petsc::Vector u = op.space().create_vector();
-  std::unique_ptr<multigrid::ElasticityMultigrid> mg;
+  std::unique_ptr<multigrid::GeometricMultigrid> mg;
   if (newton.pc_type == "mg") {
     // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
     watch.reset();
-    mg = std::make_unique<multigrid::ElasticityMultigrid>(
-        hierarchy, op.space(), op.data(), multigrid::ElasticityMultigrid::galerkin_defaults(), level_owners);
+    mg = std::make_unique<multigrid::GeometricMultigrid>(
+        hierarchy, op, multigrid::GeometricMultigrid::galerkin_defaults(), level_owners);
     if (newton.ksp_type == "preonly") newton.ksp_type = "gmres";  // one V-cycle is not a solve
     newton.configure_preconditioner = [&mg](KSP ksp, Mat jacobian) {
       WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp, 1e-10, 1e-50, PETSC_DEFAULT, 1000));
-      mg->configure(ksp, jacobian);
+      mg->configure(ksp, {jacobian});
     };
     log::info("linear solves: ", newton.ksp_type, " with geometric multigrid (", mg->num_levels(),
               " levels, Galerkin coarse operators, ", format_seconds(watch.seconds()), ")");
@@ -221,9 +228,9 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
       result.rejected_steps = report.rejected_steps;
       result.newton_iterations = report.newton_iterations();
       result.domain_rejections = report.domain_rejections;
-    } catch (const Error&) {
+    } catch (const Error& e) {
       if (output && output->last_index() != index) write(index, last_load, u.get());
-      throw;
+      throw at_config_key(e, cfg.file, "/load_stepping");
     }
   } else {
     petsc::Vector v = op.space().create_vector();
@@ -250,9 +257,9 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
       result.time_steps = report.steps;
       result.newton_iterations = report.newton_iterations;
       result.domain_rejections = report.domain_rejections;
-    } catch (const Error&) {
+    } catch (const Error& e) {
       if (output && last_step >= 0 && output->last_index() != last_step) write(last_step, last_time, u.get());
-      throw;
+      throw at_config_key(e, cfg.file, "/time");
     }
   }
   result.solve_seconds = solve_watch.seconds();

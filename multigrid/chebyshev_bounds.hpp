@@ -10,7 +10,7 @@
 // against 2.47 on the warped gear; up to ~25 % above λmax on meshes of a few
 // hundred DOFs), so Chebyshev–Jacobi smooths as well with it as with PETSc's
 // 10-step CG estimate, which costs ~10 matrix-vector products per level
-// (0.2 s of a 1.24 M-DOF set-up). Second-order matrices have positive
+// (BENCHMARKS.md has what that is worth at set-up). Second-order matrices have positive
 // couplings and the bound overshoots by 30–130 %, which costs iterations there.
 
 #include <petscmat.h>

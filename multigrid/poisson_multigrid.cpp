@@ -3,9 +3,6 @@
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "core/timer.hpp"
-#include "multigrid/dirichlet_dofs.hpp"
-#include "multigrid/prolongation.hpp"
-#include "multigrid/smoothed_prolongation.hpp"
 
 namespace warpfem::multigrid {
 namespace {
@@ -40,11 +37,6 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> c
   // Smoothed prolongations bring their own Galerkin operators: only the finest level is assembled.
   const bool galerkin =
       smoothed || options.multigrid.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
-  if (smoothed && options.multigrid.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin)
-    throw Error("Gershgorin bounds for the Chebyshev smoothers need rediscretized level operators",
-                {.file = "",
-                 .key_path = "/solver/multigrid/chebyshev_bounds",
-                 .hint = "use \"auto\" or \"estimate\" with smoothed prolongations"});
   report_.levels = levels;
 
   // 1. One PoissonProblem (DOF map, distribution, warped geometry) per level, on a
@@ -84,32 +76,16 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> c
 
   // 3. Prolongations, consistent with the eliminated Dirichlet rows and columns.
   watch.reset();
-  std::vector<LevelSpace> spaces(static_cast<std::size_t>(levels));
-  for (int l = 0; l < levels; ++l) {
-    const fem::PoissonProblem& p = *problems_[l];
-    spaces[l] = {.dofs = &p.dofs(),
-                 .distribution = &p.distribution(),
-                 .dirichlet = dirichlet_dofs(p.mesh(), p.dofs(), data)};
-  }
-  for (int l = 1; l < levels; ++l)
-    prolongations_.push_back(assemble_prolongation(hierarchy_, l, spaces[l - 1], spaces[l]));
-  if (smoothed) {
-    std::vector<Mat> geometric;
-    for (const auto& P : prolongations_) geometric.push_back(P.get());
-    smoothed_ = smooth_prolongations(problems_.back()->matrix(), geometric);
-  }
+  std::vector<const fem::Problem<2>*> level_problems;
+  for (const auto& p : problems_) level_problems.push_back(p.get());
+  multigrid_ = std::make_unique<GeometricMultigrid>(hierarchy_, level_problems, options.multigrid);
+  if (smoothed) multigrid_->smooth(problems_.back()->matrix());
   t.transfers = watch.seconds();
 
   // 4. KSP + PCMG; the options database overrides every default.
   watch.reset();
-  std::vector<Mat> interpolations, operators;
-  for (int l = 1; l < levels; ++l) interpolations.push_back(interpolation(l));
-  if (smoothed) {  // every level's operator is given: PCMG computes no Galerkin product itself
-    for (const auto& A : smoothed_.operators) operators.push_back(A.get());
-    operators.push_back(problems_.back()->matrix());
-  } else {
-    for (int l = galerkin ? levels - 1 : 0; l < levels; ++l) operators.push_back(problems_[l]->matrix());
-  }
+  std::vector<Mat> operators;
+  for (int l = galerkin ? levels - 1 : 0; l < levels; ++l) operators.push_back(problems_[l]->matrix());
   const petsc::LinearSolveOptions& lin = options.linear;
   WARPFEM_PETSC_CHECK(KSPCreate(comm, ksp_.out()));
   if (!lin.prefix.empty()) WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp_.get(), lin.prefix.c_str()));
@@ -117,21 +93,9 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> c
   WARPFEM_PETSC_CHECK(KSPSetNormType(ksp_.get(), KSP_NORM_UNPRECONDITIONED));
   WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp_.get(), lin.rtol, lin.atol, PETSC_DEFAULT, lin.max_iterations));
   WARPFEM_PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_.get(), PETSC_TRUE));
-  // Automatic Chebyshev bounds: Gershgorin's is tight for first-order stiffness
-  // matrices (no eigenvalue estimates at set-up), loose for higher orders.
-  MultigridSettings settings = options.multigrid;
-  // Smoothed: the Galerkin operators were formed above and are handed to PCMG
-  // level by level, which is configure_pcmg's "one operator per level" mode.
-  if (smoothed) settings.coarse_operators = MultigridSettings::CoarseOperators::rediscretization;
-  using Bounds = MultigridSettings::ChebyshevBounds;
-  if (settings.chebyshev_bounds == Bounds::automatic)
-    settings.chebyshev_bounds =
-        order == 1 && !galerkin && settings.smoother == MultigridSettings::Smoother::chebyshev_jacobi
-            ? Bounds::gershgorin
-            : Bounds::estimate;
-  configure_pcmg(ksp_.get(), interpolations, operators, settings);
+  multigrid_->configure(ksp_.get(), operators);
   WARPFEM_PETSC_CHECK(KSPSetFromOptions(ksp_.get()));
-  reconcile_chebyshev_bounds(ksp_.get(), settings);
+  reconcile_chebyshev_bounds(ksp_.get(), multigrid_->settings());
   WARPFEM_PETSC_CHECK(KSPSetUp(ksp_.get()));
   t.pc_setup = watch.seconds();
 }

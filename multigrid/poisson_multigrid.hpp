@@ -1,7 +1,7 @@
 #pragma once
-// Poisson on the warped domain solved by geometric multigrid over a nested
-// hierarchy: one fem::PoissonProblem (with its own cached WarpedGeometry) per
-// level, our prolongations between levels, PCMG as the preconditioner of the
+// Poisson's linear solve on a nested hierarchy: one fem::PoissonProblem per
+// level (rediscretized operators, or the finest only with Galerkin ones), the
+// geometric multigrid of geometric_multigrid.hpp as the preconditioner of the
 // Krylov method (CG by default).
 //
 //   multigrid::PoissonMultigridSolver mg(comm, coarse_mesh, refinements, map, order, qdeg, data);
@@ -15,8 +15,8 @@
 #include "fem/hierarchy/mesh_factory.hpp"
 #include "fem/hierarchy/mesh_hierarchy.hpp"
 #include "fem/physics/poisson.hpp"
+#include "multigrid/geometric_multigrid.hpp"
 #include "multigrid/pcmg.hpp"
-#include "multigrid/smoothed_prolongation.hpp"
 
 namespace warpfem::multigrid {
 
@@ -90,23 +90,17 @@ class PoissonMultigridSolver {
   /// operators or smoothed prolongations).
   const fem::PoissonProblem& level(int l) const { return *problems_.at(static_cast<std::size_t>(l)); }
   /// The geometric prolongation from level fine_level − 1 to fine_level.
-  Mat prolongation(int fine_level) const {
-    return prolongations_.at(static_cast<std::size_t>(fine_level - 1)).get();
-  }
+  Mat prolongation(int fine_level) const { return multigrid_->prolongation(fine_level); }
   /// What PCMG interpolates with: prolongation(), or its smoothed version.
-  Mat interpolation(int fine_level) const {
-    const std::size_t i = static_cast<std::size_t>(fine_level - 1);
-    return smoothed_.interpolations.empty() ? prolongations_.at(i).get()
-                                            : smoothed_.interpolations.at(i).get();
-  }
+  Mat interpolation(int fine_level) const { return multigrid_->interpolation(fine_level); }
+  const GeometricMultigrid& multigrid() const { return *multigrid_; }
   KSP ksp() const { return ksp_.get(); }
 
  private:
   MultigridTimings timings_;  // declared first: the hierarchy's construction is timed into it
   fem::MeshHierarchy hierarchy_;
   std::vector<std::unique_ptr<fem::PoissonProblem>> problems_;
-  std::vector<petsc::Matrix> prolongations_;
-  SmoothedLevels smoothed_;  // with smoothed prolongations: PCMG's interpolations and coarse operators
+  std::unique_ptr<GeometricMultigrid> multigrid_;
   petsc::LinearSolver ksp_;
   MultigridSolveReport report_;
 };

@@ -299,6 +299,35 @@ void PoissonProblem::apply_dirichlet() {
     log::warning("no Dirichlet boundary condition: the Poisson problem is singular");
 }
 
+std::vector<std::vector<char>> PoissonProblem::constrained() const {
+  const std::vector<int> selected = boundary_dof_conditions(mesh_, dofs_, parts_, data_.dirichlet);
+  std::vector<char> mask(selected.size(), 0);
+  for (std::size_t d = 0; d < selected.size(); ++d) mask[d] = selected[d] >= 0;
+  return {std::move(mask)};
+}
+
+petsc::Vector PoissonProblem::create_vector() const {
+  petsc::Vector v;
+  WARPFEM_PETSC_CHECK(VecDuplicate(u_.get(), v.out()));
+  return v;
+}
+
+petsc::Matrix PoissonProblem::create_matrix() const {
+  petsc::Matrix J;
+  WARPFEM_PETSC_CHECK(MatDuplicate(A_.get(), MAT_DO_NOT_COPY_VALUES, J.out()));
+  return J;
+}
+
+bool PoissonProblem::residual(Vec u, const LoadState&, Vec r) const {
+  WARPFEM_PETSC_CHECK(MatMult(A_.get(), u, r));
+  WARPFEM_PETSC_CHECK(VecAXPY(r, -1.0, b_.get()));
+  return true;
+}
+
+void PoissonProblem::jacobian(Vec, const LoadState&, Mat J) const {
+  WARPFEM_PETSC_CHECK(MatCopy(A_.get(), J, SAME_NONZERO_PATTERN));
+}
+
 petsc::LinearSolveReport PoissonProblem::solve(const petsc::LinearSolveOptions& options) {
   return petsc::solve_linear_system(A_.get(), b_.get(), u_.get(), options);
 }

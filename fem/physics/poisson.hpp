@@ -18,6 +18,7 @@
 #include "fem/dofs/dof_distribution.hpp"
 #include "fem/geometry/warped_geometry.hpp"
 #include "fem/physics/functions.hpp"
+#include "fem/physics/problem.hpp"
 #include "mapping/map.hpp"
 
 namespace warpfem::fem {
@@ -47,7 +48,7 @@ struct PoissonSetupTimings {
   double total() const { return dof_map + distribution + geometry + matrix + other; }
 };
 
-class PoissonProblem {
+class PoissonProblem final : public LinearProblem<2> {
  public:
   /// `storage`: keep the warped geometry (cached, the default: assembly and error
   /// passes reuse it) or evaluate the map again in every pass (streamed: no
@@ -63,16 +64,29 @@ class PoissonProblem {
   /// Assembles the stiffness matrix and load vector and applies the boundary conditions.
   /// The sparsity pattern and the matrix itself are created once by the constructor;
   /// assemble() only computes values (call it again after changing nothing: same result).
-  void assemble();
+  void assemble() override;
   /// Solves with KSP; the solution is kept in solution().
   petsc::LinearSolveReport solve(const petsc::LinearSolveOptions& options);
 
-  Mat matrix() const { return A_.get(); }
-  Vec rhs() const { return b_.get(); }
-  Vec solution() const { return u_.get(); }
-  const Mesh<2>& mesh() const { return mesh_; }
-  const DofMap& dofs() const { return dofs_; }
+  Mat matrix() const override { return A_.get(); }
+  Vec rhs() const override { return b_.get(); }
+  Vec solution() const override { return u_.get(); }
+  MPI_Comm comm() const override { return comm_; }
+  const Mesh<2>& mesh() const override { return mesh_; }
+  const DofMap& dofs() const override { return dofs_; }
+  const DofDistribution& nodes() const override { return dist_; }
   const DofDistribution& distribution() const { return dist_; }
+  int components() const override { return 1; }
+  /// The Dirichlet DOFs (eliminated rows and columns), selected per DOF node
+  /// through the boundary polygon if PoissonData has one, else by facet tag.
+  std::vector<std::vector<char>> constrained() const override;
+  petsc::Vector create_vector() const override;
+  /// A copy of matrix()'s layout and pattern, values not copied.
+  petsc::Matrix create_matrix() const override;
+  /// A u − b of the assembled system (`load` is not used: the data were evaluated by assemble()).
+  bool residual(Vec u, const LoadState& load, Vec r) const override;
+  /// Copies the assembled matrix into J (of create_matrix()'s pattern).
+  void jacobian(Vec u, const LoadState& load, Mat J) const override;
   const WarpedGeometry<2>& geometry() const { return geometry_; }
   const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
   const mapping::Map<2>& map() const { return *map_; }

@@ -1,7 +1,7 @@
 #pragma once
 // The elasticity multigrid test problem (serial and MPI tests): a warped unit
 // square, clamped at the bottom with a roller on the left, and one linear solve
-// J(0) x = b by LU and by GMRES preconditioned with multigrid::ElasticityMultigrid.
+// J(0) x = b by LU and by GMRES preconditioned with multigrid::GeometricMultigrid (Galerkin levels).
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "fem/hierarchy/mesh_hierarchy.hpp"
 #include "fem/physics/elasticity/hyperelastic_operator.hpp"
 #include "mapping/make_map.hpp"
-#include "multigrid/elasticity_multigrid.hpp"
+#include "multigrid/geometric_multigrid.hpp"
 
 namespace warpfem::multigrid::test {
 
@@ -51,7 +51,7 @@ inline SolveResult solve_both(warpfem::CellType type, int order, int refinements
       refinements);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(), warped_square(), order, 0,
                                      clamped_block());
-  const ElasticityMultigrid mg(hierarchy, op.space(), op.data());
+  const GeometricMultigrid mg(hierarchy, op);
   petsc::Matrix J = op.space().create_matrix();
   petsc::Vector u = op.space().create_vector(), b = op.space().create_vector();
   petsc::Vector x_lu = op.space().create_vector(), x_mg = op.space().create_vector();
@@ -76,7 +76,7 @@ inline SolveResult solve_both(warpfem::CellType type, int order, int refinements
   WARPFEM_PETSC_CHECK(KSPCreate(PETSC_COMM_WORLD, gmres.out()));
   WARPFEM_PETSC_CHECK(KSPSetType(gmres.get(), KSPGMRES));
   WARPFEM_PETSC_CHECK(KSPSetTolerances(gmres.get(), 1e-10, 1e-50, PETSC_DEFAULT, 500));
-  mg.configure(gmres.get(), J.get());
+  mg.configure(gmres.get(), {J.get()});
   WARPFEM_PETSC_CHECK(KSPSolve(gmres.get(), b.get(), x_mg.get()));
   KSPConvergedReason reason;
   WARPFEM_PETSC_CHECK(KSPGetConvergedReason(gmres.get(), &reason));

@@ -1,4 +1,4 @@
-// Geometric multigrid for elasticity's Newton steps (multigrid/elasticity_multigrid):
+// Geometric multigrid for elasticity's Newton steps (multigrid/geometric_multigrid, Galerkin levels):
 // the preconditioned Krylov solve gives the direct solver's answer, and the
 // iteration count does not grow with refinement.
 
@@ -45,7 +45,7 @@ TEST(ElasticityMultigrid, RefusesASpaceOffTheHierarchy) {
       warpfem::structured_mesh(test::unit_square(), 2, 2, warpfem::CellType::triangle), 1);
   const warpfem::Mesh<2> other = hierarchy.finest();  // a copy: not the hierarchy's mesh
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, other, warped_square(), 1, 0, clamped_block());
-  EXPECT_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data()), Error);
+  EXPECT_THROW(GeometricMultigrid(hierarchy, op), Error);
 }
 
 TEST(ElasticityMultigrid, TakesCellOwnersForEveryLevelOrNone) {
@@ -54,12 +54,9 @@ TEST(ElasticityMultigrid, TakesCellOwnersForEveryLevelOrNone) {
   const auto owners = fem::nested_partitions(hierarchy, 1);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(), warped_square(), 1, 0,
                                      clamped_block(), owners.back());
-  EXPECT_NO_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data(),
-                                      ElasticityMultigrid::galerkin_defaults(), owners));
+  EXPECT_NO_THROW(GeometricMultigrid(hierarchy, op, GeometricMultigrid::galerkin_defaults(), owners));
   const std::vector<std::vector<int>> too_few(owners.begin(), owners.end() - 1);
-  EXPECT_THROW(ElasticityMultigrid(hierarchy, op.space(), op.data(), ElasticityMultigrid::galerkin_defaults(),
-                                   too_few),
-               Error);
+  EXPECT_THROW(GeometricMultigrid(hierarchy, op, GeometricMultigrid::galerkin_defaults(), too_few), Error);
 }
 
 }  // namespace

@@ -129,7 +129,7 @@ TEST(MpiElasticityMultigrid, CoarseLevelsAreNestedUnderAFinestSpaceOnTheNestedPa
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(),
                                      std::make_shared<mapping::IdentityMap<2>>(), 1, 0,
                                      multigrid::test::clamped_block(), owners.back());
-  const multigrid::ElasticityMultigrid mg(hierarchy, op.space(), op.data());
+  const multigrid::GeometricMultigrid mg(hierarchy, op);
   const auto local_cells = [&](int l) -> const std::vector<Index>& {
     return l + 1 == mg.num_levels() ? op.space().nodes().local_cells()
                                     : mg.coarse_distribution(l).local_cells();

@@ -10,7 +10,6 @@
 #include "fem/dofs/dof_distribution.hpp"
 #include "fem/hierarchy/mesh_factory.hpp"
 #include "fem/hierarchy/mesh_hierarchy.hpp"
-#include "multigrid/dirichlet_dofs.hpp"
 #include "multigrid/prolongation.hpp"
 #include "multigrid_fixtures.hpp"
 
@@ -121,8 +120,8 @@ TEST_P(GalerkinConsistency, GalerkinCoarseOperatorEqualsRediscretization) {
   fem::PoissonProblem fine(MPI_COMM_SELF, h.levels[1], map, c.order, 2 * c.order + 2, data);
   coarse.assemble();
   fine.assemble();
-  const std::vector<char> cmask = multigrid::dirichlet_dofs(coarse.mesh(), coarse.dofs(), data);
-  const std::vector<char> fmask = multigrid::dirichlet_dofs(fine.mesh(), fine.dofs(), data);
+  const std::vector<char> cmask = coarse.constrained().front();
+  const std::vector<char> fmask = fine.constrained().front();
   const petsc::Matrix P = multigrid::assemble_prolongation(
       h, 1, {.dofs = &coarse.dofs(), .distribution = &coarse.distribution(), .dirichlet = cmask},
       {.dofs = &fine.dofs(), .distribution = &fine.distribution(), .dirichlet = fmask});

@@ -19,7 +19,6 @@
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
 #include "multigrid/chebyshev_bounds.hpp"
-#include "multigrid/dirichlet_dofs.hpp"
 #include "multigrid/poisson_multigrid.hpp"
 #include "multigrid/smoothed_prolongation.hpp"
 #include "multigrid_fixtures.hpp"
@@ -79,7 +78,6 @@ TEST_P(SmoothedProlongation, IsOneDampedJacobiStepOnTheGeometricInterpolation) {
   const int order = GetParam();
   const auto mg = smoothed_l_shape(order, 2);
   const int levels = 3;
-  const fem::PoissonData data = multigrid::test::mixed_problem();
   for (int l = 1; l < levels; ++l) {
     SCOPED_TRACE("fine level " + std::to_string(l));
     Mat A = l == levels - 1 ? mg->finest().matrix() : level_operator(*mg, l);
@@ -99,7 +97,7 @@ TEST_P(SmoothedProlongation, IsOneDampedJacobiStepOnTheGeometricInterpolation) {
     WARPFEM_PETSC_CHECK(MatGetDiagonal(A, diagonal.get()));
 
     const fem::PoissonProblem& level = mg->level(l);
-    const std::vector<char> fixed = multigrid::dirichlet_dofs(level.mesh(), level.dofs(), data);
+    const std::vector<char> fixed = level.constrained().front();
     const fem::DofDistribution& dist = level.distribution();
     std::vector<char> fixed_row(static_cast<std::size_t>(dist.num_owned()), 0);
     for (Index d = 0; d < level.dofs().num_dofs(); ++d)

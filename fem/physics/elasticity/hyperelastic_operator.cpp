@@ -191,6 +191,20 @@ Vec HyperelasticOperator::external_force(double t) const {
   return f;
 }
 
+std::vector<std::vector<char>> HyperelasticOperator::constrained() const {
+  const auto condition = node_conditions(space_.mesh(), space_.dofs(), data_);
+  std::vector<std::vector<char>> mask(static_cast<std::size_t>(space_.components()),
+                                      std::vector<char>(condition.size(), 0));
+  for (std::size_t c = 0; c < mask.size(); ++c)
+    for (std::size_t d = 0; d < condition.size(); ++d)
+      mask[c][d] = condition[d] && c < condition[d]->value.size() && condition[d]->value[c];
+  return mask;
+}
+
+void HyperelasticOperator::jacobian(Vec u, const LoadState&, Mat J) const {
+  jacobian(u, 0.0, J);
+}
+
 bool HyperelasticOperator::residual(Vec u, Vec inertia, double scale, double t, Vec r) const {
   const VectorX ur = space_.gather_relevant(u);
   VectorX ar;

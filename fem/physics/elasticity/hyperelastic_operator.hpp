@@ -21,12 +21,13 @@
 #include "fem/geometry/warped_geometry.hpp"
 #include "fem/physics/elasticity/elasticity_data.hpp"
 #include "fem/physics/elasticity/vector_space.hpp"
+#include "fem/physics/problem.hpp"
 #include "fem/values/cell_values.hpp"
 #include "mapping/map.hpp"
 
 namespace warpfem::fem {
 
-class HyperelasticOperator {
+class HyperelasticOperator final : public Problem<2> {
  public:
   /// `mesh` must outlive the operator. quadrature_degree 0 picks 2·order + 2.
   /// `cell_owner`: the rank of every cell (empty: partition_cells()); with
@@ -35,6 +36,21 @@ class HyperelasticOperator {
                        int quadrature_degree, ElasticityData data, const std::vector<int>& cell_owner = {});
 
   const VectorSpace& space() const { return space_; }
+  MPI_Comm comm() const override { return comm_; }
+  const Mesh<2>& mesh() const override { return space_.mesh(); }
+  const DofMap& dofs() const override { return space_.dofs(); }
+  const DofDistribution& nodes() const override { return space_.nodes(); }
+  int components() const override { return space_.components(); }
+  /// Component c of node d is constrained iff node_conditions() gives it a condition with value[c].
+  std::vector<std::vector<char>> constrained() const override;
+  petsc::Vector create_vector() const override { return space_.create_vector(); }
+  petsc::Matrix create_matrix() const override { return space_.create_matrix(); }
+  /// The static residual: residual(u, no inertia, load.scale, load.time, r).
+  bool residual(Vec u, const LoadState& load, Vec r) const override {
+    return residual(u, nullptr, load.scale, load.time, r);
+  }
+  /// The static tangent: jacobian(u, 0, J) (the loads are dead: `load` does not enter).
+  void jacobian(Vec u, const LoadState& load, Mat J) const override;
   const WarpedGeometry<2>& geometry() const { return geometry_; }
   const ElasticityData& data() const { return data_; }
   const Material& material() const { return data_.material; }

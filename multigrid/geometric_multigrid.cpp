@@ -1,0 +1,223 @@
+#include "multigrid/geometric_multigrid.hpp"
+
+#include <string>
+
+#include "core/error.hpp"
+#include "core/petsc/check.hpp"
+#include "multigrid/prolongation.hpp"
+
+namespace warpfem::multigrid {
+
+struct GeometricMultigrid::CoarseLevel {
+  fem::DofMap dofs;
+  fem::DofDistribution distribution;
+  CoarseLevel(MPI_Comm comm, const warpfem::Mesh<2>& mesh, const fem::LagrangeElement<2>& element,
+              const std::vector<int>& cell_owner)
+      : dofs(mesh, element), distribution(comm, mesh, dofs, cell_owner) {}
+};
+
+namespace {
+
+/// Per component, per mesh DOF: 1 if constrained.
+using ComponentMasks = std::vector<std::vector<char>>;
+
+/// A coarse node is constrained where the fine node at the same place is: the
+/// fine vertex at coarse node d is transfer.fine_vertex_of_node[d], and fine
+/// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
+/// checked.
+ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap& fine_dofs,
+                             const fem::DofMap& coarse_dofs, const warpfem::RefinedMesh& transfer) {
+  const Index n = coarse_dofs.num_dofs();
+  require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
+          "GeometricMultigrid: the coarse level has more DOFs than the refinement has nodes");
+  const double scale = 1 + fine_dofs.dof_points().cwiseAbs().maxCoeff();
+  ComponentMasks m(fine.size(), std::vector<char>(static_cast<std::size_t>(n), 0));
+  for (Index d = 0; d < n; ++d) {
+    const Index f = transfer.fine_vertex_of_node[static_cast<std::size_t>(d)];
+    if ((coarse_dofs.dof_points().row(d) - fine_dofs.dof_points().row(f)).cwiseAbs().maxCoeff() >
+        1e-12 * scale)
+      throw Error("GeometricMultigrid: coarse DOF " + std::to_string(d) +
+                  " is not at the fine vertex its refinement records; the hierarchy must come from "
+                  "refine_uniformly");
+    for (std::size_t c = 0; c < fine.size(); ++c)
+      m[c][static_cast<std::size_t>(d)] = fine[c][static_cast<std::size_t>(f)];
+  }
+  return m;
+}
+
+/// P(k i + c, k j + c) = P_c(i, j) for the owned rows, block size k.
+petsc::Matrix interleave(const std::vector<petsc::Matrix>& scalar, const fem::DofDistribution& fine,
+                         const fem::DofDistribution& coarse) {
+  const PetscInt k = static_cast<PetscInt>(scalar.size());
+  std::vector<PetscInt> ia{0}, ja;
+  std::vector<PetscScalar> va;
+  for (PetscInt r = 0; r < fine.num_owned(); ++r)
+    for (PetscInt c = 0; c < k; ++c) {
+      const PetscInt row = fine.owned_begin() + r;
+      PetscInt ncols = 0;
+      const PetscInt* cols = nullptr;
+      const PetscScalar* vals = nullptr;
+      Mat P = scalar[static_cast<std::size_t>(c)].get();
+      WARPFEM_PETSC_CHECK(MatGetRow(P, row, &ncols, &cols, &vals));
+      for (PetscInt j = 0; j < ncols; ++j) {
+        ja.push_back(k * cols[j] + c);
+        va.push_back(vals[j]);
+      }
+      WARPFEM_PETSC_CHECK(MatRestoreRow(P, row, &ncols, &cols, &vals));
+      ia.push_back(static_cast<PetscInt>(ja.size()));
+    }
+  petsc::Matrix P;
+  WARPFEM_PETSC_CHECK(MatCreate(fine.comm(), P.out()));
+  WARPFEM_PETSC_CHECK(MatSetSizes(P.get(), k * fine.num_owned(), k * coarse.num_owned(),
+                                  k * fine.num_global(), k * coarse.num_global()));
+  WARPFEM_PETSC_CHECK(MatSetType(P.get(), MATAIJ));
+  WARPFEM_PETSC_CHECK(MatSetBlockSizes(P.get(), k, k));
+  WARPFEM_PETSC_CHECK(MatSeqAIJSetPreallocationCSR(P.get(), ia.data(), ja.data(), va.data()));
+  WARPFEM_PETSC_CHECK(MatMPIAIJSetPreallocationCSR(P.get(), ia.data(), ja.data(), va.data()));
+  return P;
+}
+
+/// The space of one level as the prolongation needs it.
+struct Level {
+  const fem::DofMap* dofs = nullptr;
+  const fem::DofDistribution* nodes = nullptr;
+  ComponentMasks constrained;
+};
+
+/// Prolongations between consecutive levels (scalar: the scalar one itself).
+std::vector<petsc::Matrix> prolongations(const fem::MeshHierarchy& hierarchy,
+                                         const std::vector<Level>& levels, int components) {
+  std::vector<petsc::Matrix> out;
+  for (std::size_t l = 1; l < levels.size(); ++l) {
+    const Level& coarse = levels[l - 1];
+    const Level& fine = levels[l];
+    std::vector<petsc::Matrix> scalar;
+    for (std::size_t c = 0; c < static_cast<std::size_t>(components); ++c)
+      scalar.push_back(assemble_prolongation(
+          hierarchy, static_cast<int>(l),
+          {.dofs = coarse.dofs, .distribution = coarse.nodes, .dirichlet = coarse.constrained[c]},
+          {.dofs = fine.dofs, .distribution = fine.nodes, .dirichlet = fine.constrained[c]}));
+    out.push_back(components == 1 ? std::move(scalar.front())
+                                  : interleave(scalar, *fine.nodes, *coarse.nodes));
+  }
+  return out;
+}
+
+/// PCMG's settings for these levels (see settings()).
+MultigridSettings resolved(MultigridSettings s, int order) {
+  const bool smoothed = s.prolongation == MultigridSettings::Prolongation::smoothed;
+  const bool galerkin = smoothed || s.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
+  if (smoothed && s.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin)
+    throw Error("Gershgorin bounds for the Chebyshev smoothers need rediscretized level operators",
+                {.file = "",
+                 .key_path = "/solver/multigrid/chebyshev_bounds",
+                 .hint = "use \"auto\" or \"estimate\" with smoothed prolongations"});
+  // Smoothed: the Galerkin operators are formed by smooth() and handed to PCMG
+  // level by level, which is configure_pcmg's "one operator per level" mode.
+  if (smoothed) s.coarse_operators = MultigridSettings::CoarseOperators::rediscretization;
+  // Automatic Chebyshev bounds: Gershgorin's is tight for first-order stiffness
+  // matrices (no eigenvalue estimates at set-up), loose for higher orders.
+  using Bounds = MultigridSettings::ChebyshevBounds;
+  if (s.chebyshev_bounds == Bounds::automatic)
+    s.chebyshev_bounds =
+        order == 1 && !galerkin && s.smoother == MultigridSettings::Smoother::chebyshev_jacobi
+            ? Bounds::gershgorin
+            : Bounds::estimate;
+  return s;
+}
+
+}  // namespace
+
+GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy& hierarchy,
+                                       const std::vector<const fem::Problem<2>*>& levels,
+                                       const MultigridSettings& settings) {
+  require(!levels.empty() && static_cast<int>(levels.size()) == hierarchy.num_levels(),
+          "GeometricMultigrid: " + std::to_string(levels.size()) + " level problems for a hierarchy of " +
+              std::to_string(hierarchy.num_levels()) + " levels");
+  components_ = levels.back()->components();
+  settings_ = resolved(settings, levels.back()->dofs().element().order());
+  std::vector<Level> spaces;
+  for (const fem::Problem<2>* p : levels) {
+    require(p->components() == components_, "GeometricMultigrid: the levels differ in components");
+    spaces.push_back({.dofs = &p->dofs(), .nodes = &p->nodes(), .constrained = p->constrained()});
+  }
+  prolongations_ = prolongations(hierarchy, spaces, components_);
+}
+
+GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy& hierarchy, const fem::Problem<2>& finest,
+                                       const MultigridSettings& settings,
+                                       const std::vector<std::vector<int>>& level_owners)
+    : components_(finest.components()) {
+  if (&hierarchy.finest() != &finest.mesh())
+    throw Error("GeometricMultigrid: the problem does not live on the hierarchy's finest mesh",
+                {.file = "", .key_path = "", .hint = "build the problem on hierarchy.finest()"});
+  if (settings.prolongation == MultigridSettings::Prolongation::smoothed)
+    throw Error(
+        "smoothed prolongations need the operator at set-up: they are available with "
+        "rediscretized levels (the Poisson solver) only",
+        {.file = "",
+         .key_path = "/solver/multigrid/prolongation",
+         .hint = "use \"geometric\" prolongations for elasticity"});
+  settings_ = resolved(settings, finest.dofs().element().order());
+  const int levels = hierarchy.num_levels();
+  // The coarse levels are partitioned like the rediscretized ones: nested, so
+  // with a finest problem built on the same partition (nested_partitions(...).back())
+  // prolongation rows read other ranks' coarse nodes only along the interface.
+  // Any other finest partition still works.
+  require(level_owners.empty() || static_cast<int>(level_owners.size()) == levels,
+          "GeometricMultigrid: cell owners for " + std::to_string(level_owners.size()) +
+              " levels, the hierarchy has " + std::to_string(levels));
+  int size = 1;
+  MPI_Comm_size(finest.comm(), &size);
+  std::vector<std::vector<int>> computed;
+  if (level_owners.empty()) computed = fem::nested_partitions(hierarchy, size);
+  const std::vector<std::vector<int>>& owners = level_owners.empty() ? computed : level_owners;
+  for (int l = 0; l + 1 < levels; ++l)
+    coarse_.push_back(
+        std::make_unique<CoarseLevel>(finest.comm(), hierarchy.levels[static_cast<std::size_t>(l)],
+                                      finest.dofs().element(), owners[static_cast<std::size_t>(l)]));
+  std::vector<Level> spaces(static_cast<std::size_t>(levels));
+  spaces.back() = {.dofs = &finest.dofs(), .nodes = &finest.nodes(), .constrained = finest.constrained()};
+  for (int l = levels - 2; l >= 0; --l) {
+    const std::size_t i = static_cast<std::size_t>(l);
+    spaces[i] = {.dofs = &coarse_[i]->dofs,
+                 .nodes = &coarse_[i]->distribution,
+                 .constrained = coarser_masks(spaces[i + 1].constrained, *spaces[i + 1].dofs,
+                                              coarse_[i]->dofs, hierarchy.transfers[i])};
+  }
+  prolongations_ = prolongations(hierarchy, spaces, components_);
+}
+
+GeometricMultigrid::~GeometricMultigrid() = default;
+
+const fem::DofDistribution& GeometricMultigrid::coarse_distribution(int level) const {
+  require(level >= 0 && level < static_cast<int>(coarse_.size()),
+          "GeometricMultigrid::coarse_distribution: level " + std::to_string(level) +
+              " is not a coarse level built here");
+  return coarse_[static_cast<std::size_t>(level)]->distribution;
+}
+
+void GeometricMultigrid::smooth(Mat finest) {
+  require(settings_.prolongation == MultigridSettings::Prolongation::smoothed,
+          "GeometricMultigrid::smooth: the settings ask for geometric prolongations");
+  std::vector<Mat> geometric;
+  for (const auto& P : prolongations_) geometric.push_back(P.get());
+  smoothed_ = smooth_prolongations(finest, geometric);
+}
+
+void GeometricMultigrid::configure(KSP ksp, const std::vector<Mat>& operators) const {
+  std::vector<Mat> interpolations, ops;
+  for (int l = 1; l < num_levels(); ++l) interpolations.push_back(interpolation(l));
+  if (settings_.prolongation == MultigridSettings::Prolongation::smoothed) {
+    require(!smoothed_.operators.empty() || num_levels() == 1,
+            "GeometricMultigrid::configure: call smooth() before configure() with smoothed prolongations");
+    // Every level's operator is given: PCMG computes no Galerkin product itself.
+    for (const auto& A : smoothed_.operators) ops.push_back(A.get());
+    ops.push_back(operators.back());
+  } else {
+    ops = operators;
+  }
+  configure_pcmg(ksp, interpolations, ops, settings_);
+}
+
+}  // namespace warpfem::multigrid
