@@ -8,6 +8,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -30,6 +31,23 @@ double distance_to_segment(const Point<2>& p, const Point<2>& a, const Point<2>&
   const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
   return (p - (a + t * d)).norm();
 }
+
+/// The corners, and with max_length > 0 the points splitting every edge into
+/// ceil(length / max_length) equal pieces, in boundary order.
+std::vector<Point<2>> boundary_nodes(const Polygon& polygon, double max_length) {
+  std::vector<Point<2>> nodes;
+  for (Index i = 0; i < polygon.size(); ++i) {
+    const Point<2> a = polygon.vertex(i), b = polygon.vertex(i + 1);
+    const Index pieces =
+        max_length > 0 ? std::max<Index>(1, static_cast<Index>(std::ceil((b - a).norm() / max_length - 1e-9)))
+                       : 1;
+    for (Index j = 0; j < pieces; ++j) {
+      const double t = static_cast<double>(j) / static_cast<double>(pieces);
+      nodes.push_back((1 - t) * a + t * b);
+    }
+  }
+  return nodes;
+}
 }  // namespace
 
 Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
@@ -45,10 +63,11 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
   }
   const Index n = polygon.size();
   Cdt cdt;
-  std::vector<Cdt::Vertex_handle> corners;
-  for (Index i = 0; i < n; ++i)
-    corners.push_back(cdt.insert(Cdt::Point(polygon.vertex(i).x(), polygon.vertex(i).y())));
-  for (Index i = 0; i < n; ++i) cdt.insert_constraint(corners[i], corners[polygon.wrap(i + 1)]);
+  std::vector<Cdt::Vertex_handle> nodes;  // counter-clockwise along the boundary, corners included
+  for (const Point<2>& p : boundary_nodes(polygon, options.max_boundary_edge_length))
+    nodes.push_back(cdt.insert(Cdt::Point(p.x(), p.y())));
+  for (std::size_t j = 0; j < nodes.size(); ++j)
+    cdt.insert_constraint(nodes[j], nodes[(j + 1) % nodes.size()]);
   for (const Point<2>& p : interior_points) cdt.insert(Cdt::Point(p.x(), p.y()));
 
   // A seed-free refinement meshes every bounded component; the polygon is

@@ -15,6 +15,10 @@ struct PolygonMeshOptions {
   /// CGAL's shape bound B = circumradius / shortest edge; 0.125 is CGAL's
   /// default and corresponds to a minimum angle of about 20.6 degrees.
   double shape_bound = 0.125;
+  /// > 0: every polygon edge is first split into ceil(length / this) equal
+  /// pieces whose ends are all mesh vertices (a boundary resolved at least as
+  /// finely as the interior, e.g. for boundary data sampled at the vertices).
+  double max_boundary_edge_length = 0.0;
 };
 
 /// Meshes the (validated) polygon. Every polygon vertex is a mesh vertex and

@@ -1,6 +1,8 @@
 #include "core/mesh/quadrature.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
+#include <numbers>
 #include <utility>
 
 #include "core/error.hpp"
@@ -9,20 +11,29 @@ namespace warpfem {
 
 QuadratureRule<1> gauss_legendre(int n) {
   require(n >= 1, "gauss_legendre: need at least one point");
-  // Golub–Welsch: nodes are eigenvalues of the Jacobi matrix of Legendre polynomials.
-  MatrixX T = MatrixX::Zero(n, n);
-  for (int k = 1; k < n; ++k) {
-    const double b = k / std::sqrt(4.0 * k * k - 1.0);
-    T(k, k - 1) = T(k - 1, k) = b;
-  }
-  Eigen::SelfAdjointEigenSolver<MatrixX> eig(T);
+  // Newton's method on the Legendre polynomial P_n from Tricomi's estimate of
+  // each root: nodes and weights to full precision for any n (the eigenvectors
+  // of Golub–Welsch lose a few digits of the weights as n grows).
   QuadratureRule<1> rule;
   rule.points.resize(n, 1);
   rule.weights.resize(n);
-  for (int k = 0; k < n; ++k) {
-    rule.points(k, 0) = 0.5 * (eig.eigenvalues()(k) + 1.0);
-    const double v0 = eig.eigenvectors()(0, k);
-    rule.weights(k) = v0 * v0;  // 2 v0^2 on [-1,1], halved for [0,1]
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5)), dp = 1;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1, p1 = x;  // P_{k-1}, P_k by the three-term recurrence
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      if (n == 1) p0 = 1;
+      dp = n * (x * p1 - p0) / (x * x - 1);
+      const double dx = p1 / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    rule.points(i, 0) = 0.5 * (1 - x);              // roots come in decreasing x: points increase
+    rule.weights(i) = 1 / ((1 - x * x) * dp * dp);  // 2 / ((1 - x²) P_n'(x)²) on [-1, 1], halved for [0, 1]
   }
   rule.degree = 2 * n - 1;
   return rule;

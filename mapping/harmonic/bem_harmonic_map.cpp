@@ -41,14 +41,14 @@ Real segment_distance(const Point<2>& x, const Point<2>& a, const Point<2>& b) {
 /// Calls f(s, y, weight) for a quadrature of ∫_0^1 · L ds on element E, with
 /// panels bisected toward x until each is at least its own length away.
 template <class F>
-void integrate_panel(const Point<2>& x, const Element& E, const QuadratureRule& q, Real s0, Real s1,
+void integrate_panel(const Point<2>& x, const Element& E, const QuadratureRule<1>& q, Real s0, Real s1,
                      int depth, F&& f) {
   const Point<2> pa = E.a + s0 * (E.b - E.a), pb = E.a + s1 * (E.b - E.a);
   const Real len = (s1 - s0) * E.L;
   if (depth >= kMaxDepth || segment_distance(x, pa, pb) >= len) {
-    for (std::size_t k = 0; k < q.s.size(); ++k) {
-      const Real s = s0 + (s1 - s0) * q.s[k];
-      f(s, E.a + s * (E.b - E.a), q.w[k] * len);
+    for (Index k = 0; k < q.size(); ++k) {
+      const Real s = s0 + (s1 - s0) * q.points(k, 0);
+      f(s, E.a + s * (E.b - E.a), q.weights(k) * len);
     }
     return;
   }
@@ -207,26 +207,26 @@ BemHarmonicMap::BemHarmonicMap(std::shared_ptr<const BemHarmonicCoordinates> coo
   Ds_ = coords_->d_start * W;
   De_ = coords_->d_end * W;
   fill_table(near_, coords_->rule);
-  fill_table(far_, gauss_legendre(std::min<int>(kFarPoints, static_cast<int>(coords_->rule.s.size()))));
+  fill_table(far_, gauss_legendre(std::min<int>(kFarPoints, static_cast<int>(coords_->rule.size()))));
 }
 
-void BemHarmonicMap::fill_table(QuadratureTable& t, const QuadratureRule& q) const {
+void BemHarmonicMap::fill_table(QuadratureTable& t, const QuadratureRule<1>& q) const {
   const Index m = coords_->nodes.size();
-  const Index nq = static_cast<Index>(q.s.size());
+  const Index nq = q.size();
   t.per_element = nq;
   for (VectorX* v : {&t.x, &t.y, &t.nx, &t.ny, &t.w, &t.c0, &t.c1, &t.d0, &t.d1}) v->resize(m * nq);
   for (Index e = 0; e < m; ++e) {
     const Element E = element(coords_->nodes, e);
     const Index e1 = (e + 1) % m;
     for (Index k = 0; k < nq; ++k) {
-      const Real s = q.s[static_cast<std::size_t>(k)];
+      const Real s = q.points(k, 0);
       const Index i = e * nq + k;
       const Point<2> y = E.a + s * (E.b - E.a);
       t.x(i) = y.x();
       t.y(i) = y.y();
       t.nx(i) = E.n.x();
       t.ny(i) = E.n.y();
-      t.w(i) = q.w[static_cast<std::size_t>(k)] * E.L;
+      t.w(i) = q.weights(k) * E.L;
       t.c0(i) = (1 - s) * C_(e, 0) + s * C_(e1, 0);
       t.c1(i) = (1 - s) * C_(e, 1) + s * C_(e1, 1);
       t.d0(i) = (1 - s) * Ds_(e, 0) + s * De_(e, 0);

@@ -19,18 +19,18 @@
 
 #include <memory>
 
-#include "mapping/harmonic/gauss_legendre.hpp"
+#include "core/mesh/quadrature.hpp"
 #include "mapping/harmonic/harmonic_map.hpp"
 
 namespace warpfem::mapping {
 
 struct BemHarmonicCoordinates {
   Point<2> center;
-  Real scale = 1;          ///< x̂ = (x − center) / scale
-  BoundaryNodes nodes;     ///< in scaled coordinates (at[] refers to Ω's edges)
-  MatrixX c;               ///< m x n: values of λ_k at the nodes
-  MatrixX d_start, d_end;  ///< m x n: ∂λ_k/∂n at the start and end of each element (scaled)
-  QuadratureRule rule;
+  Real scale = 1;                    ///< x̂ = (x − center) / scale
+  BoundaryNodes nodes;               ///< in scaled coordinates (at[] refers to Ω's edges)
+  MatrixX c;                         ///< m x n: values of λ_k at the nodes
+  MatrixX d_start, d_end;            ///< m x n: ∂λ_k/∂n at the start and end of each element (scaled)
+  QuadratureRule<1> rule;            ///< Gauss–Legendre on [0, 1]
   Real snap = 0;                     ///< snap distance, scaled
   std::vector<Real> element_length;  ///< per edge of Ω, scaled
 };
@@ -58,7 +58,7 @@ class BemHarmonicMap final : public HarmonicMap {
     Index per_element = 0;
     VectorX x, y, nx, ny, w, c0, c1, d0, d1;
   };
-  void fill_table(QuadratureTable& table, const QuadratureRule& rule) const;
+  void fill_table(QuadratureTable& table, const QuadratureRule<1>& rule) const;
   QuadratureTable near_, far_;
 };
 

@@ -108,6 +108,17 @@ BoundaryPoint closest_boundary_point(const Polygon& domain, const Point<2>& x, R
   return best;
 }
 
+std::vector<std::optional<BoundaryPoint>> boundary_points(const Mesh<2>& mesh, const Polygon& domain) {
+  std::vector<std::optional<BoundaryPoint>> at(static_cast<std::size_t>(mesh.num_vertices()));
+  for (Index f = 0; f < mesh.num_boundary_facets(); ++f)
+    for (Index k = 0; k < mesh.boundary_facets.cols(); ++k) {
+      const Index v = mesh.boundary_facets(f, k);
+      auto& p = at[static_cast<std::size_t>(v)];
+      if (!p) p = closest_boundary_point(domain, mesh.vertex(v), nullptr);
+    }
+  return at;
+}
+
 Point<2> boundary_position(const Polygon& domain, const BoundaryPoint& p) {
   return (1 - p.t) * domain.vertex(p.edge) + p.t * domain.vertex(p.edge + 1);
 }

@@ -9,9 +9,11 @@
 // data of "vertex k = 1, all others 0" (a harmonic coordinate); every solver
 // in this folder computes the λ_k once and reuses them for any Λ.
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/mesh/mesh.hpp"
 #include "core/polygon.hpp"
 #include "core/types.hpp"
 
@@ -60,6 +62,10 @@ Point<2> boundary_value(const Polygon& image, const std::vector<EdgeSpeed>& spee
 
 /// Closest point of ∂Ω to `x` and its distance.
 BoundaryPoint closest_boundary_point(const Polygon& domain, const Point<2>& x, Real* distance);
+
+/// Per vertex of `mesh` (a mesh of `domain`): its closest point of ∂Ω if it is
+/// a vertex of a boundary facet, nothing if it is interior.
+std::vector<std::optional<BoundaryPoint>> boundary_points(const Mesh<2>& mesh, const Polygon& domain);
 
 /// Point of ∂Ω at `p`.
 Point<2> boundary_position(const Polygon& domain, const BoundaryPoint& p);

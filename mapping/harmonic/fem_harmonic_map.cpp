@@ -9,11 +9,9 @@ namespace {
 
 std::shared_ptr<const FemHarmonicCoordinates> solve(const Polygon& domain,
                                                     const std::vector<EdgeSpeed>& speeds, Real h) {
-  TriangleMesh mesh = mesh_polygon(domain, h);
-  TriangleLocator locator(mesh.vertices, mesh.triangles);
-  MatrixX lambda = p1_harmonic_coordinates(mesh, speeds_for(domain, speeds), domain.size());
-  return std::make_shared<const FemHarmonicCoordinates>(
-      FemHarmonicCoordinates{std::move(mesh), std::move(locator), std::move(lambda)});
+  Mesh<2> mesh = auxiliary_mesh(domain, h);
+  MatrixX lambda = p1_harmonic_coordinates(mesh, domain, speeds_for(domain, speeds), domain.size());
+  return std::make_shared<const FemHarmonicCoordinates>(std::move(mesh), std::move(lambda));
 }
 
 Point<2> row(const Points<2>& P, Index i) {
@@ -21,6 +19,9 @@ Point<2> row(const Points<2>& P, Index i) {
 }
 
 }  // namespace
+
+FemHarmonicCoordinates::FemHarmonicCoordinates(Mesh<2> mesh_in, MatrixX lambda_in)
+    : mesh(std::move(mesh_in)), lambda(std::move(lambda_in)), locator(mesh) {}
 
 Matrix<2> affine_jacobian(const Point<2>& p0, const Point<2>& p1, const Point<2>& p2, const Point<2>& q0,
                           const Point<2>& q1, const Point<2>& q2) {
@@ -39,10 +40,10 @@ FemHarmonicMap::FemHarmonicMap(std::shared_ptr<const FemHarmonicCoordinates> coo
                                const std::vector<EdgeSpeed>& speeds)
     : HarmonicMap(domain, image, speeds), coords_(std::move(coordinates)) {
   images_ = coords_->lambda * image_vertices();
-  const TriangleMesh& m = coords_->mesh;
-  J_.resize(m.num_triangles(), 4);
-  for (Index t = 0; t < m.num_triangles(); ++t) {
-    const auto& T = m.triangles[static_cast<std::size_t>(t)];
+  const Mesh<2>& m = coords_->mesh;
+  J_.resize(m.num_cells(), 4);
+  for (Index t = 0; t < m.num_cells(); ++t) {
+    const auto T = m.cells.row(t);
     set_jacobian_at<2>(J_, t,
                        affine_jacobian(row(m.vertices, T[0]), row(m.vertices, T[1]), row(m.vertices, T[2]),
                                        row(images_, T[0]), row(images_, T[1]), row(images_, T[2])));
@@ -50,11 +51,11 @@ FemHarmonicMap::FemHarmonicMap(std::shared_ptr<const FemHarmonicCoordinates> coo
 }
 
 void FemHarmonicMap::eval_point(const Point<2>& x, Point<2>& phi, Matrix<2>* J) const {
-  const TriangleLocator::Hit hit = coords_->locator.locate(x);
-  const auto& T = coords_->mesh.triangles[static_cast<std::size_t>(hit.triangle)];
-  phi =
-      hit.bary[0] * row(images_, T[0]) + hit.bary[1] * row(images_, T[1]) + hit.bary[2] * row(images_, T[2]);
-  if (J) *J = triangle_jacobian(hit.triangle);
+  const CellLocator::Nearest hit = coords_->locator.nearest(x);
+  const auto T = coords_->mesh.cells.row(hit.cell);
+  phi = hit.barycentric[0] * row(images_, T[0]) + hit.barycentric[1] * row(images_, T[1]) +
+        hit.barycentric[2] * row(images_, T[2]);
+  if (J) *J = triangle_jacobian(hit.cell);
 }
 
 HarmonicMapPtr FemHarmonicMap::with_image(const Polygon& image) const {

@@ -6,17 +6,22 @@
 
 #include <memory>
 
+#include "core/mesh/cell_locator.hpp"
+#include "core/mesh/mesh.hpp"
 #include "mapping/harmonic/harmonic_map.hpp"
-#include "mapping/harmonic/triangle_locator.hpp"
-#include "mapping/harmonic/triangle_mesh.hpp"
 
 namespace warpfem::mapping {
 
-/// What the solve produces and every image Λ shares.
+/// What the solve produces and every image Λ shares. Not copyable: the
+/// locator refers to the mesh beside it.
 struct FemHarmonicCoordinates {
-  TriangleMesh mesh;
-  TriangleLocator locator;  ///< over the mesh in Ω
-  MatrixX lambda;           ///< nv x n
+  FemHarmonicCoordinates(Mesh<2> mesh, MatrixX lambda);
+  FemHarmonicCoordinates(const FemHarmonicCoordinates&) = delete;
+  FemHarmonicCoordinates& operator=(const FemHarmonicCoordinates&) = delete;
+
+  Mesh<2> mesh;         ///< the auxiliary mesh of Ω (p1_laplace.hpp)
+  MatrixX lambda;       ///< nv x n
+  CellLocator locator;  ///< over `mesh`
 };
 
 class FemHarmonicMap final : public HarmonicMap {
@@ -32,7 +37,7 @@ class FemHarmonicMap final : public HarmonicMap {
   HarmonicMapPtr with_image(const Polygon& image) const override;
   bool is_piecewise_linear() const override { return true; }
 
-  const TriangleMesh& mesh() const { return coords_->mesh; }
+  const Mesh<2>& mesh() const { return coords_->mesh; }
   /// nv x 2: φ at the mesh vertices.
   const Points<2>& vertex_images() const { return images_; }
   /// J_φ on triangle t.

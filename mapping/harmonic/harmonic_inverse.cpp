@@ -5,7 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include "core/mesh/simplex_neighbours.hpp"
 #include "mapping/harmonic/fem_harmonic_map.hpp"
+#include "mapping/harmonic/p1_laplace.hpp"
 
 namespace warpfem::mapping {
 namespace {
@@ -15,42 +17,40 @@ Point<2> row(const Points<2>& P, Index i) {
 }
 
 /// Barycentric coordinates of p in triangle t of mesh (not clamped).
-Eigen::Vector3d barycentric(const TriangleMesh& m, Index t, const Point<2>& p) {
-  const auto& T = m.triangles[static_cast<std::size_t>(t)];
-  const Point<2> a = row(m.vertices, T[0]), b = row(m.vertices, T[1]) - a, c = row(m.vertices, T[2]) - a,
-                 q = p - a;
-  const Real det = b.x() * c.y() - b.y() * c.x();
-  const Real l1 = (q.x() * c.y() - q.y() * c.x()) / det, l2 = (b.x() * q.y() - b.y() * q.x()) / det;
-  return {1 - l1 - l2, l1, l2};
+std::array<Real, 3> barycentric(const Mesh<2>& m, Index t, const Point<2>& p) {
+  return barycentric_coordinates(m.vertex(m.cells(t, 0)), m.vertex(m.cells(t, 1)), m.vertex(m.cells(t, 2)),
+                                 p);
 }
 
 }  // namespace
 
 HarmonicInverse::HarmonicInverse(HarmonicMapPtr phi, Real seed_max_edge_length) : phi_(std::move(phi)) {
   if (const auto* fem = dynamic_cast<const FemHarmonicMap*>(phi_.get())) {
-    mesh_ = std::shared_ptr<const TriangleMesh>(phi_, &fem->mesh());  // aliasing: lives as long as phi
+    mesh_ = std::shared_ptr<const Mesh<2>>(phi_, &fem->mesh());  // aliasing: lives as long as phi
     images_ = fem->vertex_images();
   } else {
-    mesh_ = std::make_shared<const TriangleMesh>(mesh_polygon(phi_->domain(), seed_max_edge_length));
+    mesh_ = std::make_shared<const Mesh<2>>(auxiliary_mesh(phi_->domain(), seed_max_edge_length));
     phi_->eval(mesh_->vertices, images_);
   }
-  locator_ = std::make_unique<TriangleLocator>(images_, mesh_->triangles);
+  if (!phi_->is_piecewise_linear()) neighbours_ = simplex_neighbours(*mesh_);
+  locator_ = std::make_unique<CellLocator>(images_, mesh_->cells, CellType::triangle);
   tol_ = 1e-13 * diameter(phi_->image());
 }
 
 HarmonicInverse::Result HarmonicInverse::apply(const Point<2>& z, Point<2>& y, Matrix<2>* J) const {
-  const TriangleMesh& m = *mesh_;
-  const TriangleLocator::Hit hit = locator_->locate(z);
-  Index t = hit.triangle;
-  const auto& T0 = m.triangles[static_cast<std::size_t>(t)];
-  y = hit.bary[0] * row(m.vertices, T0[0]) + hit.bary[1] * row(m.vertices, T0[1]) +
-      hit.bary[2] * row(m.vertices, T0[2]);
+  const Mesh<2>& m = *mesh_;
+  const CellLocator::Nearest hit = locator_->nearest(z);
+  Index t = hit.cell;
+  const auto T0 = m.cells.row(t);
+  y = hit.barycentric[0] * row(m.vertices, T0[0]) + hit.barycentric[1] * row(m.vertices, T0[1]) +
+      hit.barycentric[2] * row(m.vertices, T0[2]);
   Result result;
   if (phi_->is_piecewise_linear()) {
     // φ is linear on the triangle: the residual is how far z lies outside it
     // (nonzero only when z is outside the image mesh and the hit was clamped).
-    const Point<2> image = hit.bary[0] * row(images_, T0[0]) + hit.bary[1] * row(images_, T0[1]) +
-                           hit.bary[2] * row(images_, T0[2]);
+    const Point<2> image = hit.barycentric[0] * row(images_, T0[0]) +
+                           hit.barycentric[1] * row(images_, T0[1]) +
+                           hit.barycentric[2] * row(images_, T0[2]);
     result.residual = (image - z).norm();
     if (J)
       *J = affine_jacobian(row(m.vertices, T0[0]), row(m.vertices, T0[1]), row(m.vertices, T0[2]),
@@ -73,17 +73,17 @@ HarmonicInverse::Result HarmonicInverse::apply(const Point<2>& z, Point<2>& y, M
       Real alpha = 1;
       int exit = -1;
       for (int attempt = 0; attempt < 2; ++attempt) {
-        const Eigen::Vector3d b0 = barycentric(m, t, y), b1 = barycentric(m, t, y + s);
+        const std::array<Real, 3> b0 = barycentric(m, t, y), b1 = barycentric(m, t, y + s);
         alpha = 1;
         exit = -1;
         for (int i = 0; i < 3; ++i)
-          if (b1(i) < 0) {
-            const Real a = std::max(b0(i), Real{0}) / (b0(i) - b1(i));
+          if (b1[i] < 0) {
+            const Real a = std::max(b0[i], Real{0}) / (b0[i] - b1[i]);
             if (a < alpha) alpha = a, exit = i;
           }
-        if (exit < 0 || m.neighbors[static_cast<std::size_t>(t)][exit] >= 0) break;
+        if (exit < 0 || neighbours_(t, exit) >= 0) break;
         // leaving Ω: slide along the boundary edge instead
-        const auto& T = m.triangles[static_cast<std::size_t>(t)];
+        const auto T = m.cells.row(t);
         const Point<2> e =
             (row(m.vertices, T[(exit + 2) % 3]) - row(m.vertices, T[(exit + 1) % 3])).normalized();
         s = e * e.dot(s);
@@ -100,7 +100,7 @@ HarmonicInverse::Result HarmonicInverse::apply(const Point<2>& z, Point<2>& y, M
         res = res_c;
         accepted = true;
         if (exit >= 0 && alpha < 1) {
-          const Index nb = m.neighbors[static_cast<std::size_t>(t)][exit];
+          const Index nb = neighbours_(t, exit);
           if (nb >= 0) t = nb;
         }
       }

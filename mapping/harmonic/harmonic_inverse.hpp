@@ -11,9 +11,9 @@
 
 #include <memory>
 
+#include "core/mesh/cell_locator.hpp"
+#include "core/mesh/mesh.hpp"
 #include "mapping/harmonic/harmonic_map.hpp"
-#include "mapping/harmonic/triangle_locator.hpp"
-#include "mapping/harmonic/triangle_mesh.hpp"
 
 namespace warpfem::mapping {
 
@@ -22,6 +22,8 @@ class HarmonicInverse {
   /// seed_max_edge_length: edge length of the seed mesh of Ω (ignored for fem,
   /// which uses its own mesh).
   HarmonicInverse(HarmonicMapPtr phi, Real seed_max_edge_length);
+  HarmonicInverse(const HarmonicInverse&) = delete;  // the locator refers to images_
+  HarmonicInverse& operator=(const HarmonicInverse&) = delete;
 
   struct Result {
     Real residual = 0;  ///< |φ(y) − z| reached (fem: distance of z from the located triangle's image)
@@ -37,9 +39,10 @@ class HarmonicInverse {
 
  private:
   HarmonicMapPtr phi_;
-  std::shared_ptr<const TriangleMesh> mesh_;
-  Points<2> images_;
-  std::unique_ptr<TriangleLocator> locator_;
+  std::shared_ptr<const Mesh<2>> mesh_;   ///< of Ω
+  Points<2> images_;                      ///< φ at the vertices of mesh_
+  IndexTable neighbours_;                 ///< of mesh_ (simplex_neighbours), for the Newton walk
+  std::unique_ptr<CellLocator> locator_;  ///< over the image mesh (images_, mesh_->cells)
   Real tol_ = 0;
 };
 

@@ -5,40 +5,58 @@
 #include <Eigen/LU>
 #include <algorithm>
 
+#include "core/error.hpp"
+#include "core/mesh/polygon_mesher.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/handles.hpp"
 
 namespace warpfem::mapping {
 
-MatrixX p1_harmonic_coordinates(const TriangleMesh& mesh, const std::vector<EdgeSpeed>& speeds, Index n) {
+Mesh<2> auxiliary_mesh(const Polygon& domain, Real max_edge_length, Index max_triangles) {
+  require(max_edge_length > 0, "harmonic map: the mesh edge length must be positive");
+  const Real area = domain.signed_area();
+  const Real estimate = 4 * area / (0.43 * max_edge_length * max_edge_length);
+  if (estimate > static_cast<Real>(max_triangles))
+    throw Error("harmonic map: a mesh of " + domain.name() + " with edges ≤ " +
+                    std::to_string(max_edge_length) + " would have about " +
+                    std::to_string(static_cast<long long>(estimate)) + " triangles",
+                {.file = "", .key_path = "/map/fem_max_edge_length", .hint = "choose a larger edge length"});
+  return mesh_polygon(domain,
+                      {.max_edge_length = max_edge_length, .max_boundary_edge_length = max_edge_length});
+}
+
+MatrixX p1_harmonic_coordinates(const Mesh<2>& mesh, const Polygon& domain,
+                                const std::vector<EdgeSpeed>& speeds, Index n) {
   const Index nv = mesh.num_vertices();
+  const std::vector<std::optional<BoundaryPoint>> at = boundary_points(mesh, domain);
   MatrixX lambda = MatrixX::Zero(nv, n);
   std::vector<PetscInt> unknown(static_cast<std::size_t>(nv), -1);
   PetscInt ni = 0;
   for (Index v = 0; v < nv; ++v) {
-    if (!mesh.on_boundary[static_cast<std::size_t>(v)]) unknown[static_cast<std::size_t>(v)] = ni++;
+    if (!at[static_cast<std::size_t>(v)]) unknown[static_cast<std::size_t>(v)] = ni++;
   }
   // boundary rows (lambda is column-major, so fill row by row through a buffer)
   std::vector<Real> w(static_cast<std::size_t>(n));
   for (Index v = 0; v < nv; ++v)
-    if (mesh.on_boundary[static_cast<std::size_t>(v)]) {
-      boundary_weights(speeds, mesh.at[static_cast<std::size_t>(v)], w.data(), n);
+    if (at[static_cast<std::size_t>(v)]) {
+      boundary_weights(speeds, *at[static_cast<std::size_t>(v)], w.data(), n);
       for (Index k = 0; k < n; ++k) lambda(v, k) = w[static_cast<std::size_t>(k)];
     }
   if (ni == 0) return lambda;
 
   // P1 element stiffness = cotangent weights
   std::vector<PetscInt> nnz(static_cast<std::size_t>(ni), 1);
-  for (const auto& T : mesh.triangles)
+  for (Index c = 0; c < mesh.num_cells(); ++c)
     for (int a = 0; a < 3; ++a)
-      if (unknown[static_cast<std::size_t>(T[a])] >= 0)
-        nnz[static_cast<std::size_t>(unknown[static_cast<std::size_t>(T[a])])] += 2;
+      if (unknown[static_cast<std::size_t>(mesh.cells(c, a))] >= 0)
+        nnz[static_cast<std::size_t>(unknown[static_cast<std::size_t>(mesh.cells(c, a))])] += 2;
   for (auto& z : nnz) z = std::min(z, ni);
 
   petsc::Matrix A;
   WARPFEM_PETSC_CHECK(MatCreateSeqAIJ(PETSC_COMM_SELF, ni, ni, 0, nnz.data(), A.out()));
   MatrixX rhs = MatrixX::Zero(ni, n);
-  for (const auto& T : mesh.triangles) {
+  for (Index c = 0; c < mesh.num_cells(); ++c) {
+    const auto T = mesh.cells.row(c);
     Eigen::Matrix<Real, 2, 3> P;
     for (int a = 0; a < 3; ++a) P.col(a) = mesh.vertices.row(T[a]).transpose();
     const Eigen::Matrix2d E = (Eigen::Matrix2d() << P.col(1) - P.col(0), P.col(2) - P.col(0)).finished();

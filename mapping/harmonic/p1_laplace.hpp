@@ -8,14 +8,24 @@
 
 #include <vector>
 
+#include "core/mesh/mesh.hpp"
+#include "core/polygon.hpp"
 #include "core/types.hpp"
 #include "mapping/harmonic/boundary_data.hpp"
-#include "mapping/harmonic/triangle_mesh.hpp"
 
 namespace warpfem::mapping {
 
-/// nv x n matrix: column k holds λ_k at the mesh vertices. Boundary rows equal
-/// boundary_weights() exactly. Throws warpfem::Error if PETSc fails.
-MatrixX p1_harmonic_coordinates(const TriangleMesh& mesh, const std::vector<EdgeSpeed>& speeds, Index n);
+/// The auxiliary mesh: CGAL's constrained Delaunay mesh of `domain` with
+/// edges at most `max_edge_length` (and angles ≥ ~20.7°), every edge of ∂Ω
+/// first split into equal pieces no longer than max_edge_length, so every
+/// polygon vertex is a mesh vertex. Throws warpfem::Error if the mesh would
+/// exceed `max_triangles`.
+Mesh<2> auxiliary_mesh(const Polygon& domain, Real max_edge_length, Index max_triangles = 2'000'000);
+
+/// nv x n matrix: column k holds λ_k at the vertices of `mesh`, a triangle mesh
+/// of `domain`. Boundary rows equal boundary_weights() exactly. Throws
+/// warpfem::Error if PETSc fails.
+MatrixX p1_harmonic_coordinates(const Mesh<2>& mesh, const Polygon& domain,
+                                const std::vector<EdgeSpeed>& speeds, Index n);
 
 }  // namespace warpfem::mapping

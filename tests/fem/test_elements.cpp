@@ -26,6 +26,26 @@ TEST(Quadrature, GaussLegendreIsExactToDegree2nMinus1) {
   }
 }
 
+TEST(Quadrature, GaussLegendreStaysAccurateForManyPoints) {
+  // Up to the 64 points a boundary element panel may use.
+  for (int n : {7, 12, 16, 24, 32, 48, 64}) {
+    const auto rule = gauss_legendre(n);
+    for (Index q = 0; q < n; ++q) {
+      if (q > 0) {
+        EXPECT_GT(rule.points(q, 0), rule.points(q - 1, 0)) << "n=" << n;
+      }
+      // The rule is symmetric about 1/2: asymmetry measures the error of the nodes and weights.
+      EXPECT_NEAR(rule.points(q, 0) + rule.points(n - 1 - q, 0), 1.0, 4e-16) << "n=" << n << " q=" << q;
+      EXPECT_NEAR(rule.weights(q) / rule.weights(n - 1 - q), 1.0, 1e-14) << "n=" << n << " q=" << q;
+    }
+    for (int k = 0; k <= 2 * n - 1; ++k) {
+      double s = 0;
+      for (Index q = 0; q < rule.size(); ++q) s += rule.weights(q) * std::pow(rule.points(q, 0), k);
+      EXPECT_NEAR(s * (k + 1), 1.0, 1e-13) << "n=" << n << " k=" << k;
+    }
+  }
+}
+
 TEST(Quadrature, TriangleRulesIntegrateMonomialsExactly) {
   for (int degree = 0; degree <= 10; ++degree) {
     const auto rule = cell_quadrature<2>(CellType::triangle, degree);

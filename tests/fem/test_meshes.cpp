@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -8,6 +11,7 @@
 #include "core/mesh/cell_locator.hpp"
 #include "core/mesh/gmsh_reader.hpp"
 #include "core/mesh/polygon_mesher.hpp"
+#include "core/mesh/simplex_neighbours.hpp"
 #include "core/mesh/structured_mesher.hpp"
 
 using namespace warpfem;
@@ -74,6 +78,115 @@ TEST(CellLocator, FindsCellsAndReferenceCoordinates) {
       }
     EXPECT_LT(loc.locate({1.5, 0.5}).cell, 0);
   }
+}
+
+TEST(CellLocator, NearestTriangleInAMeshWithMovedVertices) {
+  const Polygon l = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L");
+  const Mesh<2> m = mesh_polygon(l, {.max_edge_length = 0.2});
+  // The image of the mesh under a smooth bijection: the triangles keep no bounding-box grid structure.
+  Points<2> moved(m.num_vertices(), 2);
+  for (Index v = 0; v < m.num_vertices(); ++v) {
+    const Point<2> x = m.vertex(v);
+    moved.row(v) << x.x() + 0.2 * std::sin(x.y()), x.y() + 0.1 * x.x() * x.x();
+  }
+  const CellLocator loc(moved, m.cells, CellType::triangle);
+  auto corner = [&](Index c, int k) -> Point<2> { return moved.row(m.cells(c, k)).transpose(); };
+  auto least = [&](Index c, const Point<2>& x) {
+    const auto l = barycentric_coordinates(corner(c, 0), corner(c, 1), corner(c, 2), x);
+    return std::min({l[0], l[1], l[2]});
+  };
+  for (Index c = 0; c < m.num_cells(); c += 7) {
+    // Interior points, an edge midpoint and a corner of the cell.
+    for (const auto& w :
+         {std::array<double, 3>{0.2, 0.3, 0.5}, {0.6, 0.3, 0.1}, {0.5, 0.5, 0.0}, {1, 0, 0}}) {
+      const Point<2> x = w[0] * corner(c, 0) + w[1] * corner(c, 1) + w[2] * corner(c, 2);
+      const CellLocator::Nearest hit = loc.nearest(x);
+      ASSERT_GE(hit.cell, 0);
+      EXPECT_TRUE(hit.inside);
+      const Point<2> back = hit.barycentric[0] * corner(hit.cell, 0) +
+                            hit.barycentric[1] * corner(hit.cell, 1) +
+                            hit.barycentric[2] * corner(hit.cell, 2);
+      EXPECT_LT((back - x).norm(), 1e-13);
+      // No triangle holds x more deeply than the one returned (brute force over all of them).
+      double deepest = -1e300;
+      for (Index d = 0; d < m.num_cells(); ++d) deepest = std::max(deepest, least(d, x));
+      EXPECT_EQ(least(hit.cell, x), deepest);
+    }
+  }
+  // Outside the moved mesh: the nearby triangle, with clamped coordinates summing to 1.
+  const CellLocator::Nearest out = loc.nearest({-0.3, -0.2});
+  ASSERT_GE(out.cell, 0);
+  EXPECT_FALSE(out.inside);
+  EXPECT_GE(std::min({out.barycentric[0], out.barycentric[1], out.barycentric[2]}), 0.0);
+  EXPECT_NEAR(out.barycentric[0] + out.barycentric[1] + out.barycentric[2], 1.0, 1e-15);
+  EXPECT_LT(loc.locate({-0.3, -0.2}).cell, 0);
+  // locate() agrees with nearest() inside the moved mesh.
+  const Point<2> x = (corner(5, 0) + corner(5, 1) + corner(5, 2)) / 3;
+  EXPECT_EQ(loc.locate(x).cell, 5);
+  EXPECT_EQ(loc.nearest(x).cell, 5);
+}
+
+TEST(PolygonMesher, SplitsTheBoundaryIntoPiecesNoLongerThanAsked) {
+  const Polygon l = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L");
+  for (double h : {0.3, 0.45}) {
+    const Mesh<2> m = mesh_polygon(l, {.max_edge_length = 1.0, .max_boundary_edge_length = h});
+    double perimeter = 0;
+    for (Index f = 0; f < m.num_boundary_facets(); ++f) {
+      const double len = (m.vertex(m.boundary_facets(f, 1)) - m.vertex(m.boundary_facets(f, 0))).norm();
+      EXPECT_LE(len, h * (1 + 1e-12));
+      perimeter += len;
+    }
+    EXPECT_NEAR(perimeter, 8.0, 1e-12);
+    // Every edge split into ceil(length / h) equal pieces, so every split point is a mesh vertex.
+    for (Index e = 0; e < l.size(); ++e) {
+      const Point<2> a = l.vertex(e), b = l.vertex(e + 1);
+      const int pieces = static_cast<int>(std::ceil((b - a).norm() / h));
+      for (int j = 0; j < pieces; ++j) {
+        const Point<2> p = a + (b - a) * (static_cast<double>(j) / pieces);
+        double closest = 1e300;
+        for (Index v = 0; v < m.num_vertices(); ++v) closest = std::min(closest, (m.vertex(v) - p).norm());
+        EXPECT_LT(closest, 1e-14) << "edge " << e << " piece " << j;
+      }
+    }
+  }
+}
+
+template <int dim>
+void expect_consistent_neighbours(const Mesh<dim>& m) {
+  const IndexTable nb = simplex_neighbours(m);
+  ASSERT_EQ(nb.rows(), m.num_cells());
+  ASSERT_EQ(nb.cols(), dim + 1);
+  Index boundary = 0;
+  for (Index c = 0; c < m.num_cells(); ++c)
+    for (int i = 0; i <= dim; ++i) {
+      const Index d = nb(c, i);
+      if (d < 0) {
+        ++boundary;
+        continue;
+      }
+      // d shares the facet of c opposite vertex i, and its own opposite vertex is not a vertex of c.
+      int shared = 0, back = 0;
+      for (int k = 0; k <= dim; ++k) {
+        const Index v = m.cells(d, k);
+        bool in_c = false;
+        for (int j = 0; j <= dim; ++j) in_c = in_c || (j != i && m.cells(c, j) == v);
+        shared += in_c;
+        if (!in_c) {
+          EXPECT_EQ(nb(d, k), c);
+        }
+        back += nb(d, k) == c;
+      }
+      EXPECT_EQ(shared, dim);
+      EXPECT_EQ(back, 1);
+    }
+  EXPECT_EQ(boundary, m.num_boundary_facets());
+}
+
+TEST(SimplexNeighbours, SymmetricAndBoundaryFacetsHaveNone) {
+  const Polygon l = Polygon::checked({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}, "L");
+  expect_consistent_neighbours(mesh_polygon(l, {.max_edge_length = 0.3}));
+  expect_consistent_neighbours(
+      structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 2, 1), {2, 3, 2}, CellType::tetrahedron));
 }
 
 TEST(GmshReader, ReadsFormat22AndFormat41) {

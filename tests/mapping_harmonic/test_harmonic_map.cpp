@@ -56,14 +56,15 @@ TEST(FemHarmonicMap, ReproducesBoundaryDataAtBoundaryNodes) {
   speeds[1] = EdgeSpeed::quadratic;
   speeds[6] = EdgeSpeed::quadratic_reversed;
   const FemHarmonicMap phi(P, regular_polygon(10), speeds, 0.05);
-  const TriangleMesh& m = phi.mesh();
+  const warpfem::Mesh<2>& m = phi.mesh();
+  const auto at = boundary_points(m, P);
   Index boundary = 0;
   Real worst = 0;
   Point<2> y;
   for (Index v = 0; v < m.num_vertices(); ++v) {
-    if (!m.on_boundary[static_cast<std::size_t>(v)]) continue;
+    if (!at[static_cast<std::size_t>(v)]) continue;
     ++boundary;
-    const Point<2> g = boundary_value(phi.image(), speeds, m.at[static_cast<std::size_t>(v)]);
+    const Point<2> g = boundary_value(phi.image(), speeds, *at[static_cast<std::size_t>(v)]);
     worst = std::max(worst, (phi.vertex_images().row(v).transpose() - g).norm());
     phi.eval_point(m.vertices.row(v).transpose(), y, nullptr);
     worst = std::max(worst, (y - g).norm());
