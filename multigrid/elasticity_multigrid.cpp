@@ -104,7 +104,7 @@ ElasticityMultigrid::ElasticityMultigrid(const fem::MeshHierarchy& hierarchy, co
   if (settings.prolongation == MultigridSettings::Prolongation::smoothed)
     throw Error("smoothed prolongations are implemented for the Poisson solver only",
                 {.file = "",
-                 .key_path = "/solver/multigrid/prolongation",
+                 .key_path = "solver.multigrid.prolongation",
                  .hint = "use \"geometric\" prolongations for elasticity"});
   const int levels = hierarchy.num_levels();
   const fem::LagrangeElement<2>& element = finest.dofs().element();

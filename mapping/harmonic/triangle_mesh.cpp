@@ -49,7 +49,7 @@ TriangleMesh mesh_polygon(const Polygon& domain, Real max_edge_length, Index max
     throw Error("harmonic map: a mesh of " + domain.name() + " with edges ≤ " +
                     std::to_string(max_edge_length) + " would have about " +
                     std::to_string(static_cast<long long>(estimate)) + " triangles",
-                {.file = "", .key_path = "/map/fem_max_edge_length", .hint = "choose a larger edge length"});
+                {.file = "", .key_path = "map.fem_max_edge_length", .hint = "choose a larger edge length"});
 
   const BoundaryNodes nodes = subdivide_boundary(domain, max_edge_length);
   CDT cdt;
