@@ -22,6 +22,13 @@
 namespace warpfem::apps {
 namespace {
 
+/// A solver that gives up names no config field; `key` (the load or time stepping) is
+/// what the user can change, so the error is placed there.
+Error at_config_key(const Error& e, const std::string& file, const std::string& key) {
+  if (!e.context().file.empty() || !e.context().key_path.empty()) return e;
+  return Error(e.message(), {.file = file, .key_path = key, .hint = e.context().hint});
+}
+
 /// Writes numbered VTK files of the displacement, von Mises stress and det F, and the PVD index.
 class ElasticityOutput {
  public:
@@ -222,9 +229,9 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
       result.rejected_steps = report.rejected_steps;
       result.newton_iterations = report.newton_iterations();
       result.domain_rejections = report.domain_rejections;
-    } catch (const Error&) {
+    } catch (const Error& e) {
       if (output && output->last_index() != index) write(index, last_load, u.get());
-      throw;
+      throw at_config_key(e, cfg.file, "/load_stepping");
     }
   } else {
     petsc::Vector v = op.space().create_vector();
@@ -251,9 +258,9 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
       result.time_steps = report.steps;
       result.newton_iterations = report.newton_iterations;
       result.domain_rejections = report.domain_rejections;
-    } catch (const Error&) {
+    } catch (const Error& e) {
       if (output && last_step >= 0 && output->last_index() != last_step) write(last_step, last_time, u.get());
-      throw;
+      throw at_config_key(e, cfg.file, "/time");
     }
   }
   result.solve_seconds = solve_watch.seconds();

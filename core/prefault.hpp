@@ -2,8 +2,7 @@
 // First-touch cost of large fresh arrays. On Linux the first write to each
 // 4 KiB page of a fresh allocation traps into the kernel, which then zeroes
 // and maps the page; on the VMs measured here that trap costs more than the
-// zeroing (512 MB: 0.27 s touched page by page, 0.18 s when the range is
-// populated first, BENCHMARKS.md "Session 11"). prefault() asks the kernel to
+// zeroing itself (figures in BENCHMARKS.md). prefault() asks the kernel to
 // back a whole range in one call (madvise MADV_POPULATE_WRITE, Linux ≥ 5.14);
 // it never changes the contents, pages already present stay as they are, and
 // on other systems or small ranges it does nothing.

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <system_error>
+#include <utility>
 
 namespace warpfem::io {
 namespace {
@@ -101,6 +102,36 @@ std::size_t line_of_key(const std::string& text, std::size_t index) {
   return line;
 }
 
+/// Line and column (1-based) of the first occurrence of the number `token` in
+/// a JSON text outside strings and comments; {0, 0} if there is none.
+std::pair<std::size_t, std::size_t> locate_number(const std::string& text, const std::string& token) {
+  const auto number_char = [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c)) || c == '.' || c == 'e' || c == 'E' || c == '+' ||
+           c == '-';
+  };
+  std::size_t line = 1, line_start = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      line_start = i + 1;
+    } else if (c == '"') {
+      for (++i; i < text.size() && text[i] != '"'; ++i)
+        if (text[i] == '\\') ++i;
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '/') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      for (i += 2; i + 1 < text.size() && !(text[i] == '*' && text[i + 1] == '/'); ++i)
+        if (text[i] == '\n') ++line, line_start = i + 1;
+      ++i;
+    } else if (text.compare(i, token.size(), token) == 0 && (i == 0 || !number_char(text[i - 1])) &&
+               (i + token.size() == text.size() || !number_char(text[i + token.size()]))) {
+      return {line, i - line_start + 1};
+    }
+  }
+  return {0, 0};
+}
+
 /// Limits of parse_file: configs nest a few levels; much deeper documents are
 /// refused before they are built.
 constexpr int kMaxJsonDepth = 64;
@@ -184,9 +215,16 @@ nlohmann::json ConfigNode::parse_file(const std::string& file) {
         {.file = file, .key_path = "", .hint = "fix the JSON syntax (missing comma, quote or bracket?)"});
   } catch (const nlohmann::json::exception& e) {
     // Numbers beyond double range (1e999) and similar: invalid input, not an internal error.
+    // nlohmann reports no position for these; the quoted token locates them.
     std::string what = e.what();
     if (const auto bracket = what.find("] "); bracket != std::string::npos) what = what.substr(bracket + 2);
-    throw Error("invalid JSON: " + what,
+    std::string where;
+    if (const auto open = what.find('\''), close = what.rfind('\'');
+        open != std::string::npos && close > open + 1) {
+      if (const auto [line, column] = locate_number(text, what.substr(open + 1, close - open - 1)); line > 0)
+        where = " at line " + std::to_string(line) + ", column " + std::to_string(column);
+    }
+    throw Error("invalid JSON" + where + ": " + what,
                 {.file = file, .key_path = "", .hint = "numbers must be finite doubles (|x| < 1.8e308)"});
   }
 }

@@ -16,6 +16,8 @@ packages=(
   libmuparser-dev          # expressions in configs
   libgtest-dev libbenchmark-dev
   gnuplot-nox              # PNG plots of convergence studies
+  python3                  # tests/apps/mutate_configs.py (mutated-config test)
+  clang libclang-rt-dev    # libFuzzer targets and their sanitizers (scripts/fuzz.sh)
 )
 
 missing=()

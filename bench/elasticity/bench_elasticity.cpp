@@ -1,4 +1,4 @@
-// Elasticity timings (issue 7), printed as Markdown tables:
+// Elasticity timings, printed as Markdown tables:
 //  1. quasi-static neo-Hookean cantilever on a warped Q2 mesh (~100k DOFs by default):
 //     Newton iterations and wall time per load step, plus the cost of one residual,
 //     one Jacobian assembly and one linear solve;

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
                   cases[k].first.c_str(), best[k], static_cast<double>(mesh.num_vertices()) / best[k] / 1e6);
     std::printf("warped / identity assembly time: %.2f\n", best[0] / best[1]);
   }
-  // WarpedGeometry alone (the one-time cost of issue 5's target), rebuilt on each
+  // WarpedGeometry alone (the one-time geometry cost), rebuilt on each
   // rank's own cells: best of 3.
   {
     const std::vector<Index> cells(problems[0]->geometry().cells().begin(),

@@ -79,12 +79,15 @@ Mesh<2> read_gmsh(const std::string& path, const Polygon& source) {
       auto head = r.next_stream("the node count");
       long blocks = 0, count = 0;
       if (v4) {
-        head >> blocks >> count;
+        if (!(head >> blocks >> count)) r.fail("expected the numbers of node blocks and nodes");
         for (long b = 0; b < blocks; ++b) {
           long dim, tag, parametric, n;
-          r.next_stream("a node block") >> dim >> tag >> parametric >> n;
-          std::vector<long> tags(static_cast<std::size_t>(n));
-          for (long i = 0; i < n; ++i) r.next_stream("a node tag") >> tags[i];
+          if (!(r.next_stream("a node block") >> dim >> tag >> parametric >> n))
+            r.fail("expected \"dim tag parametric count\" of a node block");
+          // Grown line by line: a count the file does not back up allocates nothing.
+          std::vector<long> tags;
+          for (long i = 0; i < n; ++i)
+            if (!(r.next_stream("a node tag") >> tags.emplace_back())) r.fail("expected a node tag");
           for (long i = 0; i < n; ++i) {
             double x, y, z;
             if (!(r.next_stream("node coordinates") >> x >> y >> z))
@@ -94,7 +97,7 @@ Mesh<2> read_gmsh(const std::string& path, const Polygon& source) {
           }
         }
       } else {
-        head >> count;
+        if (!(head >> count)) r.fail("expected the number of nodes");
         for (long i = 0; i < count; ++i) {
           long id;
           double x, y, z;
@@ -119,25 +122,28 @@ Mesh<2> read_gmsh(const std::string& path, const Polygon& source) {
       };
       if (v4) {
         long blocks = 0, count = 0;
-        head >> blocks >> count;
+        if (!(head >> blocks >> count)) r.fail("expected the numbers of element blocks and elements");
         for (long b = 0; b < blocks; ++b) {
           long dim, tag, type, n;
-          r.next_stream("an element block") >> dim >> tag >> type >> n;
+          if (!(r.next_stream("an element block") >> dim >> tag >> type >> n))
+            r.fail("expected \"dim tag type count\" of an element block");
           for (long i = 0; i < n; ++i) {
             auto in = r.next_stream("an element");
             long id;
-            in >> id;
+            if (!(in >> id)) r.fail("expected an element id");
             if (dim == 2) add_cell(static_cast<int>(type), in);
           }
         }
       } else {
         long count = 0;
-        head >> count;
+        if (!(head >> count)) r.fail("expected the number of elements");
         for (long i = 0; i < count; ++i) {
           auto in = r.next_stream("an element");
           long id, type, ntags, t;
-          in >> id >> type >> ntags;
-          for (long k = 0; k < ntags; ++k) in >> t;
+          if (!(in >> id >> type >> ntags)) r.fail("expected \"id type tag-count tags... node-ids...\"");
+          // Each tag must be on the line (a huge tag count must not loop on a failed stream).
+          for (long k = 0; k < ntags; ++k)
+            if (!(in >> t)) r.fail("fewer tags than the element's tag count");
           add_cell(static_cast<int>(type), in);
         }
       }

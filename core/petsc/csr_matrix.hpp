@@ -1,7 +1,7 @@
 #pragma once
 // A parallel AIJ matrix built on compressed rows we already hold, without
 // PETSc copying them entry by entry (MatSeqAIJSetPreallocationCSR inserts row
-// by row: 70 ms for a 1.24 M-row prolongation). The arrays move into storage
+// by row, which is slow for million-row prolongations). The arrays move into storage
 // attached to the matrix and are freed with it.
 
 #include <petscmat.h>

@@ -164,6 +164,9 @@ TEST(ElasticityRun, FailingLoadKeepsTheLastConvergedStateWritten) {
     FAIL() << "expected warpfem::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("quasi-static solve failed"), std::string::npos) << e.what();
+    // The error names the config and the settings that could make it converge.
+    EXPECT_EQ(e.context().file, "test.json");
+    EXPECT_EQ(e.context().key_path, "/load_stepping");
   }
   EXPECT_TRUE(fs::exists(cfg.output.directory + "/block.pvd"));
   EXPECT_TRUE(fs::exists(cfg.output.directory + "/block_000001.vtu"))

@@ -126,9 +126,11 @@ TEST(InputValidation, DirectoryAsConfigSaysSo) {
 
 TEST(InputValidation, OverflowingNumberIsAConfigError) {
   ScratchDir dir;
-  const std::string file = dir.write("big.json", R"({"mesh": {"max_edge_length": 1e999}})");
+  // The same token inside a string and a comment first: the number's own place is reported.
+  const std::string file =
+      dir.write("big.json", "{\"name\": \"1e999\", // 1e999\n \"mesh\": {\"max_edge_length\": 1e999}}");
   const std::string m = error_of([&] { io::ConfigNode::parse_file(file); });
-  expect_contains(m, "big.json: ");
+  expect_contains(m, "big.json: invalid JSON at line 2, column 30: ");
   expect_contains(m, "1e999");
 }
 
