@@ -12,6 +12,7 @@
 #include "fem/hierarchy/mesh_hierarchy.hpp"
 #include "fem/physics/elasticity/nodal_projection.hpp"
 #include "fem/postprocessing/output_mesh.hpp"
+#include "io/config_field.hpp"
 #include "io/expression.hpp"
 #include "io/pvd_writer.hpp"
 #include "io/vtk_writer.hpp"
@@ -285,12 +286,12 @@ int run_elasticity_command(const std::string& config_path, const std::string& ou
   log::set_level(log::parse_level(cfg.verbosity));
   Environment::insert_petsc_options(cfg.solver.petsc_options, config_path + ": /solver/petsc_options");
   log::info("warpfem run ", config_path, " on ", Environment::size(), " rank(s)");
+  log::info("output directory ", cfg.output.directory,
+            output_dir.empty() ? " (a relative output.directory starts at the config's directory)" : "");
   try {
     run_elasticity(cfg, PETSC_COMM_WORLD);
   } catch (const Error& e) {
-    // Errors that name a config field but no file come from this config.
-    if (e.context().file.empty() && !e.context().key_path.empty()) throw e.in_file(config_path);
-    throw;
+    throw io::in_config(e, config_path);  // errors that name a config field come from this config
   }
   return 0;
 }

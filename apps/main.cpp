@@ -10,6 +10,7 @@
 #include "apps/fatal_error.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
+#include "io/config_field.hpp"
 
 namespace {
 
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
       std::cerr << "error: unknown command \"" << command << "\"\n\n" << kUsage;
     return 2;
   } catch (const warpfem::Error& e) {
-    return fatal.fail(e.what());
+    return fatal.fail(warpfem::io::with_json_pointer(e).what());
   } catch (const std::filesystem::filesystem_error& e) {
     // A path the user gave (or its directory) cannot be used: not an internal error.
     return fatal.fail("cannot access \"" + e.path1().string() + "\": " + e.code().message() +

@@ -139,7 +139,7 @@ int map_command(const std::vector<std::string>& args) {
   log::set_level(log::parse_level(io::parse_verbosity(root)));
   const mapping::MapSpec spec = io::parse_required_map(root);
   const io::ConfigNode out = root.child("output");
-  std::string directory = out.get_string("directory", "output/map");
+  std::string directory = io::config_relative_path(config_path, out.get_string("directory", "output/map"));
   const std::string name = out.get_string("name", "map");
   const double edge = out.get_double("grid_edge_length", 0.0, 0.0);
   const bool write_vtk = out.get_bool("vtk", true);

@@ -7,6 +7,7 @@
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "io/config_field.hpp"
 
 namespace warpfem::apps {
 
@@ -34,12 +35,12 @@ int run_command(const std::vector<std::string>& args) {
   log::set_level(log::parse_level(cfg.verbosity));
   Environment::insert_petsc_options(cfg.solver.petsc_options, config_path + ": /solver/petsc_options");
   log::info("warpfem run ", config_path, " on ", Environment::size(), " rank(s)");
+  log::info("output directory ", cfg.output.directory,
+            output_dir.empty() ? " (a relative output.directory starts at the config's directory)" : "");
   try {
     run_poisson(cfg, PETSC_COMM_WORLD);
   } catch (const Error& e) {
-    // Errors that name a config field but no file come from this config.
-    if (e.context().file.empty() && !e.context().key_path.empty()) throw e.in_file(config_path);
-    throw;
+    throw io::in_config(e, config_path);  // errors that name a config field come from this config
   }
   return 0;
 }

@@ -8,6 +8,7 @@
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "io/config_field.hpp"
 
 namespace warpfem::apps {
 
@@ -45,8 +46,7 @@ int study_command(const std::vector<std::string>& args) {
   try {
     run_study(cfg, spec, PETSC_COMM_WORLD);
   } catch (const Error& e) {
-    if (e.context().file.empty() && !e.context().key_path.empty()) throw e.in_file(path);
-    throw;
+    throw io::in_config(e, path);  // errors that name a config field come from this config
   }
   return 0;
 }

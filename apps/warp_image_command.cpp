@@ -49,7 +49,7 @@ int warp_image_command(const std::vector<std::string>& args) {
     image.get_string("input", "");
   }
   if (output.empty())
-    output = image.get_string("output", "output/warped.png");
+    output = io::config_relative_path(config_path, image.get_string("output", "output/warped.png"));
   else
     image.get_string("output", "");
   std::array<std::uint8_t, 4> background{255, 255, 255, 0};

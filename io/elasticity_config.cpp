@@ -4,8 +4,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "io/config_field.hpp"
+#include "io/elasticity_parameters.hpp"
 #include "io/expression.hpp"
-#include "io/petsc_types.hpp"
+#include "io/parameter_reader.hpp"
 
 namespace warpfem::io {
 namespace {
@@ -103,8 +105,9 @@ fem::Material parse_material(const ConfigNode& node) {
   const bool lame = node.has("lambda") || node.has("mu");
   if (young && lame)
     throw node.error("lambda", "give either (E, nu) or (lambda, mu), not both", "remove one pair");
-  const double density = node.get_double("density", 1.0, 0.0);
   fem::Material m;
+  read_parameter(node, material_parameters(), "density", m);
+  const double density = m.density;
   // Lamé parameters come as a pair: a missing half would silently take an arbitrary default
   // ((E, nu) has documented defaults 1 and 0.3).
   const auto require_pair = [&](const char* a, const char* b) {
@@ -180,9 +183,7 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
   const ConfigNode problem = root.child("problem");
   problem.get_choice("type", "elasticity", {"elasticity"});
   auto& p = cfg.problem;
-  p.analysis = problem.get_choice("analysis", p.analysis, {"quasi_static", "transient"});
-  p.order = static_cast<int>(problem.get_int("order", p.order, 1, 2));
-  p.quadrature_degree = static_cast<int>(problem.get_int("quadrature_degree", 0, 0, 30));
+  read_parameters(problem, elasticity_parameters(), p);
   if (!problem.has("material"))
     throw problem.error("material", "missing required field: the material",
                         "add \"material\": {\"model\": \"neo_hookean\", \"E\": 1e5, \"nu\": 0.3}");
@@ -212,42 +213,25 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
                      "use \"load_stepping\": {\"steps\": ...} for a quasi-static run");
   if (!transient) {
     const ConfigNode ls = root.child("load_stepping");
-    cfg.load_stepping.steps = static_cast<int>(ls.get_int("steps", cfg.load_stepping.steps, 1, 100000));
-    cfg.load_stepping.min_increment =
-        ls.get_double("min_increment", cfg.load_stepping.min_increment, 1e-12, 1.0);
+    read_parameters(ls, load_stepping_parameters(), cfg.load_stepping);
     ls.finish();
   } else {
     const ConfigNode time = root.child("time");
-    cfg.time.step = time.get_positive("step", cfg.time.step);
-    cfg.time.end = time.get_positive("end", cfg.time.end);
-    cfg.time.rho_infinity = time.get_double("rho_infinity", cfg.time.rho_infinity, 0.0, 1.0);
-    cfg.time.damping = time.get_double("damping", cfg.time.damping, 0.0);
+    read_parameters(time, time_parameters(), cfg.time);
     if (cfg.time.step > cfg.time.end)
       throw time.error("step", "the time step is larger than the end time", "choose step <= end");
     time.finish();
   }
 
   const ConfigNode solver = root.child("solver");
-  auto& s = cfg.solver;
-  s.rtol = solver.get_double("rtol", s.rtol, 0.0, 1.0);
-  s.atol = solver.get_double("atol", s.atol, 0.0);
-  s.max_iterations = static_cast<int>(solver.get_int("max_iterations", s.max_iterations, 1, 10000));
-  s.ksp_type = get_petsc_type(solver, "ksp_type", s.ksp_type, PetscTypeKind::ksp);
-  s.pc_type = get_petsc_type(solver, "pc_type", s.pc_type, PetscTypeKind::pc);
-  s.factor_solver = solver.get_string("factor_solver", s.factor_solver);
-  s.petsc_options = solver.get_string("petsc_options", "");
+  read_parameters(solver, newton_parameters(), cfg.solver);
   solver.finish();
 
   const ConfigNode output = root.child("output");
   auto& o = cfg.output;
-  o.directory = output.get_string("directory", o.directory);
-  o.name = output.get_string("name", o.name);
-  if (o.name.empty() || o.name.find('/') != std::string::npos)
-    throw output.error("name", "expected a file name without '/', got \"" + o.name + "\"",
-                       "use e.g. \"gear\"");
-  o.vtk = output.get_bool("vtk", o.vtk);
-  parse_vtk_options(output, o.vtk_order, o.compression, o.cells);
-  o.every = static_cast<int>(output.get_int("every", o.every, 1, 1000000));
+  read_parameters(output, elasticity_output_parameters(), o);
+  check_output_options(output, o.name, o.vtk_order, o.cells, "gear");
+  o.directory = config_relative_path(file, o.directory);
   output.finish();
   cfg.limits = parse_limits(root);
   root.finish();
@@ -286,7 +270,7 @@ fem::ElasticityData make_elasticity_data(const ElasticityConfig& cfg) {
   data.boundary_polygon = cfg.map.source;
   data.gravity = Point<2>(p.gravity[0], p.gravity[1]);
   if (p.body_force[0] != "0" || p.body_force[1] != "0")
-    data.body_force = vector(p.body_force, cfg.file, "/problem/body_force");
+    data.body_force = vector(p.body_force, cfg.file, json_pointer(elasticity_parameters().field("body_force")));
   for (const auto& bc : p.dirichlet)
     data.dirichlet.push_back({bc.edges,
                               {scalar(bc.value[0], cfg.file, bc.key_path + "/0"),

@@ -8,8 +8,12 @@
 #include <system_error>
 
 #include "core/log.hpp"
+#include "fem/hierarchy/mesh_parameters.hpp"
 #include "io/expression.hpp"
-#include "io/petsc_types.hpp"
+#include "io/parameter_reader.hpp"
+#include "io/run_parameters.hpp"
+#include "mapping/map_parameters.hpp"
+#include "multigrid/multigrid_parameters.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;
@@ -86,8 +90,8 @@ Polygon parse_polygon(const ConfigNode& node, const std::string& key, const std:
 mapping::MapSpec parse_map_spec(const ConfigNode& node) {
   mapping::MapSpec spec;
   spec.origin = node.file();
-  spec.type = node.get_choice("type", "identity",
-                              {"identity", "barycentric", "composite_mean_value", "composite_harmonic"});
+  const auto& table = mapping::map_parameters();
+  read_parameter(node, table, "type", spec);
   if (!node.has("source"))
     throw node.error("source", "missing required field: the source polygon Ω0 (an array of [x, y])",
                      "add \"source\": [[0,0], [1,0], [1,1], [0,1]]");
@@ -107,23 +111,8 @@ mapping::MapSpec parse_map_spec(const ConfigNode& node) {
     throw node.error("target", "the identity map takes no target polygon",
                      "remove \"target\" or set \"type\": \"composite_mean_value\"");
   }
-  spec.coordinates =
-      node.get_choice("coordinates", spec.coordinates, {"mean_value", "wachspress", "discrete_harmonic"});
-  spec.vertex_path = node.get_choice("vertex_path", spec.vertex_path, {"linear", "intrinsic"});
-  spec.partition =
-      node.get_choice("partition", spec.partition, {"adaptive", "greedy", "uniform", "explicit"});
-  spec.steps = static_cast<int>(node.get_int("steps", spec.steps, 1, 100000));
+  read_parameters(node, table, spec);
   spec.times = node.get_doubles("times");
-  spec.sample_resolution =
-      static_cast<int>(node.get_int("sample_resolution", spec.sample_resolution, 4, 8192));
-  spec.min_interval = node.get_double("min_interval", spec.min_interval, 1e-12, 1.0);
-  spec.greedy_min_det = node.get_double("greedy_min_det", spec.greedy_min_det, 1e-6, 0.99);
-  spec.harmonic_method = node.get_choice("harmonic_method", spec.harmonic_method, {"fem", "bem", "mfs"});
-  spec.intermediate = node.get_choice("intermediate", spec.intermediate, {"regular", "cyclic", "optimized"});
-  spec.boundary_nodes = static_cast<int>(node.get_int("boundary_nodes", spec.boundary_nodes, 3, 100000));
-  spec.fem_max_edge_length = node.get_double("fem_max_edge_length", spec.fem_max_edge_length, 0.0);
-  spec.distortion_energy =
-      node.get_choice("distortion_energy", spec.distortion_energy, {"conformal", "isometric"});
   for (const std::string key : {"source_edge_speeds", "target_edge_speeds"}) {
     if (!node.has(key)) continue;
     auto& out = key == "source_edge_speeds" ? spec.source_edge_speeds : spec.target_edge_speeds;
@@ -195,14 +184,12 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
 
 MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
   MeshSpec spec;
-  spec.type =
-      mesh.get_choice("type", spec.type, {"delaunay", "quad_split", "structured", "gmsh", "pullback"});
-  spec.max_edge_length = mesh.get_double("max_edge_length", spec.max_edge_length, 0.0);
-  spec.shape_bound = mesh.get_double("shape_bound", spec.shape_bound, 0.125);
-  spec.refinements = static_cast<int>(mesh.get_int("refinements", spec.refinements, 0, 12));
-  const std::string cell = mesh.get_choice(
-      "cell_type", spec.type == "structured" ? "quadrilateral" : "triangle", {"triangle", "quadrilateral"});
-  spec.cell_type = cell == "triangle" ? warpfem::CellType::triangle : warpfem::CellType::quadrilateral;
+  const auto& table = fem::mesh_parameters();
+  read_parameters(mesh, table, spec);
+  // The default cell type follows the mesh type.
+  const auto& cell_type = table.at("cell_type");
+  if (spec.type == "structured") spec.cell_type = warpfem::CellType::quadrilateral;
+  cell_type.set(spec, mesh.get_choice("cell_type", std::get<std::string>(cell_type.get(spec)), cell_type.choices));
   if (spec.type == "delaunay" && spec.cell_type != warpfem::CellType::triangle)
     throw mesh.error("cell_type", "delaunay meshes are made of triangles",
                      "use \"type\": \"quad_split\" for quadrilaterals");
@@ -220,19 +207,19 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
                        "e.g. \"cells\": [4, 4]");
     }
   }
-  spec.file = mesh.get_string("file", "");
   if (spec.type == "gmsh") {
     if (spec.file.empty())
       throw mesh.error("file", "mesh type \"gmsh\" needs a .msh file", "add \"file\": \"domain.msh\"");
-    std::filesystem::path p(spec.file);
-    if (p.is_relative()) spec.file = (std::filesystem::path(mesh.file()).parent_path() / p).string();
+    if (fs::path(spec.file).is_relative()) spec.file = (fs::path(mesh.file()).parent_path() / spec.file).string();
   }
   mesh.finish();
   return spec;
 }
 
 std::string parse_verbosity(const ConfigNode& root) {
-  return root.get_choice("verbosity", "info", {"quiet", "error", "warning", "info", "debug"});
+  RunConfig defaults;
+  read_parameter(root, top_level_parameters(), "verbosity", defaults);
+  return defaults.verbosity;
 }
 
 mapping::MapSpec parse_required_map(const ConfigNode& root) {
@@ -242,11 +229,11 @@ mapping::MapSpec parse_required_map(const ConfigNode& root) {
   return parse_map_spec(root.child("map"));
 }
 
-void parse_vtk_options(const ConfigNode& output, int& vtk_order, std::string& compression,
-                       std::string& cells) {
-  vtk_order = static_cast<int>(output.get_int("vtk_order", 0, 0, 2));
-  compression = output.get_choice("compression", compression, {"none", "lz4", "zlib"});
-  cells = output.get_choice("cells", cells, {"curved", "linear"});
+void check_output_options(const ConfigNode& output, const std::string& name, int& vtk_order,
+                          const std::string& cells, const std::string& example_name) {
+  if (name.empty() || name.find('/') != std::string::npos)
+    throw output.error("name", "expected a file name without '/', got \"" + name + "\"",
+                       "use e.g. \"" + example_name + "\"");
   if (cells == "linear") {
     if (vtk_order > 1)
       throw output.error(
@@ -257,6 +244,12 @@ void parse_vtk_options(const ConfigNode& output, int& vtk_order, std::string& co
           "remove \"vtk_order\", or use \"cells\": \"curved\"");
     vtk_order = 1;
   }
+}
+
+std::string config_relative_path(const std::string& config_file, const std::string& path) {
+  const fs::path p(path);
+  if (p.empty() || p.is_absolute()) return path;
+  return (fs::path(config_file).parent_path() / p).lexically_normal().string();
 }
 
 RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) {
@@ -271,16 +264,9 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
 
   const ConfigNode problem = root.child("problem");
   problem.get_choice("type", "poisson", {"poisson"});
-  cfg.poisson.order = static_cast<int>(problem.get_int("order", cfg.poisson.order, 1, 2));
-  cfg.poisson.quadrature_degree = static_cast<int>(problem.get_int("quadrature_degree", 0, 0, 30));
-  cfg.poisson.geometry = problem.get_choice("geometry", cfg.poisson.geometry, {"cached", "streamed"});
-  cfg.poisson.source = problem.get_expression("source", cfg.poisson.source);
-  Expression(cfg.poisson.source, file, problem.path_of("source"));
+  read_parameters(problem, poisson_parameters(), cfg.poisson);
   cfg.poisson.dirichlet = parse_boundary(problem, "dirichlet", num_edges);
   cfg.poisson.neumann = parse_boundary(problem, "neumann", num_edges);
-  cfg.poisson.exact_solution = problem.get_expression("exact_solution", "");
-  if (!cfg.poisson.exact_solution.empty())
-    Expression(cfg.poisson.exact_solution, file, problem.path_of("exact_solution"));
   if (cfg.poisson.dirichlet.empty() && cfg.poisson.neumann.empty())
     throw problem.error("dirichlet", "no boundary condition given",
                         "add \"dirichlet\": [{\"edges\": \"all\", \"value\": 0}]");
@@ -294,14 +280,8 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   problem.finish();
 
   const ConfigNode solver = root.child("solver");
-  auto& lin = cfg.solver.linear;
-  lin.ksp_type = get_petsc_type(solver, "ksp_type", lin.ksp_type, PetscTypeKind::ksp);
-  // Geometric multigrid on the nested hierarchy by default.
-  lin.pc_type = get_petsc_type(solver, "pc_type", "mg", PetscTypeKind::pc);
-  lin.rtol = solver.get_double("rtol", lin.rtol, 0.0, 1.0);
-  lin.atol = solver.get_double("atol", lin.atol, 0.0);
-  lin.max_iterations = static_cast<int>(solver.get_int("max_iterations", lin.max_iterations, 1));
-  cfg.solver.petsc_options = solver.get_string("petsc_options", "");
+  const auto& lin = cfg.solver.linear;
+  read_parameters(solver, solver_parameters(), cfg.solver);
   if (solver.has("multigrid") && lin.pc_type != "mg")
     throw solver.error(
         "multigrid",
@@ -311,30 +291,7 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
     using S = multigrid::MultigridSettings;
     const ConfigNode mg = solver.child("multigrid");
     S& m = cfg.solver.multigrid;
-    const std::string smoother =
-        mg.get_choice("smoother", "chebyshev_jacobi", {"chebyshev_jacobi", "chebyshev_sor", "sor"});
-    m.smoother = smoother == "sor"             ? S::Smoother::sor
-                 : smoother == "chebyshev_sor" ? S::Smoother::chebyshev_sor
-                                               : S::Smoother::chebyshev_jacobi;
-    const std::string cycle = mg.get_choice("cycle", "v", {"v", "w", "f"});
-    m.cycle = cycle == "w" ? S::Cycle::w : cycle == "f" ? S::Cycle::f : S::Cycle::v;
-    m.coarse_operators =
-        mg.get_choice("coarse_operators", "rediscretization", {"rediscretization", "galerkin"}) == "galerkin"
-            ? S::CoarseOperators::galerkin
-            : S::CoarseOperators::rediscretization;
-    m.smoothing_steps = static_cast<int>(mg.get_int("smoothing_steps", m.smoothing_steps, 1, 20));
-    const std::string bounds = mg.get_choice("chebyshev_bounds", "auto", {"auto", "estimate", "gershgorin"});
-    m.chebyshev_bounds = bounds == "estimate"     ? S::ChebyshevBounds::estimate
-                         : bounds == "gershgorin" ? S::ChebyshevBounds::gershgorin
-                                                  : S::ChebyshevBounds::automatic;
-    const std::string kernel =
-        mg.get_choice("chebyshev_kernel", "fused_single", {"fused_single", "fused_double", "petsc"});
-    m.chebyshev_kernel = kernel == "petsc"          ? S::ChebyshevKernel::petsc
-                         : kernel == "fused_double" ? S::ChebyshevKernel::fused_double
-                                                    : S::ChebyshevKernel::fused_single;
-    m.prolongation = mg.get_choice("prolongation", "geometric", {"geometric", "smoothed"}) == "smoothed"
-                         ? S::Prolongation::smoothed
-                         : S::Prolongation::geometric;
+    read_parameters(mg, multigrid::multigrid_parameters(), m);
     if (m.prolongation == S::Prolongation::smoothed && mg.has("coarse_operators") &&
         m.coarse_operators == S::CoarseOperators::rediscretization)
       throw mg.error("coarse_operators",
@@ -352,13 +309,9 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   solver.finish();
 
   const ConfigNode output = root.child("output");
-  cfg.output.directory = output.get_string("directory", cfg.output.directory);
-  cfg.output.name = output.get_string("name", cfg.output.name);
-  if (cfg.output.name.empty() || cfg.output.name.find('/') != std::string::npos)
-    throw output.error("name", "expected a file name without '/', got \"" + cfg.output.name + "\"",
-                       "use e.g. \"solution\"");
-  cfg.output.vtk = output.get_bool("vtk", cfg.output.vtk);
-  parse_vtk_options(output, cfg.output.vtk_order, cfg.output.compression, cfg.output.cells);
+  read_parameters(output, output_parameters(), cfg.output);
+  check_output_options(output, cfg.output.name, cfg.output.vtk_order, cfg.output.cells, "solution");
+  cfg.output.directory = config_relative_path(file, cfg.output.directory);
   output.finish();
   cfg.limits = parse_limits(root);
   root.finish();

@@ -34,7 +34,12 @@ struct PoissonSpec {
 };
 
 struct SolverSpec {
-  petsc::LinearSolveOptions linear;
+  /// Geometric multigrid on the nested hierarchy by default.
+  petsc::LinearSolveOptions linear = [] {
+    petsc::LinearSolveOptions o;
+    o.pc_type = "mg";
+    return o;
+  }();
   multigrid::MultigridSettings multigrid;  ///< "multigrid": smoother, cycle, coarse operators, steps
   std::string petsc_options;               ///< extra PETSc options, e.g. "-ksp_monitor"
 };
@@ -83,10 +88,14 @@ mapping::MapSpec parse_required_map(const ConfigNode& root);
 /// Reads the "mesh" object (shared by all run configs); `source` resolves relative file names.
 MeshSpec parse_mesh_spec(const ConfigNode& node);
 
-/// Reads "vtk_order", "compression" and "cells" of an "output" object (shared by
+/// Checks the "name", "vtk_order" and "cells" an "output" object gave (shared by
 /// `run` and elasticity configs); "cells": "linear" sets `vtk_order` to 1.
-void parse_vtk_options(const ConfigNode& output, int& vtk_order, std::string& compression,
-                       std::string& cells);
+void check_output_options(const ConfigNode& output, const std::string& name, int& vtk_order,
+                          const std::string& cells, const std::string& example_name);
+
+/// A path a config names, relative to the config file's directory unless it is absolute
+/// (so that a run started from another directory reads and writes next to its config).
+std::string config_relative_path(const std::string& config_file, const std::string& path);
 
 /// Turns boundary specs into fem boundary conditions (parses the expressions).
 std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,

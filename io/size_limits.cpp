@@ -9,6 +9,11 @@
 #include <limits>
 
 #include "core/mesh/quadrature.hpp"
+#include "fem/hierarchy/mesh_parameters.hpp"
+#include "io/config_field.hpp"
+#include "io/parameter_reader.hpp"
+#include "io/run_parameters.hpp"
+#include "mapping/map_parameters.hpp"
 
 namespace warpfem::io {
 namespace {
@@ -55,8 +60,7 @@ SizeLimits parse_limits(const ConfigNode& root) {
   limits.memory_bytes = physical_memory_bytes();
   const ConfigNode node = root.child("limits");
   if (node.has("memory_gb")) limits.memory_bytes = node.get_positive("memory_gb", 0) * kGiB;
-  limits.output_files = static_cast<double>(node.get_int("output_files", 10000, 1));
-  limits.time_steps = static_cast<double>(node.get_int("time_steps", 1000000, 1));
+  read_parameters(node, limits_parameters(), limits);
   node.finish();
   return limits;
 }
@@ -99,9 +103,9 @@ void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh
   const SizeEstimate e = estimate_size(mesh, map, d);
   std::string culprit = key;
   if (culprit.empty())
-    culprit = mesh.refinements > 0        ? "/mesh/refinements"
-              : mesh.type == "structured" ? "/mesh/cells"
-                                          : "/mesh/max_edge_length";
+    culprit = json_pointer(fem::mesh_parameters().field(mesh.refinements > 0        ? "refinements"
+                                                        : mesh.type == "structured" ? "cells"
+                                                                                    : "max_edge_length"));
   const std::string what = "the discretization would have at least " + estimate_text(e.cells) +
                            " cells and " + estimate_text(e.dofs) + " DOFs";
   const double max_index = static_cast<double>(std::numeric_limits<PetscInt>::max());
@@ -129,7 +133,7 @@ void check_map_size(const ConfigNode& root, const mapping::MapSpec& map, const S
                     " boundary nodes needs dense matrices of at least " + gib_text(bytes) +
                     ", more than the " + gib_text(limits.memory_bytes) + " available",
                 {.file = root.file(),
-                 .key_path = "/map/boundary_nodes",
+                 .key_path = json_pointer(mapping::map_parameters().field("boundary_nodes")),
                  .hint = "use fewer boundary nodes (256 is the default), or \"harmonic_method\": \"fem\""});
 }
 

@@ -31,9 +31,9 @@ Real step_min_det(const Polygon& from, const Polygon& to, const AdaptiveOptions&
      << "] still has min det J = " << det
      << " and the interval has reached the minimum length epsilon = " << o.min_interval;
   throw Error(os.str(), {.file = "",
-                         .key_path = "/map/min_interval",
-                         .hint = "decrease /map/min_interval, raise /map/sample_resolution, or try another "
-                                 "/map/vertex_path"});
+                         .key_path = "map.min_interval",
+                         .hint = "decrease map.min_interval, raise map.sample_resolution, or try another "
+                                 "map.vertex_path"});
 }
 
 void build(const VertexPath& path, Real a, const Polygon& Pa, Real b, const Polygon& Pb,
@@ -116,7 +116,7 @@ CompositeReport analyze_composite(const CompositeMeanValueMap& map, int sample_r
 AdaptiveComposite build_adaptive_composite(const VertexPath& path, const AdaptiveOptions& o) {
   if (!(o.min_interval > 0) || o.sample_resolution < 2)
     throw Error("adaptive partition needs min_interval > 0 and sample_resolution >= 2",
-                {.file = "", .key_path = "/map/min_interval", .hint = ""});
+                {.file = "", .key_path = "map.min_interval", .hint = ""});
   // 1. Algorithm 1 (or the greedy partition) on [0, 1].
   std::vector<Real> dets;
   std::vector<Real> cuts = o.strategy == PartitionStrategy::greedy ? greedy_partition(path, 0, 1, o, &dets)

@@ -14,7 +14,7 @@ void check_times(const std::vector<Real>& t) {
   for (std::size_t k = 1; ok && k < t.size(); ++k) ok = t[k] > t[k - 1];
   if (!ok)
     throw Error("composite map: the partition must increase strictly from 0 to 1",
-                {.file = "", .key_path = "/map/times", .hint = "e.g. [0, 0.5, 1]"});
+                {.file = "", .key_path = "map.times", .hint = "e.g. [0, 0.5, 1]"});
 }
 
 std::vector<Polygon> path_polygons(const VertexPath& path, const std::vector<Real>& times) {
@@ -146,7 +146,7 @@ CompositeMeanValueMap CompositeMeanValueMap::backward() const {
 std::vector<Real> uniform_partition(int m) {
   if (m < 1)
     throw Error("uniform partition needs at least one step, got " + std::to_string(m),
-                {.file = "", .key_path = "/map/steps", .hint = "use a positive integer"});
+                {.file = "", .key_path = "map.steps", .hint = "use a positive integer"});
   std::vector<Real> t(static_cast<std::size_t>(m) + 1);
   for (int k = 0; k <= m; ++k) t[static_cast<std::size_t>(k)] = static_cast<Real>(k) / m;
   return t;

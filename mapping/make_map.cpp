@@ -28,60 +28,60 @@ MapPtr<2> build_map(const MapSpec& spec) {
     throw Error(
         "unknown map type \"" + spec.type + "\"",
         {.file = spec.origin,
-         .key_path = "/map/type",
+         .key_path = "map.type",
          .hint = "use \"identity\", \"barycentric\", \"composite_mean_value\" or \"composite_harmonic\""});
 
-  const Polygon& source = require_polygon(spec, spec.source, "/map/source");
-  const Polygon& target = require_polygon(spec, spec.target, "/map/target");
-  with_spec_context(spec, "/map/source", [&] { source.validate(); });
-  with_spec_context(spec, "/map/target", [&] {
+  const Polygon& source = require_polygon(spec, spec.source, "map.source");
+  const Polygon& target = require_polygon(spec, spec.target, "map.target");
+  with_spec_context(spec, "map.source", [&] { source.validate(); });
+  with_spec_context(spec, "map.target", [&] {
     target.validate();
     require_same_vertex_count(source, target);
   });
   const Coordinates coords =
-      with_spec_context(spec, "/map/coordinates", [&] { return parse_coordinates(spec.coordinates); });
+      with_spec_context(spec, "map.coordinates", [&] { return parse_coordinates(spec.coordinates); });
 
   if (spec.type == "barycentric")
-    return with_spec_context(spec, "/map/coordinates",
+    return with_spec_context(spec, "map.coordinates",
                              [&] { return std::make_shared<const BarycentricMap>(source, target, coords); });
 
   const VertexPathType vp =
-      with_spec_context(spec, "/map/vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
+      with_spec_context(spec, "map.vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
   const VertexPath path(source, target, vp);
   if (spec.partition == "adaptive" || spec.partition == "greedy") {
     if (spec.sample_resolution < 2)
       throw Error(
           "sample_resolution must be at least 2, got " + std::to_string(spec.sample_resolution),
-          {.file = spec.origin, .key_path = "/map/sample_resolution", .hint = "64 is a good default"});
+          {.file = spec.origin, .key_path = "map.sample_resolution", .hint = "64 is a good default"});
     if (!(spec.min_interval > 0 && spec.min_interval < 1))
       throw Error("min_interval must lie in (0, 1)",
-                  {.file = spec.origin, .key_path = "/map/min_interval", .hint = "1e-4 is a good default"});
+                  {.file = spec.origin, .key_path = "map.min_interval", .hint = "1e-4 is a good default"});
     if (!(spec.greedy_min_det > 0 && spec.greedy_min_det < 1))
       throw Error("greedy_min_det must lie in (0, 1)",
-                  {.file = spec.origin, .key_path = "/map/greedy_min_det", .hint = "0.2 is a good default"});
+                  {.file = spec.origin, .key_path = "map.greedy_min_det", .hint = "0.2 is a good default"});
     AdaptiveOptions o;
     o.sample_resolution = spec.sample_resolution;
     o.min_interval = spec.min_interval;
     o.coordinates = coords;
     o.strategy = spec.partition == "greedy" ? PartitionStrategy::greedy : PartitionStrategy::binary;
     o.greedy_min_det = spec.greedy_min_det;
-    return with_spec_context(spec, "/map/partition", [&] { return build_adaptive_composite(path, o).map; });
+    return with_spec_context(spec, "map.partition", [&] { return build_adaptive_composite(path, o).map; });
   }
   if (spec.partition == "uniform") {
     if (spec.steps < 1)
       throw Error("steps must be a positive integer, got " + std::to_string(spec.steps),
-                  {.file = spec.origin, .key_path = "/map/steps", .hint = "e.g. 16"});
-    return with_spec_context(spec, "/map/partition", [&] {
+                  {.file = spec.origin, .key_path = "map.steps", .hint = "e.g. 16"});
+    return with_spec_context(spec, "map.partition", [&] {
       return std::make_shared<const CompositeMeanValueMap>(path, uniform_partition(spec.steps), coords);
     });
   }
   if (spec.partition == "explicit")
-    return with_spec_context(spec, "/map/times", [&] {
+    return with_spec_context(spec, "map.times", [&] {
       return std::make_shared<const CompositeMeanValueMap>(path, spec.times, coords);
     });
   throw Error("unknown partition \"" + spec.partition + "\"",
               {.file = spec.origin,
-               .key_path = "/map/partition",
+               .key_path = "map.partition",
                .hint = "use \"adaptive\", \"greedy\", \"uniform\" or \"explicit\""});
 }
 
@@ -96,17 +96,17 @@ std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const Polyhed
     throw Error(
         "map type \"" + spec.type + "\" needs a source and a target polyhedron",
         {.file = spec.origin,
-         .key_path = spec.source ? "/map/target" : "/map/source",
+         .key_path = spec.source ? "map.target" : "map.source",
          .hint =
              "give {\"vertices\": [[x, y, z], ...], \"triangles\": [[i, j, k], ...]} or {\"file\": ...}"});
   const Polyhedron& source = *spec.source;
   const Polyhedron& target = *spec.target;
-  with_spec_context(spec, "/map/target", [&] { require_same_triangulation(source, target); });
+  with_spec_context(spec, "map.target", [&] { require_same_triangulation(source, target); });
   if (spec.partition == "adaptive") {
     PolyhedronPartitionOptions o;
     o.epsilon = spec.min_det;
     o.max_halvings = spec.max_halvings;
-    return with_spec_context(spec, "/map/partition", [&] {
+    return with_spec_context(spec, "map.partition", [&] {
       try {
         return std::make_shared<const PolyhedronCompositeMap>(build_polyhedron_composite(source, target, o));
       } catch (const Error& e) {
@@ -125,7 +125,7 @@ std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const Polyhed
     times.clear();
     for (int k = 0; k <= spec.steps; ++k) times.push_back(k == spec.steps ? 1.0 : Real(k) / spec.steps);
   }
-  return with_spec_context(spec, spec.partition == "uniform" ? "/map/steps" : "/map/times", [&] {
+  return with_spec_context(spec, spec.partition == "uniform" ? "map.steps" : "map.times", [&] {
     return std::make_shared<const PolyhedronCompositeMap>(source, target, times);
   });
 }
@@ -137,7 +137,7 @@ MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check) {
   if (spec.type != "composite_mean_value")
     throw Error("unknown map type \"" + spec.type + "\" for polyhedra",
                 {.file = spec.origin,
-                 .key_path = "/map/type",
+                 .key_path = "map.type",
                  .hint = "use \"identity\" or \"composite_mean_value\""});
   const auto map = build_polyhedron_map(spec);
   const PolyhedronMapCheck c =

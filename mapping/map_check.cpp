@@ -91,7 +91,7 @@ void require_passed(const MapCheck& c, const MapSpec& spec) {
     what << sep << c.failed_inverse << " with a failed inverse (residual up to " << c.max_residual
          << " at x0 = " << at(c.max_residual_at) << ", tolerance " << c.inverse_tolerance << ")";
   if (c.samples == 0) what << "no sample point lies inside the source polygon";
-  throw Error(what.str(), {.file = spec.origin, .key_path = "/map", .hint = fix_for(spec)});
+  throw Error(what.str(), {.file = spec.origin, .key_path = "map", .hint = fix_for(spec)});
 }
 
 }  // namespace warpfem::mapping

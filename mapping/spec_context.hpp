@@ -1,6 +1,6 @@
 #pragma once
 // Errors raised while building a map from a MapSpec (or PolyhedronMapSpec) get the spec's file and,
-// if they carry none, the key path of the field being built.
+// if they name no field, the id of the parameter being built ("map.<name>").
 
 #include <string>
 
@@ -10,13 +10,13 @@
 namespace warpfem::mapping {
 
 template <class Spec, class F>
-auto with_spec_context(const Spec& spec, const std::string& key_path, F&& f) -> decltype(f()) {
+auto with_spec_context(const Spec& spec, const std::string& field, F&& f) -> decltype(f()) {
   try {
     return f();
   } catch (const Error& e) {
     Error::Context c = e.context();
     if (c.file.empty()) c.file = spec.origin;
-    if (c.key_path.empty()) c.key_path = key_path;
+    if (c.key_path.empty()) c.key_path = field;
     throw Error(e.message(), c);
   }
 }

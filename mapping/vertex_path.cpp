@@ -128,7 +128,7 @@ Polygon VertexPath::polygon_at(Real t) const {
   } catch (const Error& e) {
     throw Error(e.message(),
                 {.file = "",
-                 .key_path = "/map/vertex_path",
+                 .key_path = "map.vertex_path",
                  .hint = type_ == VertexPathType::linear
                              ? "linear vertex paths self-intersect under rotation; try \"intrinsic\""
                              : "the intrinsic path degenerates here; try \"linear\" or add vertices"});

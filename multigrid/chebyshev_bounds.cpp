@@ -89,7 +89,7 @@ double jacobi_gershgorin_bound(MPI_Comm comm, const double* diagonal, const doub
             (bad < rows ? "row " + std::to_string(first_row + bad) + " has " + std::to_string(diagonal[bad])
                         : std::string("a row on another rank has none")),
         {.file = "",
-         .key_path = "/solver/multigrid/chebyshev_bounds",
+         .key_path = "solver.multigrid.chebyshev_bounds",
          .hint = "the operator is not symmetric positive definite; check the boundary conditions"});
   return global[0];
 }

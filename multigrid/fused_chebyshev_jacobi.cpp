@@ -149,7 +149,7 @@ double estimate_lambda_max(Mat A, PetscInt steps) {
   if (!(emax > 0) || !std::isfinite(emax))
     throw Error("fused Chebyshev–Jacobi: the CG estimate of λmax(D⁻¹A) is " + std::to_string(emax),
                 {.file = "",
-                 .key_path = "/solver/multigrid/chebyshev_bounds",
+                 .key_path = "solver.multigrid.chebyshev_bounds",
                  .hint = "the level operator is not SPD; check the boundary conditions"});
   return emax;
 }
@@ -166,7 +166,7 @@ void set_up(PC pc, FusedChebyshev& c) {
     throw Error(std::string("fused Chebyshev–Jacobi smoothing needs an AIJ level matrix, not ") +
                     (type ? type : "one of unknown type"),
                 {.file = "",
-                 .key_path = "/solver/multigrid/chebyshev_kernel",
+                 .key_path = "solver.multigrid.chebyshev_kernel",
                  .hint = "set it to \"petsc\" to use PETSc's Chebyshev smoother"});
   }
   c.reset();
@@ -518,7 +518,7 @@ PetscErrorCode apply_callback(PC, Vec, Vec) {
       Error("the fused Chebyshev–Jacobi smoother runs only through KSPRICHARDSON's smoother hook "
             "(no -mg_levels_ksp_monitor, Richardson scale 1)",
             {.file = "",
-             .key_path = "/solver/multigrid/chebyshev_kernel",
+             .key_path = "solver.multigrid.chebyshev_kernel",
              .hint = "set it to \"petsc\" to monitor or rescale PETSc's Chebyshev smoother"}));
 }
 

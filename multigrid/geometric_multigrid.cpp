@@ -110,7 +110,7 @@ MultigridSettings resolved(MultigridSettings s, int order) {
   if (smoothed && s.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin)
     throw Error("Gershgorin bounds for the Chebyshev smoothers need rediscretized level operators",
                 {.file = "",
-                 .key_path = "/solver/multigrid/chebyshev_bounds",
+                 .key_path = "solver.multigrid.chebyshev_bounds",
                  .hint = "use \"auto\" or \"estimate\" with smoothed prolongations"});
   // Smoothed: the Galerkin operators are formed by smooth() and handed to PCMG
   // level by level, which is configure_pcmg's "one operator per level" mode.
@@ -156,7 +156,7 @@ GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, c
         "smoothed prolongations need the operator at set-up: they are available with "
         "rediscretized levels (the Poisson solver) only",
         {.file = "",
-         .key_path = "/solver/multigrid/prolongation",
+         .key_path = "solver.multigrid.prolongation",
          .hint = "use \"geometric\" prolongations for elasticity"});
   settings_ = resolved(settings, finest.dofs().element().order());
   const int levels = hierarchy.num_levels();

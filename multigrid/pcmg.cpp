@@ -90,7 +90,7 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
         "Gershgorin bounds for the Chebyshev smoothers need the smoother chebyshev_jacobi and "
         "rediscretized level operators",
         {.file = "",
-         .key_path = "/solver/multigrid/chebyshev_bounds",
+         .key_path = "solver.multigrid.chebyshev_bounds",
          .hint = "use \"estimate\" (or \"auto\") with this smoother or with Galerkin coarse operators"});
   for (int l = 1; l < levels; ++l) {
     KSP smoother = nullptr;

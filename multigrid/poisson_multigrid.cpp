@@ -13,7 +13,7 @@ fem::MeshHierarchy<2> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<2> coarse, in
                                       bool partial_levels, double& seconds) {
   if (refinements < 0)
     throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
-                {.file = "", .key_path = "/mesh/refinements", .hint = "use 0 or more refinements"});
+                {.file = "", .key_path = "mesh.refinements", .hint = "use 0 or more refinements"});
   Stopwatch watch;
   fem::HierarchyPartition partition;
   MPI_Comm_size(comm, &partition.parts);
@@ -117,7 +117,7 @@ MultigridSolveReport PoissonMultigridSolver::solve() {
   petsc::collect_solve_outcome(ksp_.get(), r);
   petsc::throw_if_diverged(r, "multigrid-preconditioned " + r.ksp_type,
                            "check the level operators with -ksp_view, try -mg_levels_ksp_type richardson "
-                           "-mg_levels_pc_type sor, or raise /solver/max_iterations");
+                           "-mg_levels_pc_type sor, or raise solver.max_iterations");
   return report_;
 }
 

@@ -54,7 +54,7 @@ petsc::Vector damped_inverse_diagonal(Mat A, double damping, int level) {
     throw Error("smoothed prolongation: the operator of level " + std::to_string(level) +
                     " has a coupled row with a diagonal entry that is not positive",
                 {.file = "",
-                 .key_path = "/solver/multigrid/prolongation",
+                 .key_path = "solver.multigrid.prolongation",
                  .hint = "smoothed prolongations need a symmetric positive definite operator; use "
                          "\"geometric\" for this problem"});
   }

@@ -16,7 +16,7 @@ class LineReader {
   explicit LineReader(const std::string& path) : path_(path), in_(path) {
     if (!in_)
       throw Error("cannot open mesh file",
-                  {.file = path, .key_path = "/mesh/file", .hint = "check the path"});
+                  {.file = path, .key_path = "mesh.file", .hint = "check the path"});
   }
   bool next(std::string& line) {
     while (std::getline(in_, line)) {
@@ -189,12 +189,12 @@ Mesh<2> read_gmsh(const std::string& path, const Polygon& source) {
     throw Error(
         "the mesh covers area " + std::to_string(area) + " but the source polygon has area " +
             std::to_string(source.signed_area()),
-        {.file = path, .key_path = "/mesh/file", .hint = "mesh exactly the source polygon of /map/source"});
+        {.file = path, .key_path = "mesh.file", .hint = "mesh exactly the source polygon of map.source"});
   m.boundary_facets = find_boundary_facets(m);
   try {
     tag_boundary_facets(m, source);
   } catch (const Error& e) {
-    throw Error(e.message(), {.file = path, .key_path = "/mesh/file", .hint = e.context().hint});
+    throw Error(e.message(), {.file = path, .key_path = "mesh.file", .hint = e.context().hint});
   }
   return m;
 }

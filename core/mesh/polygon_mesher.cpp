@@ -59,7 +59,7 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
     std::snprintf(text, sizeof text, "%g", h);
     throw Error(
         std::string("edge length bound ") + text + " cannot be used: its square is not a positive double",
-        {.file = "", .key_path = "/mesh/max_edge_length", .hint = "choose a larger edge length"});
+        {.file = "", .key_path = "mesh.max_edge_length", .hint = "choose a larger edge length"});
   }
   const Index n = polygon.size();
   Cdt cdt;

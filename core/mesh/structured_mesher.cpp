@@ -50,7 +50,7 @@ void tag_boundary_facets(Mesh<2>& mesh, const Polygon& polygon) {
       throw Error(
           "boundary facet " + std::to_string(f) + " of the mesh does not lie on the polygon " +
               polygon.name(),
-          {.file = "", .key_path = "/mesh", .hint = "the mesh must cover exactly the source polygon"});
+          {.file = "", .key_path = "mesh", .hint = "the mesh must cover exactly the source polygon"});
     mesh.facet_tags[f] = e;
   }
 }
@@ -60,11 +60,11 @@ Mesh<2> structured_mesh(const Polygon& rectangle, int nx, int ny, CellType type)
     throw Error("a structured mesh needs an axis-aligned rectangular source polygon; " + rectangle.name() +
                     " is not one",
                 {.file = "",
-                 .key_path = "/mesh/type",
+                 .key_path = "mesh.type",
                  .hint = "use \"delaunay\" or \"quad_split\" for general polygons"});
   if (nx < 1 || ny < 1)
     throw Error("structured mesh needs at least one cell per direction",
-                {.file = "", .key_path = "/mesh/cells", .hint = "give [nx, ny] >= [1, 1]"});
+                {.file = "", .key_path = "mesh.cells", .hint = "give [nx, ny] >= [1, 1]"});
   require(type == CellType::triangle || type == CellType::quadrilateral, "structured_mesh: 2D cells only");
   const Point<2> lo = rectangle.bbox_min(), hi = rectangle.bbox_max();
   Mesh<2> m;
@@ -154,7 +154,7 @@ IndexTable find_boundary_facets(const Mesh<3>& mesh) {
     if (j - i > 2)
       throw Error(
           "the mesh is not conforming: a facet is shared by " + std::to_string(j - i) + " cells",
-          {.file = "", .key_path = "/mesh", .hint = "every interior facet must belong to exactly two cells"});
+          {.file = "", .key_path = "mesh", .hint = "every interior facet must belong to exactly two cells"});
     if (j - i == 1) boundary.push_back(order[i]);
     i = j;
   }
@@ -189,14 +189,14 @@ Mesh<3> structured_box_mesh(const Point<3>& lo, const Point<3>& hi, const std::a
                             CellType type) {
   if (n[0] < 1 || n[1] < 1 || n[2] < 1)
     throw Error("a structured box mesh needs at least one cell per direction",
-                {.file = "", .key_path = "/mesh/cells", .hint = "give [nx, ny, nz] >= [1, 1, 1]"});
+                {.file = "", .key_path = "mesh.cells", .hint = "give [nx, ny, nz] >= [1, 1, 1]"});
   if (!(hi.array() > lo.array()).all())
     throw Error(
         "a structured box mesh needs a box with hi > lo in every coordinate",
-        {.file = "", .key_path = "/mesh", .hint = "give the lower corner first and a positive extent"});
+        {.file = "", .key_path = "mesh", .hint = "give the lower corner first and a positive extent"});
   if (type != CellType::tetrahedron && type != CellType::hexahedron)
     throw Error("a structured box mesh is made of tetrahedra or hexahedra, not " + to_string(type) + " cells",
-                {.file = "", .key_path = "/mesh/cell_type", .hint = "use tetrahedron or hexahedron"});
+                {.file = "", .key_path = "mesh.cell_type", .hint = "use tetrahedron or hexahedron"});
   const Index nx = n[0], ny = n[1], nz = n[2];
   const Index num_vertices = (nx + 1) * (ny + 1) * (nz + 1);
   const Index num_boxes = nx * ny * nz;

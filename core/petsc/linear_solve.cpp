@@ -34,7 +34,7 @@ void throw_if_diverged(const LinearSolveReport& report, const std::string& solve
   if (report.converged) return;
   throw Error(solver + " diverged after " + std::to_string(report.iterations) + " iterations: " +
                   report.converged_reason + " (residual norm " + std::to_string(report.residual_norm) + ")",
-              {.file = "", .key_path = "/solver", .hint = hint});
+              {.file = "", .key_path = "solver", .hint = hint});
 }
 
 LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOptions& options) {
@@ -71,8 +71,8 @@ LinearSolveReport solve_linear_system(Mat A, Vec b, Vec x, const LinearSolveOpti
 
   collect_solve_outcome(ksp.get(), report);
   throw_if_diverged(report, "linear solver " + report.ksp_type + "/" + report.pc_type,
-                    "raise /solver/max_iterations, loosen /solver/rtol, or choose another solver in "
-                    "/solver/petsc_options (e.g. \"-ksp_type gmres -pc_type lu\")");
+                    "raise solver.max_iterations, loosen solver.rtol, or choose another solver in "
+                    "solver.petsc_options (e.g. \"-ksp_type gmres -pc_type lu\")");
   return report;
 }
 

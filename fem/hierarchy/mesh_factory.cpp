@@ -29,11 +29,11 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const MeshSpec& spec) {
   if (spec.type == "pullback")
     throw Error(
         "mesh type \"pullback\" needs the map (it meshes the target polygon and pulls the mesh back)",
-        {.file = "", .key_path = "/mesh/type", .hint = "call make_coarse_mesh with the map and its target"});
+        {.file = "", .key_path = "mesh.type", .hint = "call make_coarse_mesh with the map and its target"});
   if (spec.type != "delaunay" && spec.type != "quad_split")
     throw Error("unknown mesh type \"" + spec.type + "\"",
                 {.file = "",
-                 .key_path = "/mesh/type",
+                 .key_path = "mesh.type",
                  .hint = "use delaunay, quad_split, structured, gmsh or pullback"});
   Mesh<2> triangles = mesh_polygon(source, delaunay_options(source, spec));
   return spec.type == "quad_split" ? split_into_quadrilaterals(triangles) : triangles;

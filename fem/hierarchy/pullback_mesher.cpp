@@ -25,7 +25,7 @@ Kernel::Point_2 cgal_point(const Mesh<2>& mesh, Index v) {
 
 Error pullback_error(const std::string& what) {
   return Error(what, {.file = "",
-                      .key_path = "/mesh/max_edge_length",
+                      .key_path = "mesh.max_edge_length",
                       .hint = "use a smaller max_edge_length for the target mesh (the map bends cells of "
                               "this size too much), or \"type\": \"delaunay\" to mesh Ω0 directly"});
 }
@@ -178,7 +178,7 @@ Mesh<2> pull_back_target_mesh(const Polygon& source, const Polygon& target, cons
   if (source.size() != target.size())
     throw Error("source and target polygons have " + std::to_string(source.size()) + " and " +
                     std::to_string(target.size()) + " vertices",
-                {.file = "", .key_path = "/map/target", .hint = "give both polygons the same vertex count"});
+                {.file = "", .key_path = "map.target", .hint = "give both polygons the same vertex count"});
   // A straight cell of Ω0 through pulled-back vertices can fold where f bends
   // strongly across it; the target mesh then gets the centroids of the folded
   // cells as extra vertices and is pulled back again.

@@ -36,7 +36,7 @@ struct PullbackReport {
 /// instance a target triangle with its three vertices on the boundary around a
 /// corner that is straight in Ω0), the target mesh gets the cell's centroid as
 /// an extra vertex and is pulled back again (up to 8 times). Throws warpfem::Error (key
-/// /mesh/max_edge_length) if a vertex cannot be inverted or cells still fold.
+/// mesh.max_edge_length) if a vertex cannot be inverted or cells still fold.
 Mesh<2> pull_back_target_mesh(const Polygon& source, const Polygon& target, const mapping::Map<2>& map,
                               const PolygonMeshOptions& options, PullbackReport* report = nullptr);
 

@@ -64,7 +64,7 @@ std::shared_ptr<const BemHarmonicCoordinates> solve(const Polygon& domain,
   if (o.boundary_nodes < n)
     throw Error("bem: " + std::to_string(o.boundary_nodes) + " boundary nodes are fewer than the " +
                     std::to_string(n) + " vertices of " + domain.name(),
-                {.file = "", .key_path = "/map/boundary_nodes", .hint = "use at least 4 nodes per vertex"});
+                {.file = "", .key_path = "map.boundary_nodes", .hint = "use at least 4 nodes per vertex"});
   require(o.quadrature_points >= 1 && o.quadrature_points <= 64,
           "bem: quadrature_points must lie in [1, 64]");
   const std::vector<EdgeSpeed> speeds = speeds_for(domain, speeds_in);
@@ -180,7 +180,7 @@ std::shared_ptr<const BemHarmonicCoordinates> solve(const Polygon& domain,
   if (!u.allFinite())
     throw Error(
         "bem: the boundary system of " + domain.name() + " is singular",
-        {.file = "", .key_path = "/map/boundary_nodes", .hint = "change the number of boundary nodes"});
+        {.file = "", .key_path = "map.boundary_nodes", .hint = "change the number of boundary nodes"});
   c->d_start.resize(m, n);
   c->d_end.resize(m, n);
   for (Index e = 0; e < m; ++e) {

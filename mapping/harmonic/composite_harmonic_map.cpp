@@ -38,7 +38,7 @@ void CompositeHarmonicMap::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* 
            << "): the inverse of φ1 does not converge at x0 = (" << x0(p, 0) << ", " << x0(p, 1)
            << "): residual " << std::setprecision(3) << r.residual << " > tolerance " << tolerance;
       throw Error(what.str(), {.file = "",
-                               .key_path = "/map/harmonic_method",
+                               .key_path = "map.harmonic_method",
                                .hint = "φ1 misses the boundary of the intermediate polygon there; use "
                                        "\"harmonic_method\": \"fem\" or more \"boundary_nodes\""});
     }

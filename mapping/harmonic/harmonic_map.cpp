@@ -14,7 +14,7 @@ HarmonicMethod parse_harmonic_method(const std::string& name) {
   if (name == "bem") return HarmonicMethod::bem;
   if (name == "mfs") return HarmonicMethod::mfs;
   throw Error("unknown harmonic method \"" + name + "\"",
-              {.file = "", .key_path = "/map/harmonic_method", .hint = "use \"fem\", \"bem\" or \"mfs\""});
+              {.file = "", .key_path = "map.harmonic_method", .hint = "use \"fem\", \"bem\" or \"mfs\""});
 }
 
 std::string to_string(HarmonicMethod method) {
@@ -79,7 +79,7 @@ HarmonicMapPtr make_harmonic(const Polygon& domain, const Polygon& image,
   if (!image.is_convex())
     throw Error("harmonic map: the intermediate polygon " + image.name() + " is not convex",
                 {.file = "",
-                 .key_path = "/map/intermediate",
+                 .key_path = "map.intermediate",
                  .hint = "the Radó–Kneser–Choquet theorem needs a convex image; use \"regular\""});
   switch (options.method) {
     case HarmonicMethod::fem:

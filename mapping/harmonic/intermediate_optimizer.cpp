@@ -15,7 +15,7 @@ Real distortion_energy(const HarmonicMapPtr& phi0, const HarmonicMapPtr& phi1, c
   if (energy != "conformal" && energy != "isometric")
     throw Error(
         "unknown distortion energy \"" + energy + "\"",
-        {.file = "", .key_path = "/map/distortion_energy", .hint = "use \"conformal\" or \"isometric\""});
+        {.file = "", .key_path = "map.distortion_energy", .hint = "use \"conformal\" or \"isometric\""});
   const CompositeHarmonicMap f(phi0, phi1);
   Jacobians<2> J;
   f.jacobian(sample, J);

@@ -28,40 +28,40 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
                   {.file = spec.origin, .key_path = key, .hint = "give a list of [x, y] vertices"});
     return *p;
   };
-  const Polygon& source = need(spec.source, "/map/source");
-  const Polygon& target = need(spec.target, "/map/target");
-  with_spec_context(spec, "/map/source", [&] { source.validate(); });
-  with_spec_context(spec, "/map/target", [&] {
+  const Polygon& source = need(spec.source, "map.source");
+  const Polygon& target = need(spec.target, "map.target");
+  with_spec_context(spec, "map.source", [&] { source.validate(); });
+  with_spec_context(spec, "map.target", [&] {
     target.validate();
     require_same_vertex_count(source, target);
   });
   HarmonicOptions o;
-  o.method = with_spec_context(spec, "/map/harmonic_method",
+  o.method = with_spec_context(spec, "map.harmonic_method",
                                [&] { return parse_harmonic_method(spec.harmonic_method); });
   if (spec.boundary_nodes < source.size())
     throw Error("boundary_nodes must be at least the vertex count " + std::to_string(source.size()) +
                     ", got " + std::to_string(spec.boundary_nodes),
-                {.file = spec.origin, .key_path = "/map/boundary_nodes", .hint = "256 is a good default"});
+                {.file = spec.origin, .key_path = "map.boundary_nodes", .hint = "256 is a good default"});
   if (spec.fem_max_edge_length < 0)
     throw Error("fem_max_edge_length must be positive (or 0 for automatic)",
-                {.file = spec.origin, .key_path = "/map/fem_max_edge_length", .hint = "e.g. 0.02"});
+                {.file = spec.origin, .key_path = "map.fem_max_edge_length", .hint = "e.g. 0.02"});
   o.boundary_nodes = spec.boundary_nodes;
   o.fem_max_edge_length = spec.fem_max_edge_length;
-  const auto s0 = parse_speeds(spec, spec.source_edge_speeds, "/map/source_edge_speeds");
-  const auto s1 = parse_speeds(spec, spec.target_edge_speeds, "/map/target_edge_speeds");
-  with_spec_context(spec, "/map/source_edge_speeds", [&] { speeds_for(source, s0); });
-  with_spec_context(spec, "/map/target_edge_speeds", [&] { speeds_for(target, s1); });
+  const auto s0 = parse_speeds(spec, spec.source_edge_speeds, "map.source_edge_speeds");
+  const auto s1 = parse_speeds(spec, spec.target_edge_speeds, "map.target_edge_speeds");
+  with_spec_context(spec, "map.source_edge_speeds", [&] { speeds_for(source, s0); });
+  with_spec_context(spec, "map.target_edge_speeds", [&] { speeds_for(target, s1); });
 
   Polygon lambda;
   if (spec.intermediate == "regular" || spec.intermediate == "optimized")
     lambda = regular_polygon(source.size());
   else if (spec.intermediate == "cyclic")
     lambda =
-        with_spec_context(spec, "/map/intermediate", [&] { return cyclic_intermediate(source, target); });
+        with_spec_context(spec, "map.intermediate", [&] { return cyclic_intermediate(source, target); });
   else
     throw Error("unknown intermediate polygon \"" + spec.intermediate + "\"",
                 {.file = spec.origin,
-                 .key_path = "/map/intermediate",
+                 .key_path = "map.intermediate",
                  .hint = "use \"regular\", \"cyclic\" or \"optimized\""});
 
   // with a reused h the inverse's seed mesh matches the fem proxy's resolution
@@ -70,21 +70,21 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
     HarmonicOptions fem = o;
     fem.method = HarmonicMethod::fem;
     const auto p0 =
-        with_spec_context(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, fem); });
+        with_spec_context(spec, "map.source", [&] { return make_harmonic(source, lambda, s0, fem); });
     const auto p1 =
-        with_spec_context(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, fem); });
+        with_spec_context(spec, "map.target", [&] { return make_harmonic(target, lambda, s1, fem); });
     IntermediateOptimizerOptions oo;
     oo.energy = spec.distortion_energy;
     const Polygon start = lambda;
-    lambda = with_spec_context(spec, "/map/distortion_energy",
+    lambda = with_spec_context(spec, "map.distortion_energy",
                                [&] { return optimize_intermediate(p0, p1, oo).polygon; });
     if (o.method == HarmonicMethod::fem)
       return std::make_shared<const CompositeHarmonicMap>(p0->with_image(lambda), p1->with_image(lambda), h1);
     // the fem proxy's gain need not carry over: keep Λ' only if the requested method agrees
     const auto phi0 =
-        with_spec_context(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, o); });
+        with_spec_context(spec, "map.source", [&] { return make_harmonic(source, lambda, s0, o); });
     const auto phi1 =
-        with_spec_context(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, o); });
+        with_spec_context(spec, "map.target", [&] { return make_harmonic(target, lambda, s1, o); });
     const Points<2> sample = grid_sample(source, oo.sample_resolution);
     const Real e_opt = distortion_energy(phi0, phi1, sample, oo.energy);
     const Real e_start =
@@ -96,9 +96,9 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
     return std::make_shared<const CompositeHarmonicMap>(phi0->with_image(start), phi1->with_image(start), h1);
   }
   const auto phi0 =
-      with_spec_context(spec, "/map/source", [&] { return make_harmonic(source, lambda, s0, o); });
+      with_spec_context(spec, "map.source", [&] { return make_harmonic(source, lambda, s0, o); });
   const auto phi1 =
-      with_spec_context(spec, "/map/target", [&] { return make_harmonic(target, lambda, s1, o); });
+      with_spec_context(spec, "map.target", [&] { return make_harmonic(target, lambda, s1, o); });
   return std::make_shared<const CompositeHarmonicMap>(phi0, phi1, h1);
 }
 

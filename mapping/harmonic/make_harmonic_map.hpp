@@ -10,7 +10,7 @@
 
 namespace warpfem::mapping {
 
-/// Throws warpfem::Error naming spec.origin and the offending /map/... key.
+/// Throws warpfem::Error naming spec.origin and the offending parameter (field "map.<name>").
 MapPtr<2> make_harmonic_map(const MapSpec& spec);
 
 /// The same, with the concrete type (for reports and tests).

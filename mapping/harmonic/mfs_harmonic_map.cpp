@@ -20,7 +20,7 @@ std::shared_ptr<const MfsHarmonicCoordinates> solve(const Polygon& domain,
   if (o.boundary_nodes < n)
     throw Error("mfs: " + std::to_string(o.boundary_nodes) + " sites are fewer than the " +
                     std::to_string(n) + " vertices of " + domain.name(),
-                {.file = "", .key_path = "/map/boundary_nodes", .hint = "use at least 4 sites per vertex"});
+                {.file = "", .key_path = "map.boundary_nodes", .hint = "use at least 4 sites per vertex"});
   require(o.mfs_oversampling >= 2, "mfs: mfs_oversampling must be at least 2");
   require(o.mfs_site_distance > 0, "mfs: mfs_site_distance must be positive");
   const std::vector<EdgeSpeed> speeds = speeds_for(domain, speeds_in);
@@ -68,7 +68,7 @@ std::shared_ptr<const MfsHarmonicCoordinates> solve(const Polygon& domain,
   if (!c->weights.allFinite())
     throw Error(
         "mfs: the least-squares problem of " + domain.name() + " failed",
-        {.file = "", .key_path = "/map/boundary_nodes", .hint = "change the number of boundary nodes"});
+        {.file = "", .key_path = "map.boundary_nodes", .hint = "change the number of boundary nodes"});
   return c;
 }
 

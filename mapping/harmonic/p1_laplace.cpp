@@ -20,7 +20,7 @@ Mesh<2> auxiliary_mesh(const Polygon& domain, Real max_edge_length, Index max_tr
     throw Error("harmonic map: a mesh of " + domain.name() + " with edges ≤ " +
                     std::to_string(max_edge_length) + " would have about " +
                     std::to_string(static_cast<long long>(estimate)) + " triangles",
-                {.file = "", .key_path = "/map/fem_max_edge_length", .hint = "choose a larger edge length"});
+                {.file = "", .key_path = "map.fem_max_edge_length", .hint = "choose a larger edge length"});
   return mesh_polygon(domain,
                       {.max_edge_length = max_edge_length, .max_boundary_edge_length = max_edge_length});
 }

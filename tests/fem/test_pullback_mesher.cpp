@@ -148,7 +148,7 @@ TEST(PullbackMesher, MeshFactoryBuildsPullbackMeshesAndQuadrilaterals) {
     make_coarse_mesh(*spec.source, ms);
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("/mesh/type"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mesh.type"), std::string::npos) << e.what();
   }
 }
 
@@ -159,7 +159,7 @@ TEST(PullbackMesher, RejectsPolygonsWithDifferentVertexCounts) {
     pull_back_target_mesh(l_shape(), square, identity, {.max_edge_length = 0.3});
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("/map/target"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("map.target"), std::string::npos) << e.what();
   }
 }
 

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/mesh/polygon_mesher.hpp"
 #include "core/polygon.hpp"
+#include "io/config_field.hpp"
 #include "io/elasticity_config.hpp"
 #include "io/expression.hpp"
 #include "io/run_config.hpp"
@@ -311,6 +312,15 @@ TEST(InputValidation, TransientRunsWithTooManyStepsOrFilesAreRefused) {
 
 TEST(InputValidation, MesherRefusesAnEdgeBoundItCannotSquare) {
   const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+  // The mesher names the parameter; io locates it in the config.
   const std::string m = error_of([&] { warpfem::mesh_polygon(square, {.max_edge_length = 1e-300}); });
-  expect_contains(m, "/mesh/max_edge_length: edge length bound 1e-300 cannot be used");
+  expect_contains(m, "mesh.max_edge_length: edge length bound 1e-300 cannot be used");
+  const std::string located = error_of([&] {
+    try {
+      warpfem::mesh_polygon(square, {.max_edge_length = 1e-300});
+    } catch (const Error& e) {
+      throw io::in_config(e, "config.json");
+    }
+  });
+  expect_contains(located, "config.json: /mesh/max_edge_length: edge length bound 1e-300 cannot be used");
 }

@@ -119,7 +119,7 @@ TEST(CompositeMap, ThrowsWhenEpsilonIsReachedWithoutBijectivity) {
     EXPECT_NE(what.find("not bijective"), std::string::npos) << what;
     EXPECT_NE(what.find("min det J = -"), std::string::npos) << what;
     EXPECT_NE(what.find("[0.5, 1]"), std::string::npos) << what;
-    EXPECT_EQ(e.context().key_path, "/map/min_interval");
+    EXPECT_EQ(e.context().key_path, "map.min_interval");
   }
 }
 

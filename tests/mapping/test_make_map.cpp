@@ -58,7 +58,7 @@ TEST(MakeMap, RefusesEveryMapThatFoldsOnItsCheckSample) {
   s.type = "barycentric";
   Error e = error_of(s);
   EXPECT_EQ(e.context().file, "dart.json");
-  EXPECT_EQ(e.context().key_path, "/map");
+  EXPECT_EQ(e.context().key_path, "map");
   EXPECT_NE(std::string(e.what()).find("det J_f <= 0"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("composite_mean_value"), std::string::npos) << e.what();
 
@@ -82,29 +82,29 @@ TEST(MakeMap, ErrorsNameTheFileAndKey) {
   s.partition = "binary";
   Error e = error_of(s);
   EXPECT_EQ(e.context().file, "dart.json");
-  EXPECT_EQ(e.context().key_path, "/map/partition");
+  EXPECT_EQ(e.context().key_path, "map.partition");
 
   s = dart_spec();
   s.target.reset();
-  EXPECT_EQ(error_of(s).context().key_path, "/map/target");
+  EXPECT_EQ(error_of(s).context().key_path, "map.target");
 
   s = dart_spec();
   s.target = test::star();
-  EXPECT_EQ(error_of(s).context().key_path, "/map/target");  // 4 vs 10 vertices
+  EXPECT_EQ(error_of(s).context().key_path, "map.target");  // 4 vs 10 vertices
 
   s = dart_spec();
   s.partition = "explicit";
   s.times = {0, 0.6, 0.4, 1};
-  EXPECT_EQ(error_of(s).context().key_path, "/map/times");
+  EXPECT_EQ(error_of(s).context().key_path, "map.times");
 
   s = dart_spec();
   s.partition = "uniform";
   s.steps = 0;
-  EXPECT_EQ(error_of(s).context().key_path, "/map/steps");
+  EXPECT_EQ(error_of(s).context().key_path, "map.steps");
 
   s = dart_spec();
   s.vertex_path = "spline";
-  EXPECT_EQ(error_of(s).context().key_path, "/map/vertex_path");
+  EXPECT_EQ(error_of(s).context().key_path, "map.vertex_path");
 
   s = dart_spec();
   s.coordinates = "wachspress";  // the intermediate darts are concave
@@ -117,7 +117,7 @@ TEST(MakeMap, ErrorsNameTheFileAndKey) {
   s.min_interval = 0.6;
   e = error_of(s);
   EXPECT_NE(std::string(e.what()).find("min det J"), std::string::npos) << e.what();
-  EXPECT_EQ(e.context().key_path, "/map/min_interval");
+  EXPECT_EQ(e.context().key_path, "map.min_interval");
   EXPECT_EQ(e.context().file, "dart.json");
 }
 

@@ -147,22 +147,22 @@ TEST(MakeHarmonicMap, BuildsFromASpecAndNamesBadFields) {
   };
   MapSpec bad = spec;
   bad.harmonic_method = "fdm";
-  expect_key(bad, "/map/harmonic_method");
+  expect_key(bad, "map.harmonic_method");
   bad = spec;
   bad.intermediate = "square";
-  expect_key(bad, "/map/intermediate");
+  expect_key(bad, "map.intermediate");
   bad = spec;
   bad.boundary_nodes = 2;
-  expect_key(bad, "/map/boundary_nodes");
+  expect_key(bad, "map.boundary_nodes");
   bad = spec;
   bad.target_edge_speeds = {"linear", "cubic", "linear", "linear"};
-  expect_key(bad, "/map/target_edge_speeds");
+  expect_key(bad, "map.target_edge_speeds");
   bad = spec;
   bad.source_edge_speeds = {"linear"};
-  expect_key(bad, "/map/source_edge_speeds");
+  expect_key(bad, "map.source_edge_speeds");
   bad = spec;
   bad.target = test::star();
-  expect_key(bad, "/map/target");
+  expect_key(bad, "map.target");
 }
 
 TEST(MakeHarmonicMap, ShippedExamplesAreBijectiveOrRefused) {

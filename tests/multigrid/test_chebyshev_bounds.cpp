@@ -110,7 +110,7 @@ TEST(ChebyshevBounds, AutomaticChoiceReachesTheSmoothers) {
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
     ADD_FAILURE() << "Gershgorin bounds with SSOR-preconditioned Chebyshev were accepted";
   } catch (const Error& e) {
-    EXPECT_EQ(e.context().key_path, "/solver/multigrid/chebyshev_bounds");
+    EXPECT_EQ(e.context().key_path, "solver.multigrid.chebyshev_bounds");
   }
 }
 

@@ -1,0 +1,45 @@
+#include "fem/hierarchy/mesh_parameters.hpp"
+
+namespace warpfem::fem {
+namespace {
+
+ParameterTable<MeshSpec> make_table() {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  ParameterTable<MeshSpec> t("mesh");
+  t.choice("type", &MeshSpec::type, {"delaunay", "quad_split", "structured", "gmsh", "pullback"},
+           "CGAL constrained Delaunay triangles of the source polygon; the same split into 3 quadrilaterals "
+           "each; an nx × ny grid of a rectangular source polygon; a Gmsh ASCII `.msh` (2.2 or 4.1) file; "
+           "CGAL's Delaunay mesh of the *target* polygon pulled back to Ω0 through f⁻¹ (below)");
+  t.choice("cell_type", &MeshSpec::cell_type,
+           std::vector<std::pair<std::string, CellType>>{{"triangle", CellType::triangle},
+                                                         {"quadrilateral", CellType::quadrilateral}},
+           "structured: quads or two triangles per rectangle; pullback: quadrilaterals split the "
+           "pulled-back triangles into 3 each")
+      .with_default("quadrilateral for structured, else triangle")
+      .read_by_hand();
+  t.other("cells", "integer or `[nx, ny]`", "4", "structured: cells per direction");
+  t.text("file", &MeshSpec::file,
+         "gmsh: the mesh file, relative to the config file's directory (it must cover the source polygon "
+         "exactly)")
+      .with_default("—");
+  t.number("max_edge_length", &MeshSpec::max_edge_length, 0.0, inf,
+           "delaunay/quad_split: upper bound on triangle edge length; pullback: the same bound for the "
+           "triangles of the target (in Ω1 units)")
+      .with_default(
+          "0 = a tenth of the bounding-box diagonal (a value so small that the mesh cannot fit in memory is "
+          "refused with the estimate)");
+  t.number("shape_bound", &MeshSpec::shape_bound, 0.125, inf,
+           "CGAL's circumradius / shortest edge bound (0.125 ≈ 20.6° minimum angle)");
+  t.integer("refinements", &MeshSpec::refinements, 0, 12,
+            "uniform refinements (each splits every triangle into 4; the hierarchy is nested)");
+  return t;
+}
+
+}  // namespace
+
+const ParameterTable<MeshSpec>& mesh_parameters() {
+  static const ParameterTable<MeshSpec> table = make_table();
+  return table;
+}
+
+}  // namespace warpfem::fem
