@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <utility>
 
 #include "core/error.hpp"
@@ -284,6 +285,16 @@ void require_same_triangulation(const Polyhedron& source, const Polyhedron& targ
       throw failure("triangle " + std::to_string(t) + " is " + triangle_text(source.triangle(t)) + " in " +
                         source.name() + " but " + triangle_text(target.triangle(t)) + " in " + target.name(),
                     "give both polyhedra the same triangle list");
+}
+
+Real winding_number(const Polyhedron& P, const Point<3>& x) {
+  Real omega = 0;
+  for (const auto& t : P.triangles()) {
+    const Point<3> a = P.vertex(t[0]) - x, b = P.vertex(t[1]) - x, c = P.vertex(t[2]) - x;
+    const Real la = a.norm(), lb = b.norm(), lc = c.norm();
+    omega += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
+  }
+  return omega / (4 * std::numbers::pi);
 }
 
 }  // namespace warpfem

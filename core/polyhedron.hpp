@@ -64,4 +64,8 @@ class Polyhedron {
 /// count and the same triangles (the vertex correspondence of a map).
 void require_same_triangulation(const Polyhedron& source, const Polyhedron& target);
 
+/// Generalized winding number of the surface around x (Van Oosterom–Strackee
+/// solid angles): 1 inside, 0 outside, ½ on a face.
+Real winding_number(const Polyhedron& polyhedron, const Point<3>& x);
+
 }  // namespace warpfem

@@ -13,16 +13,6 @@ namespace warpfem::mapping {
 /// Relative round-trip error above which the inverse counts as failed.
 constexpr Real kRoundTripTolerance = 1e-9;
 
-Real winding_number(const Polyhedron& P, const Point<3>& x) {
-  Real omega = 0;
-  for (const auto& t : P.triangles()) {
-    const Point<3> a = P.vertex(t[0]) - x, b = P.vertex(t[1]) - x, c = P.vertex(t[2]) - x;
-    const Real la = a.norm(), lb = b.norm(), lc = c.norm();
-    omega += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
-  }
-  return omega / (4 * std::numbers::pi);
-}
-
 std::string PolyhedronMapCheck::summary() const {
   std::ostringstream os;
   os << std::setprecision(4) << "min det J_f = " << min_det << " on " << samples

@@ -32,7 +32,4 @@ struct PolyhedronMapCheck {
 PolyhedronMapCheck check_polyhedron_map(const PolyhedronCompositeMap& f, const Polyhedron& source,
                                         const Polyhedron& target, int per_feature = 3);
 
-/// Generalized winding number of `P` at x: 1 inside, 0 outside, ½ on the surface.
-Real winding_number(const Polyhedron& P, const Point<3>& x);
-
 }  // namespace warpfem::mapping

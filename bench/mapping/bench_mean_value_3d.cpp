@@ -78,16 +78,6 @@ Polyhedron cage() {
   return Polyhedron::checked(v, t, "bumpy sphere");
 }
 
-Real winding_number(const Polyhedron& P, const Point<3>& x) {
-  Real omega = 0;
-  for (const auto& t : P.triangles()) {
-    const Point<3> a = P.vertex(t[0]) - x, b = P.vertex(t[1]) - x, c = P.vertex(t[2]) - x;
-    const Real la = a.norm(), lb = b.norm(), lc = c.norm();
-    omega += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
-  }
-  return omega / (4 * std::numbers::pi);
-}
-
 std::vector<Points<3>> interior_chunks(const Polyhedron& P) {
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<Real> u(0, 1);
