@@ -15,7 +15,8 @@ namespace {
 
 /// Parameter ids quoted in a hint ("raise solver.max_iterations") read as pointers there.
 std::string pointers_in_hint(const std::string& hint) {
-  static const std::regex id(R"(\b((?:map|mesh|problem|solver|output|limits|time|load_stepping)(?:\.[a-z_]+)+)\b)");
+  static const std::regex id(
+      R"(\b((?:map|mesh|problem|solver|output|limits|time|load_stepping)(?:\.[a-z_]+)+)\b)");
   std::string out;
   auto last = hint.cbegin();
   for (std::sregex_iterator it(hint.begin(), hint.end(), id), end; it != end; ++it) {
@@ -29,7 +30,9 @@ std::string pointers_in_hint(const std::string& hint) {
 
 }  // namespace
 
-bool is_parameter_id(const std::string& key_path) { return !key_path.empty() && key_path[0] != '/'; }
+bool is_parameter_id(const std::string& key_path) {
+  return !key_path.empty() && key_path[0] != '/';
+}
 
 Error with_json_pointer(const Error& e) {
   if (!is_parameter_id(e.context().key_path)) return e;

@@ -76,7 +76,8 @@ std::string markdown(const ParameterTable<S>& table) {
   const S defaults{};
   std::string out = "| key | type | default | meaning |\n|---|---|---|---|\n";
   for (const auto& p : table.entries())
-    out += "| `" + p.name + "` | " + type_text(p) + " | " + default_text(p, defaults) + " | " + p.doc + " |\n";
+    out +=
+        "| `" + p.name + "` | " + type_text(p) + " | " + default_text(p, defaults) + " | " + p.doc + " |\n";
   return out;
 }
 

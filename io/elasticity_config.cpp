@@ -270,7 +270,8 @@ fem::ElasticityData make_elasticity_data(const ElasticityConfig& cfg) {
   data.boundary_polygon = cfg.map.source;
   data.gravity = Point<2>(p.gravity[0], p.gravity[1]);
   if (p.body_force[0] != "0" || p.body_force[1] != "0")
-    data.body_force = vector(p.body_force, cfg.file, json_pointer(elasticity_parameters().field("body_force")));
+    data.body_force =
+        vector(p.body_force, cfg.file, json_pointer(elasticity_parameters().field("body_force")));
   for (const auto& bc : p.dirichlet)
     data.dirichlet.push_back({bc.edges,
                               {scalar(bc.value[0], cfg.file, bc.key_path + "/0"),

@@ -18,7 +18,8 @@ ParameterTable<ElasticitySpec> make_problem() {
   t.integer("quadrature_degree", &S::quadrature_degree, 0, 30, "exactness degree of the cell quadrature")
       .with_default("0 = 2·order + 2");
   t.other("material", "object", "*required*", "see `problem.material`");
-  t.other("gravity", "`[gx, gy]`", "`[0, 0]`", "acceleration g; adds the body force ρ g per unit reference area");
+  t.other("gravity", "`[gx, gy]`", "`[0, 0]`",
+          "acceleration g; adds the body force ρ g per unit reference area");
   t.other("body_force", "`[x, y]` numbers or expressions", "`[\"0\", \"0\"]`",
           "extra body force per unit reference area; numbers or expressions of x, y, t");
   t.other("dirichlet", "array", "*required*",

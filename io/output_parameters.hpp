@@ -21,9 +21,10 @@ void add_output_parameters(ParameterTable<S>& t, const std::string& files) {
   t.choice("compression", &S::compression, {"none", "lz4", "zlib"},
            "compressor of the binary data; `\"zlib\"` makes the file smaller and takes several times longer "
            "to write, `\"lz4\"` is in between (figures: BENCHMARKS.md, \"Output\")");
-  t.choice("cells", &S::cells, {"curved", "linear"},
-           "`\"linear\"`: straight triangles/quadrilaterals through the vertices only (`vtk_order` 1) — a "
-           "quarter of the points of curved P1 output, for huge runs; P2 values are shown at the vertices only");
+  t.choice(
+      "cells", &S::cells, {"curved", "linear"},
+      "`\"linear\"`: straight triangles/quadrilaterals through the vertices only (`vtk_order` 1) — a "
+      "quarter of the points of curved P1 output, for huge runs; P2 values are shown at the vertices only");
 }
 
 }  // namespace warpfem::io

@@ -27,9 +27,7 @@ template <class S>
 void read_parameter(const ConfigNode& node, const ParameterTable<S>& table, const std::string& name, S& s) {
   const Parameter<S>& p = table.at(name);
   switch (p.kind) {
-    case ParameterKind::boolean:
-      p.set(s, node.get_bool(name, std::get<bool>(p.get(s))));
-      return;
+    case ParameterKind::boolean: p.set(s, node.get_bool(name, std::get<bool>(p.get(s)))); return;
     case ParameterKind::integer:
       p.set(s, node.get_int(name, std::get<long>(p.get(s)), detail::integer_bound(p.min),
                             detail::integer_bound(p.max)));
@@ -40,9 +38,7 @@ void read_parameter(const ConfigNode& node, const ParameterTable<S>& table, cons
     case ParameterKind::positive:
       p.set(s, node.get_positive(name, std::get<double>(p.get(s)), p.max));
       return;
-    case ParameterKind::text:
-      p.set(s, node.get_string(name, std::get<std::string>(p.get(s))));
-      return;
+    case ParameterKind::text: p.set(s, node.get_string(name, std::get<std::string>(p.get(s)))); return;
     case ParameterKind::choice:
       p.set(s, node.get_choice(name, std::get<std::string>(p.get(s)), p.choices));
       return;
@@ -57,8 +53,7 @@ void read_parameter(const ConfigNode& node, const ParameterTable<S>& table, cons
       p.set(s, get_petsc_type(node, name, std::get<std::string>(p.get(s)),
                               p.kind == ParameterKind::petsc_ksp ? PetscTypeKind::ksp : PetscTypeKind::pc));
       return;
-    case ParameterKind::other:
-      break;
+    case ParameterKind::other: break;
   }
   throw std::logic_error("parameter \"" + name + "\" is read by hand");
 }

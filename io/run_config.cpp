@@ -189,7 +189,8 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
   // The default cell type follows the mesh type.
   const auto& cell_type = table.at("cell_type");
   if (spec.type == "structured") spec.cell_type = warpfem::CellType::quadrilateral;
-  cell_type.set(spec, mesh.get_choice("cell_type", std::get<std::string>(cell_type.get(spec)), cell_type.choices));
+  cell_type.set(spec,
+                mesh.get_choice("cell_type", std::get<std::string>(cell_type.get(spec)), cell_type.choices));
   if (spec.type == "delaunay" && spec.cell_type != warpfem::CellType::triangle)
     throw mesh.error("cell_type", "delaunay meshes are made of triangles",
                      "use \"type\": \"quad_split\" for quadrilaterals");
@@ -210,7 +211,8 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
   if (spec.type == "gmsh") {
     if (spec.file.empty())
       throw mesh.error("file", "mesh type \"gmsh\" needs a .msh file", "add \"file\": \"domain.msh\"");
-    if (fs::path(spec.file).is_relative()) spec.file = (fs::path(mesh.file()).parent_path() / spec.file).string();
+    if (fs::path(spec.file).is_relative())
+      spec.file = (fs::path(mesh.file()).parent_path() / spec.file).string();
   }
   mesh.finish();
   return spec;

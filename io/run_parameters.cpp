@@ -48,19 +48,25 @@ ParameterTable<PoissonSpec> make_poisson() {
 
 ParameterTable<SolverSpec> make_solver() {
   ParameterTable<SolverSpec> t("solver");
-  t.petsc_type("ksp_type", ParameterKind::petsc_ksp, [](auto& s) -> auto& { return s.linear.ksp_type; },
-               "PETSc KSP type (an unknown name is an error listing the valid ones)");
-  t.petsc_type("pc_type", ParameterKind::petsc_pc, [](auto& s) -> auto& { return s.linear.pc_type; },
-               "checked like `ksp_type`. `\"mg\"`: geometric multigrid on the refinement hierarchy (needs "
-               "`refinements` ≥ 1; a single level falls back to `\"gamg\"`); any other PETSc PC type "
-               "(`\"gamg\"`, `\"hypre\"`, `\"lu\"`, ...) solves the finest level alone. Systems under 500 "
-               "unknowns are solved directly");
-  t.number("rtol", [](auto& s) -> auto& { return s.linear.rtol; }, 0.0, 1.0, "KSP relative tolerance");
-  t.number("atol", [](auto& s) -> auto& { return s.linear.atol; }, 0.0, kInf, "KSP absolute tolerance");
-  t.integer("max_iterations", [](auto& s) -> auto& { return s.linear.max_iterations; }, 1, kNoMax,
-            "KSP iteration limit (exceeding it is an error)");
-  t.text("petsc_options", &SolverSpec::petsc_options,
-         "any PETSc options, e.g. `\"-ksp_monitor -pc_gamg_threshold 0.02\"`; options on the command line win");
+  t.petsc_type(
+      "ksp_type", ParameterKind::petsc_ksp, [](auto& s) -> auto& { return s.linear.ksp_type; },
+      "PETSc KSP type (an unknown name is an error listing the valid ones)");
+  t.petsc_type(
+      "pc_type", ParameterKind::petsc_pc, [](auto& s) -> auto& { return s.linear.pc_type; },
+      "checked like `ksp_type`. `\"mg\"`: geometric multigrid on the refinement hierarchy (needs "
+      "`refinements` ≥ 1; a single level falls back to `\"gamg\"`); any other PETSc PC type "
+      "(`\"gamg\"`, `\"hypre\"`, `\"lu\"`, ...) solves the finest level alone. Systems under 500 "
+      "unknowns are solved directly");
+  t.number(
+      "rtol", [](auto& s) -> auto& { return s.linear.rtol; }, 0.0, 1.0, "KSP relative tolerance");
+  t.number(
+      "atol", [](auto& s) -> auto& { return s.linear.atol; }, 0.0, kInf, "KSP absolute tolerance");
+  t.integer(
+      "max_iterations", [](auto& s) -> auto& { return s.linear.max_iterations; }, 1, kNoMax,
+      "KSP iteration limit (exceeding it is an error)");
+  t.text(
+      "petsc_options", &SolverSpec::petsc_options,
+      "any PETSc options, e.g. `\"-ksp_monitor -pc_gamg_threshold 0.02\"`; options on the command line win");
   t.other("multigrid", "object", "`{}`",
           "settings of `\"pc_type\": \"mg\"` (Poisson), below; giving it with another `pc_type` is an error "
           "(it would be ignored)");

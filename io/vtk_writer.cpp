@@ -61,7 +61,8 @@ vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
 
 template <class PointTable, int dim>
 vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const IndexTable& table,
-                                               warpfem::CellType type, int order, const VtkOutput<dim>& output) {
+                                               warpfem::CellType type, int order,
+                                               const VtkOutput<dim>& output) {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();

@@ -50,9 +50,8 @@ MapPtr<2> build_map(const MapSpec& spec) {
   const VertexPath path(source, target, vp);
   if (spec.partition == "adaptive" || spec.partition == "greedy") {
     if (spec.sample_resolution < 2)
-      throw Error(
-          "sample_resolution must be at least 2, got " + std::to_string(spec.sample_resolution),
-          {.file = spec.origin, .key_path = "map.sample_resolution", .hint = "64 is a good default"});
+      throw Error("sample_resolution must be at least 2, got " + std::to_string(spec.sample_resolution),
+                  {.file = spec.origin, .key_path = "map.sample_resolution", .hint = "64 is a good default"});
     if (!(spec.min_interval > 0 && spec.min_interval < 1))
       throw Error("min_interval must lie in (0, 1)",
                   {.file = spec.origin, .key_path = "map.min_interval", .hint = "1e-4 is a good default"});

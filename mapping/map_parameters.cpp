@@ -31,17 +31,18 @@ ParameterTable<MapSpec> make_table() {
             "check of every map)");
   t.number("min_interval", &MapSpec::min_interval, 1e-12, 1.0,
            "adaptive/greedy: smallest step length ε before giving up with an error");
-  t.number("greedy_min_det", &MapSpec::greedy_min_det, 1e-6, 0.99,
-           "greedy: min det J every step keeps on its own sample, a margin against steps that barely stay "
-           "bijective. Fewer steps cost distortion: on the gear, Algorithm 1 (7 steps) gives conformal "
-           "distortion mean 6.2 / max 201, greedy with 0.2 (5 steps) 6.9 / 378, with 0.02 (4 steps) 8.7 / 651");
+  t.number(
+      "greedy_min_det", &MapSpec::greedy_min_det, 1e-6, 0.99,
+      "greedy: min det J every step keeps on its own sample, a margin against steps that barely stay "
+      "bijective. Fewer steps cost distortion: on the gear, Algorithm 1 (7 steps) gives conformal "
+      "distortion mean 6.2 / max 201, greedy with 0.2 (5 steps) 6.9 / 378, with 0.02 (4 steps) 8.7 / 651");
   t.choice("harmonic_method", &MapSpec::harmonic_method, {"fem", "bem", "mfs"},
            "composite_harmonic: how φ0, φ1 are approximated");
   t.choice("intermediate", &MapSpec::intermediate, {"regular", "cyclic", "optimized"},
            "composite_harmonic: the convex polygon Λ");
   t.integer("boundary_nodes", &MapSpec::boundary_nodes, 3, 100000, "bem: boundary nodes; mfs: sites");
-  t.number("fem_max_edge_length", &MapSpec::fem_max_edge_length, 0.0,
-           std::numeric_limits<double>::infinity(), "fem: mesh size of the harmonic solve")
+  t.number("fem_max_edge_length", &MapSpec::fem_max_edge_length, 0.0, std::numeric_limits<double>::infinity(),
+           "fem: mesh size of the harmonic solve")
       .with_default("0 = bounding-box diagonal / 50");
   t.choice("distortion_energy", &MapSpec::distortion_energy, {"conformal", "isometric"},
            "optimized Λ: the energy minimized");

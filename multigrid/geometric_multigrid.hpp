@@ -35,8 +35,8 @@ class GeometricMultigrid {
   /// Rediscretized levels: `levels[l]` is the problem on hierarchy level l
   /// (coarse to fine), all with the same element and components. With smoothed
   /// prolongations call smooth() with the finest operator before configure().
-  GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, const std::vector<const fem::Problem<2>*>& levels,
-                     const MultigridSettings& settings);
+  GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy,
+                     const std::vector<const fem::Problem<2>*>& levels, const MultigridSettings& settings);
   /// Galerkin levels below `finest`, which must live on hierarchy.finest(): the
   /// coarser DOF maps and distributions are built here, a coarse unknown is
   /// constrained where the finer level's at the same node is. `level_owners`:

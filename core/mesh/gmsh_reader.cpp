@@ -15,8 +15,7 @@ class LineReader {
  public:
   explicit LineReader(const std::string& path) : path_(path), in_(path) {
     if (!in_)
-      throw Error("cannot open mesh file",
-                  {.file = path, .key_path = "mesh.file", .hint = "check the path"});
+      throw Error("cannot open mesh file", {.file = path, .key_path = "mesh.file", .hint = "check the path"});
   }
   bool next(std::string& line) {
     while (std::getline(in_, line)) {

@@ -47,10 +47,9 @@ void tag_boundary_facets(Mesh<2>& mesh, const Polygon& polygon) {
         0.5 * (mesh.vertex(mesh.boundary_facets(f, 0)) + mesh.vertex(mesh.boundary_facets(f, 1)));
     const int e = locator.edge_at(mid);
     if (e < 0)
-      throw Error(
-          "boundary facet " + std::to_string(f) + " of the mesh does not lie on the polygon " +
-              polygon.name(),
-          {.file = "", .key_path = "mesh", .hint = "the mesh must cover exactly the source polygon"});
+      throw Error("boundary facet " + std::to_string(f) + " of the mesh does not lie on the polygon " +
+                      polygon.name(),
+                  {.file = "", .key_path = "mesh", .hint = "the mesh must cover exactly the source polygon"});
     mesh.facet_tags[f] = e;
   }
 }

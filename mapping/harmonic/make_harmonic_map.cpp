@@ -56,8 +56,7 @@ std::shared_ptr<const CompositeHarmonicMap> make_composite_harmonic(const MapSpe
   if (spec.intermediate == "regular" || spec.intermediate == "optimized")
     lambda = regular_polygon(source.size());
   else if (spec.intermediate == "cyclic")
-    lambda =
-        with_spec_context(spec, "map.intermediate", [&] { return cyclic_intermediate(source, target); });
+    lambda = with_spec_context(spec, "map.intermediate", [&] { return cyclic_intermediate(source, target); });
   else
     throw Error("unknown intermediate polygon \"" + spec.intermediate + "\"",
                 {.file = spec.origin,

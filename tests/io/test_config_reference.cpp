@@ -32,7 +32,8 @@ nlohmann::json other_value(const Parameter<S>& p, const ParameterValue& current)
     case ParameterKind::positive: {
       const double v = std::get<double>(current);
       const double low = std::isfinite(p.min) ? p.min : 0.5;
-      return v == low ? (std::isfinite(p.max) ? p.max : low + 1) : (p.kind == ParameterKind::positive ? 0.5 : low);
+      return v == low ? (std::isfinite(p.max) ? p.max : low + 1)
+                      : (p.kind == ParameterKind::positive ? 0.5 : low);
     }
     case ParameterKind::choice:
       return std::get<std::string>(current) == p.choices.back() ? p.choices.front() : p.choices.back();
@@ -100,8 +101,9 @@ TEST(ParameterTables, RangesGiveTheReadersMessages) {
 TEST(ConfigField, ParameterIdsBecomeJsonPointers) {
   EXPECT_EQ(json_pointer(multigrid::multigrid_parameters().field("smoother")), "/solver/multigrid/smoother");
   EXPECT_EQ(json_pointer(mapping::map_parameters().field("min_interval")), "/map/min_interval");
-  const Error lower("diverged",
-                    {.file = "", .key_path = "solver.max_iterations", .hint = "raise solver.max_iterations or mesh.x"});
+  const Error lower(
+      "diverged",
+      {.file = "", .key_path = "solver.max_iterations", .hint = "raise solver.max_iterations or mesh.x"});
   EXPECT_STREQ(in_config(lower, "run.json").what(),
                "run.json: /solver/max_iterations: diverged (fix: raise /solver/max_iterations or /mesh/x)");
   const Error gmsh("bad area", {.file = "a.msh", .key_path = "mesh.file", .hint = ""});
@@ -142,7 +144,8 @@ TEST(ConfigReference, CommittedDocumentsMatchTheTables) {
     ASSERT_FALSE(committed.empty()) << "cannot read " << path << " (tests run from the source directory)";
     ASSERT_NE(committed.find("<!-- generated: "), std::string::npos) << path << " has no generated table";
     const std::string generated = update_config_reference(committed);
-    EXPECT_EQ(committed, generated) << path << " differs from the parameter tables (- committed, + generated):\n"
+    EXPECT_EQ(committed, generated) << path
+                                    << " differs from the parameter tables (- committed, + generated):\n"
                                     << line_diff(committed, generated)
                                     << "regenerate with: " << kConfigReferenceCommand;
   }

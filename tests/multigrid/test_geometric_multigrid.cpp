@@ -137,8 +137,8 @@ TEST(GeometricMultigrid, GalerkinLevelsConstrainWhatRediscretizedLevelsDo) {
 TEST(GeometricMultigrid, VectorProlongationIsTheScalarOnePerComponent) {
   // Elasticity clamped at the bottom, roller (u_x only) on the left: component c
   // of the vector prolongation is the scalar one with component c's constrained DOFs.
-  const fem::MeshHierarchy<2> h(warpfem::structured_mesh(test::unit_square(), 3, 3, warpfem::CellType::triangle),
-                             1);
+  const fem::MeshHierarchy<2> h(
+      warpfem::structured_mesh(test::unit_square(), 3, 3, warpfem::CellType::triangle), 1);
   const fem::HyperelasticOperator op(PETSC_COMM_SELF, h.finest(), test::warped_square(), 1, 0,
                                      test::clamped_block());
   const GeometricMultigrid vector(h, op);
