@@ -28,7 +28,7 @@ struct InterpolantOptions {
   /// Polynomial degree per variable of every leaf.
   int degree = 10;
   /// Deepest subdivision of the bounding square: cells of side 2^-max_depth of it.
-  int max_depth = 10;
+  int max_depth = 8;
   /// Test points per leaf, in addition to the fit's nodes (which it reproduces).
   int test_points = 16;
 };

@@ -90,8 +90,10 @@ TEST(MapInterpolant, BatchedEqualsPointwiseAndAllEntryPointsAgree) {
   g.interp->eval_with_jacobian(x, f, J);
   g.interp->eval(x, f_only);
   g.interp->jacobian(x, J_only);
-  EXPECT_EQ(f, f_only);
-  EXPECT_EQ(J, J_only);
+  // Points left to the exact map may differ in the last bits between its
+  // value-only and value-and-Jacobian kernels.
+  EXPECT_LE((f - f_only).lpNorm<Eigen::Infinity>(), 1e-15 * g.diam);
+  EXPECT_LE((J - J_only).lpNorm<Eigen::Infinity>(), 1e-13 * J.lpNorm<Eigen::Infinity>());
   for (Index p = 0; p < x.rows(); ++p) {
     const Points<2> one = x.row(p);
     Points<2> f1;
@@ -103,7 +105,7 @@ TEST(MapInterpolant, BatchedEqualsPointwiseAndAllEntryPointsAgree) {
   }
   Points<2> in_place = x;  // x and f(x) in the same batch
   g.interp->eval(in_place, in_place);
-  EXPECT_EQ(in_place, f);
+  EXPECT_EQ(in_place, f_only);
 }
 
 TEST(MapInterpolant, PointsOutsideTheSourceAreEvaluatedByTheExactMap) {
