@@ -33,7 +33,7 @@ Error at_config_key(const Error& e, const std::string& file, const std::string& 
 class ElasticityOutput {
  public:
   /// `cell_owner`: the partition the operator was built with (empty: the default).
-  ElasticityOutput(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator& op,
+  ElasticityOutput(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator<2>& op,
                    const warpfem::Mesh<2>& mesh, MPI_Comm comm, const std::vector<int>& cell_owner)
       : cfg_(cfg),
         op_(op),
@@ -88,10 +88,10 @@ class ElasticityOutput {
 
  private:
   const io::ElasticityConfig& cfg_;
-  const fem::HyperelasticOperator& op_;
+  const fem::HyperelasticOperator<2>& op_;
   MPI_Comm comm_;
   fem::OutputMesh<2> mesh_;
-  fem::NodalProjection projection_;
+  fem::NodalProjection<2> projection_;
   io::PvdWriter pvd_;
   int last_index_ = -1;
 };
@@ -119,7 +119,7 @@ double max_nodal_displacement(const fem::VectorSpace<2>& space, Vec u) {
 }
 
 /// v(x) at every owned node from the initial-velocity expressions (x = f(x0)).
-void interpolate_initial_velocity(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator& op,
+void interpolate_initial_velocity(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator<2>& op,
                                   Vec v) {
   const auto& iv = cfg.problem.initial_velocity;
   if (iv[0] == "0" && iv[1] == "0") return;
