@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iomanip>
 #include <random>
+#include <sstream>
+#include <string>
 
 #include "core/petsc/check.hpp"
 #include "elasticity_3d_fixtures.hpp"
@@ -25,6 +28,13 @@ fem::NewtonOptions quiet_newton() {
   o.rtol = 1e-12;
   o.atol = 1e-13;
   return o;
+}
+
+/// A number for RecordProperty (visible with --gtest_output=xml).
+std::string sci(double x) {
+  std::ostringstream os;
+  os << std::scientific << std::setprecision(4) << x;
+  return os.str();
 }
 
 struct JacobianCase {
@@ -76,6 +86,7 @@ TEST_P(OperatorJacobian3d, MatchesFiniteDifferencesOfTheResidual) {
   const VectorX exact = space.gather_all(jdu.get());
   const double rel = (fd - exact).norm() / exact.norm();
   EXPECT_LE(rel, 1e-6) << param.name << ": relative difference " << rel;
+  RecordProperty("jacobian_vs_fd", sci(rel));
 
   // The residual is the gradient of the potential energy on the free unknowns.
   const double e_p = *op.potential_energy(up.get(), 1.0, 0.0), e_m = *op.potential_energy(um.get(), 1.0, 0.0);
@@ -128,6 +139,7 @@ TEST(QuasiStatic3d, PatchTestReproducesAHomogeneousDeformation) {
     for (Index d = 0; d < x.rows(); ++d)
       worst = std::max(worst, (uh.segment<3>(3 * d) - affine(x.row(d).transpose())).cwiseAbs().maxCoeff());
     EXPECT_LT(worst, 1e-9) << (order == 1 ? "Q1" : "P2") << ": max nodal error";
+    RecordProperty(order == 1 ? "q1_max_nodal_error" : "p2_max_nodal_error", sci(worst));
     EXPECT_NEAR(op.min_det_F(u.get()), G.determinant(), 1e-9);
   }
 }
@@ -164,6 +176,9 @@ TEST(QuasiStatic3d, SmallLoadCantileverMatchesBeamTheory) {
   EXPECT_NEAR(tip[1], timoshenko, 0.03 * timoshenko)
       << "linear FE " << tip[1] << ", beam theory " << timoshenko;
   EXPECT_NEAR(tip[0], tip[1], 1e-4 * tip[1]) << "neo-Hookean vs linear elasticity";
+  RecordProperty("tip_linear", sci(tip[1]));
+  RecordProperty("tip_neo_hookean", sci(tip[0]));
+  RecordProperty("tip_timoshenko", sci(timoshenko));
 }
 
 namespace {
@@ -224,4 +239,3 @@ TEST(Transient3d, DissipatesWithRhoInfinityBelowOneAndStaysBoundedForNeoHookean)
   const double e0 = nh.energy.front();
   for (double e : nh.energy) EXPECT_NEAR(e, e0, 0.02 * e0);
 }
-
