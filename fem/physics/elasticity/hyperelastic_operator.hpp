@@ -69,7 +69,7 @@ class HyperelasticOperator final : public Problem<dim> {
   /// +∞ is not returned: an inadmissible u gives std::nullopt.
   std::optional<double> potential_energy(Vec u, double scale, double t) const;
 
-  /// Attaches the rigid body modes (translations, rotation about the physical node positions)
+  /// Attaches the rigid body modes (translations, rotations about the physical node positions)
   /// as near null space, which algebraic multigrid (-elasticity_pc_type gamg) needs.
   void set_near_null_space(Mat J) const;
 
