@@ -1,7 +1,8 @@
 // The hyperelastic operator and its solvers in 3D, through the same templates
 // as 2D: consistent Jacobian (P1/P2 tetrahedra, Q1/Q2 hexahedra, identity and
 // a warped map), the patch test of a homogeneous deformation, a cantilever
-// against beam theory and the energy of the generalized-α scheme.
+// against beam theory, quadratic Newton convergence and the energy of the
+// generalized-α scheme.
 
 #include <gtest/gtest.h>
 
@@ -179,6 +180,34 @@ TEST(QuasiStatic3d, SmallLoadCantileverMatchesBeamTheory) {
   RecordProperty("tip_linear", sci(tip[1]));
   RecordProperty("tip_neo_hookean", sci(tip[0]));
   RecordProperty("tip_timoshenko", sci(timoshenko));
+}
+
+TEST(QuasiStatic3d, NewtonConvergesQuadraticallyUnderAModerateLoad) {
+  const Mesh<3> mesh = test::box_mesh(Point<3>(2, 1, 1), {4, 2, 2}, CellType::tetrahedron);
+  fem::ElasticityData<3> data = test::clamped_at_x0(MaterialModel::neo_hookean);
+  data.neumann.push_back({{1}, [](const Point<3>&, double) { return Point<3>(0, 0.1, -0.3); }});
+  const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, std::make_shared<test::WarpedBoxMap>(), 2, 0, data);
+  petsc::Vector u = op.space().create_vector();
+  fem::QuasiStaticSolver solver(op, quiet_newton(), {.steps = 1});
+  const auto report = solver.solve(u.get());
+  ASSERT_EQ(report.steps.size(), 1u);
+  const auto& r = report.steps[0].residuals;
+  ASSERT_GE(r.size(), 4u) << "a moderate load should need several Newton iterations";
+  EXPECT_LE(r.size(), 12u);
+  int quadratic = 0;
+  for (std::size_t k = 1; k + 1 < r.size(); ++k) {
+    const double ek = r[k] / r[0], ek1 = r[k + 1] / r[0];
+    if (ek < 5e-2 && ek1 > 5e-12) {  // below ~1e-12 |R_0| the residual is at round-off level
+      EXPECT_LE(ek1, 10 * ek * ek) << "iteration " << k << ": " << r[k] << " -> " << r[k + 1];
+      ++quadratic;
+    }
+  }
+  EXPECT_GE(quadratic, 1);
+  RecordProperty("newton_residuals", [&] {
+    std::string s;
+    for (double x : r) s += sci(x) + " ";
+    return s;
+  }());
 }
 
 namespace {
