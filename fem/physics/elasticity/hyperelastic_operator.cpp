@@ -153,7 +153,8 @@ Vec HyperelasticOperator<dim>::external_force(double t) const {
                           Point<dim> b = rho * data_.gravity;
                           if (data_.body_force) b += data_.body_force(v.point(q), t);
                           for (Index k = 0; k < n; ++k)
-                            fe.template segment<dim>(dim * k) += (v.JxW(q) * v.shape_value(q, static_cast<int>(k))) * b;
+                            fe.template segment<dim>(dim * k) +=
+                                (v.JxW(q) * v.shape_value(q, static_cast<int>(k))) * b;
                         },
                         [&](const CellValues<dim>& v) {
                           block_indices(v.cell(), idx);
@@ -250,7 +251,8 @@ bool HyperelasticOperator<dim>::residual(Vec u, Vec inertia, double scale, doubl
                         }
                         const Matrix<dim> P = data_.material.first_piola(F);
                         const auto g = v.shape_gradients(q);
-                        for (Index k = 0; k < n; ++k) re.template segment<dim>(dim * k) += v.JxW(q) * (P * g.col(k));
+                        for (Index k = 0; k < n; ++k)
+                          re.template segment<dim>(dim * k) += v.JxW(q) * (P * g.col(k));
                         if (inertia) {
                           const Point<dim> a = v.vector_value(q, ae.data());
                           for (Index k = 0; k < n; ++k)
