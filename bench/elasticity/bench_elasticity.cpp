@@ -13,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-#include "apps/elasticity_run.hpp"
+#include "apps/run.hpp"
 #include "core/environment.hpp"
 #include "core/log.hpp"
 #include "core/mesh/structured_mesher.hpp"
@@ -37,7 +37,7 @@ void cantilever(int cells) {
   const auto map = mapping::make_map(spec);
   const warpfem::Mesh<2> mesh =
       warpfem::structured_mesh(source, 2 * cells, cells / 2, warpfem::CellType::quadrilateral);
-  fem::ElasticityData data;
+  fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(fem::MaterialModel::neo_hookean, 1000.0, 0.3);
   const fem::ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({{3}, {zero, zero}});
@@ -86,7 +86,7 @@ void gear() {
   json["verbosity"] = "warning";
   const auto cfg = io::parse_elasticity_config(json, path);
   Stopwatch watch;
-  const auto result = apps::run_elasticity(cfg, PETSC_COMM_WORLD, {.write_output = false});
+  const auto result = apps::run(cfg, PETSC_COMM_WORLD, {.write_output = false});
   const double total = watch.seconds();
   if (Environment::rank() == 0) {
     std::printf("\n### Gear example (examples/gear_transient.json, no output)\n\n");

@@ -119,7 +119,7 @@ class PoissonProblem final : public LinearProblem<2> {
   const Mesh<2>& mesh_;
   mapping::MapPtr<2> map_;
   PoissonData data_;
-  BoundaryParts parts_;
+  BoundaryParts<2> parts_;
   DofMap<2> dofs_;
   DofDistribution<2> dist_;
   WarpedGeometry<2> geometry_;
