@@ -4,6 +4,7 @@
 #include <CGAL/Interval_nt.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -11,6 +12,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "core/timer.hpp"
 #include "mapping/barycentric_map.hpp"
 #include "mapping/composite_mean_value_map.hpp"
@@ -231,6 +233,24 @@ Real point_det(const StepData& s, Real x, Real y) {
   return J(0, 0) * J(0, 3) - J(0, 1) * J(0, 2);
 }
 
+[[noreturn]] void refuse(const StepData& s, Index step, Real cx, Real cy, Real size, const I& det) {
+  std::ostringstream why;
+  why << std::setprecision(4) << "certificate refused: step " << step << " near x = " << at(cx, cy) << ": ";
+  if (det.sup() < 0)
+    why << "det J_" << step << " < 0 on a cell of size " << size << " (interval [" << det.inf() << ", "
+        << det.sup() << "]): the step folds there";
+  else
+    why << "det J_" << step << " cannot be proven positive on a cell of size " << size << " (interval ["
+        << det.inf() << ", " << det.sup() << "])";
+  if (s.polygon.side_of(Point<2>(cx, cy)) >= 0)
+    why << "; det J_" << step << " = " << point_det(s, cx, cy) << " there";
+  throw Error(why.str(),
+              {.file = "",
+               .key_path = "map.certify",
+               .hint = "the step may fold there; use a finer partition (more steps or \"partition\": "
+                       "\"adaptive\"), or \"certify\": false (sampled check only)"});
+}
+
 StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index step) {
   const Polygon& P = s.polygon;
   const Point<2> lo = P.bbox_min(), hi = P.bbox_max();
@@ -247,63 +267,72 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
   struct Cell {
     Real x0, y0, h;
   };
-  std::vector<Cell> stack{{lo.x(), lo.y(), side}};
-  std::vector<Jet> buf;
-  std::vector<char> near;
-  while (!stack.empty()) {
-    const Cell cell = stack.back();
-    stack.pop_back();
-    const Real x1 = cell.x0 + cell.h, y1 = cell.y0 + cell.h;
-    if (classify(P, edges, cell.x0, x1, cell.y0, y1) == CellSide::outside) continue;
-    bool in_disk = false;
-    for (Index i = 0; i < P.size() && !in_disk; ++i)
-      in_disk = box_in_disk(P.vertex(i), c.rho, cell.x0, x1, cell.y0, y1);
-    if (in_disk) {
-      ++c.skipped_in_disks;
-      continue;
-    }
-    I det;
-    {
-      CGAL::Protect_FPU_rounding<true> guard;
-      det = det_enclosure(s, cell.x0, x1, cell.y0, y1, buf, near);
-    }
-    if (++c.cells > o.max_cells)
-      throw Error("certificate: step " + std::to_string(step) + " needs more than " +
-                      std::to_string(o.max_cells) + " quadtree cells",
-                  {.file = "",
-                   .key_path = "map.certify",
-                   .hint = "use a finer partition (more steps), or \"certify\": false (sampled check only)"});
-    // A positive but loose interval is split further while cells are not tiny,
-    // so that b_k is close to the true minimum, not just above zero.
-    const bool loose = det.inf() < o.tightness * det.sup() && cell.h / 2 >= 16 * min_size;
-    if (det.inf() > 0 && !loose) {
-      if (det.inf() < c.lower_bound) {
-        c.lower_bound = det.inf();
-        c.lower_bound_at = Point<2>(cell.x0 + cell.h / 2, cell.y0 + cell.h / 2);
+  // The quadtree's first levels as independent roots, processed in parallel
+  // (each thread with its own rounding-mode guard and buffers).
+  constexpr int kRoots = 8;
+  std::vector<StepCertificate> parts(kRoots * kRoots);
+  std::atomic<Index> total_cells{0};
+  parallel_for(kRoots * kRoots, 1, [&](Index first, Index last) {
+    std::vector<Jet> buf;
+    std::vector<char> near;
+    std::vector<Cell> stack;
+    for (Index root = first; root < last; ++root) {
+      StepCertificate& part = parts[static_cast<std::size_t>(root)];
+      part.lower_bound = std::numeric_limits<Real>::infinity();
+      const Real h0 = side / kRoots;
+      stack.assign(1, Cell{lo.x() + static_cast<Real>(root % kRoots) * h0,
+                           lo.y() + static_cast<Real>(root / kRoots) * h0, h0});
+      while (!stack.empty()) {
+        const Cell cell = stack.back();
+        stack.pop_back();
+        const Real x1 = cell.x0 + cell.h, y1 = cell.y0 + cell.h;
+        if (classify(P, edges, cell.x0, x1, cell.y0, y1) == CellSide::outside) continue;
+        bool in_disk = false;
+        for (Index i = 0; i < P.size() && !in_disk; ++i)
+          in_disk = box_in_disk(P.vertex(i), c.rho, cell.x0, x1, cell.y0, y1);
+        if (in_disk) {
+          ++part.skipped_in_disks;
+          continue;
+        }
+        I det;
+        {
+          CGAL::Protect_FPU_rounding<true> guard;
+          det = det_enclosure(s, cell.x0, x1, cell.y0, y1, buf, near);
+        }
+        ++part.cells;
+        if (++total_cells > o.max_cells)
+          throw Error(
+              "certificate: step " + std::to_string(step) + " needs more than " +
+                  std::to_string(o.max_cells) + " quadtree cells",
+              {.file = "",
+               .key_path = "map.certify",
+               .hint = "use a finer partition (more steps), or \"certify\": false (sampled check only)"});
+        // A positive but loose interval is split further while cells are not
+        // tiny, so that b_k is close to the true minimum, not just above zero.
+        const bool loose = det.inf() < o.tightness * det.sup() && cell.h / 2 >= 16 * min_size;
+        if (det.inf() > 0 && !loose) {
+          if (det.inf() < part.lower_bound) {
+            part.lower_bound = det.inf();
+            part.lower_bound_at = Point<2>(cell.x0 + cell.h / 2, cell.y0 + cell.h / 2);
+          }
+          continue;
+        }
+        if (cell.h / 2 >= min_size) {
+          const Real h = cell.h / 2;
+          for (int q = 0; q < 4; ++q) stack.push_back({cell.x0 + (q % 2) * h, cell.y0 + (q / 2) * h, h});
+          continue;
+        }
+        refuse(s, step, cell.x0 + cell.h / 2, cell.y0 + cell.h / 2, cell.h, det);
       }
-      continue;
     }
-    if (cell.h / 2 >= min_size) {
-      const Real h = cell.h / 2;
-      for (int q = 0; q < 4; ++q) stack.push_back({cell.x0 + (q % 2) * h, cell.y0 + (q / 2) * h, h});
-      continue;
+  });
+  for (const StepCertificate& part : parts) {
+    c.cells += part.cells;
+    c.skipped_in_disks += part.skipped_in_disks;
+    if (part.lower_bound < c.lower_bound) {
+      c.lower_bound = part.lower_bound;
+      c.lower_bound_at = part.lower_bound_at;
     }
-    const Real cx = cell.x0 + cell.h / 2, cy = cell.y0 + cell.h / 2;
-    std::ostringstream why;
-    why << std::setprecision(4) << "certificate refused: step " << step << " near x = " << at(cx, cy) << ": ";
-    if (det.sup() < 0)
-      why << "det J_" << step << " < 0 on a cell of size " << cell.h << " (interval [" << det.inf() << ", "
-          << det.sup() << "]): the step folds there";
-    else
-      why << "det J_" << step << " cannot be proven positive on a cell of size " << cell.h << " (interval ["
-          << det.inf() << ", " << det.sup() << "])";
-    if (P.side_of(Point<2>(cx, cy)) >= 0)
-      why << "; det J_" << step << " = " << point_det(s, cx, cy) << " there";
-    throw Error(why.str(),
-                {.file = "",
-                 .key_path = "map.certify",
-                 .hint = "the step may fold there; use a finer partition (more steps or \"partition\": "
-                         "\"adaptive\"), or \"certify\": false (sampled check only)"});
   }
   if (!std::isfinite(c.lower_bound))
     throw Error("certificate: step " + std::to_string(step) + " has no cell outside the vertex disks");
