@@ -34,7 +34,7 @@ namespace warpfem::apps {
 namespace {
 
 const char* kMapUsage =
-    "usage: warpfem map --config map.json [--points in.csv --out out.csv] [--output-dir DIR]";
+    "usage: warpfem map --config map.json [--certify] [--points in.csv --out out.csv] [--output-dir DIR]";
 
 std::string fmt(double v, int precision = 4) {
   std::ostringstream os;
@@ -45,6 +45,9 @@ std::string fmt(double v, int precision = 4) {
 void report_map(const mapping::Map<2>& map, const mapping::MapSpec& spec, const mapping::MapCheck& check) {
   const Polygon& source = *spec.source;
   if (check.samples > 0) log::info("check passed: ", check.summary());
+  if (!check.certificate && !spec.certify && spec.type != "identity")
+    log::info(mapping::is_certifiable(map) ? "certificate: not requested (--certify or \"certify\": true)"
+                                           : "certificate: not certified (sampled check only)");
   if (const auto* composite = dynamic_cast<const mapping::CompositeMeanValueMap*>(&map)) {
     const mapping::CompositeReport r = mapping::analyze_composite(*composite, spec.sample_resolution);
     std::ostringstream times;
@@ -109,6 +112,7 @@ void map_user_points(const mapping::Map<2>& map, const Points<2>& x0, const std:
 
 int map_command(const std::vector<std::string>& args) {
   std::string config_path, points_in, points_out, output_dir;
+  bool certify = false;
   for (std::size_t i = 0; i < args.size(); ++i) {
     auto value = [&](const char* flag) -> std::string {
       if (i + 1 >= args.size())
@@ -123,10 +127,12 @@ int map_command(const std::vector<std::string>& args) {
       points_out = value("--out");
     else if (args[i] == "--output-dir")
       output_dir = value("--output-dir");
+    else if (args[i] == "--certify")
+      certify = true;
     else if (config_path.empty() && args[i].rfind("-", 0) != 0)
       config_path = args[i];
     else
-      check_flag(args[i], {"--config", "--points", "--out", "--output-dir"}, kMapUsage);
+      check_flag(args[i], {"--config", "--certify", "--points", "--out", "--output-dir"}, kMapUsage);
   }
   if (config_path.empty()) throw Error("missing --config", {.file = "", .key_path = "", .hint = kMapUsage});
   if (points_in.empty() != points_out.empty())
@@ -137,7 +143,8 @@ int map_command(const std::vector<std::string>& args) {
     return polyhedron_map_command(json, config_path, points_in, points_out, output_dir);
   const io::ConfigNode root(json, config_path);
   log::set_level(log::parse_level(io::parse_verbosity(root)));
-  const mapping::MapSpec spec = io::parse_required_map(root);
+  mapping::MapSpec spec = io::parse_required_map(root);
+  spec.certify = spec.certify || certify;
   const io::ConfigNode out = root.child("output");
   std::string directory = io::config_relative_path(config_path, out.get_string("directory", "output/map"));
   const std::string name = out.get_string("name", "map");

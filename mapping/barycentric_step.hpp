@@ -35,6 +35,9 @@ class BarycentricStep {
 
   Coordinates coordinates() const { return coordinates_; }
   const PolygonArrays& source() const { return source_; }
+  /// The vertex displacements w_i − v_i, as the kernel uses them.
+  const std::vector<Real>& displacement_x() const { return ux_; }
+  const std::vector<Real>& displacement_y() const { return uy_; }
   /// Largest vertex displacement |w_i − v_i| (d_k of thesis §4.2).
   Real max_displacement() const;
 

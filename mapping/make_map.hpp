@@ -10,7 +10,10 @@ namespace warpfem::mapping {
 /// on it: a map with det J_f ≤ 0, a non-finite value or a failed inverse on
 /// the check sample is never returned. Throws warpfem::Error naming
 /// spec.origin and the offending field when the spec is inconsistent or the
-/// map is refused. `check`, if given, receives the check's numbers.
+/// map is refused. With spec.certify, a mean value map must also pass the
+/// certificate (mean_value_certificate.hpp), which is logged and stored in
+/// check->certificate; other maps log that they are not certified.
+/// `check`, if given, receives the check's numbers.
 MapPtr<2> make_map(const MapSpec& spec, MapCheck* check = nullptr);
 
 /// The same for polyhedra: the map is refused (an error naming spec.origin,

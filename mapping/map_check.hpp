@@ -5,11 +5,13 @@
 // has det J_f ≤ 0, a value that is not finite, or a failed inverse (residual
 // above the map's inverse_tolerance()). It is a sampled check, not a proof.
 
+#include <optional>
 #include <string>
 
 #include "core/types.hpp"
 #include "mapping/map.hpp"
 #include "mapping/map_spec.hpp"
+#include "mapping/mean_value_certificate.hpp"
 
 namespace warpfem::mapping {
 
@@ -24,6 +26,10 @@ struct MapCheck {
   Point<2> max_residual_at = Point<2>::Zero();
   Real inverse_tolerance = 0;
   Point<2> first_not_finite_at = Point<2>::Zero();
+  Real build_seconds = 0;  ///< building the map and running this check (make_map)
+  /// The proven lower bound of det J_f, when MapSpec::certify asked for one
+  /// and the map is a mean value map.
+  std::optional<MapCertificate> certificate;
 
   bool passed() const { return samples > 0 && nonpositive == 0 && not_finite == 0 && failed_inverse == 0; }
   /// "min det J_f = …, … samples, max inverse residual …" for logs.

@@ -36,6 +36,13 @@ ParameterTable<MapSpec> make_table() {
       "greedy: min det J every step keeps on its own sample, a margin against steps that barely stay "
       "bijective. Fewer steps cost distortion: on the gear, Algorithm 1 (7 steps) gives conformal "
       "distortion mean 6.2 / max 201, greedy with 0.2 (5 steps) 6.9 / 378, with 0.02 (4 steps) 8.7 / 651");
+  t.flag(
+      "certify", &MapSpec::certify,
+      "mean value maps (`composite_mean_value`, `barycentric`): prove a lower bound of det J_f on the whole "
+      "source polygon outside disks of radius 1e-3 × diameter around its vertices, with interval arithmetic "
+      "on an adaptive quadtree of every step's polygon (docs/maps.md). A map that cannot be certified is "
+      "refused. Costs seconds to a minute (gear: ~100 × the map build), so it is off by default; harmonic "
+      "maps are never certified (sampled check only)");
   t.choice("harmonic_method", &MapSpec::harmonic_method, {"fem", "bem", "mfs"},
            "composite_harmonic: how φ0, φ1 are approximated");
   t.choice("intermediate", &MapSpec::intermediate, {"regular", "cyclic", "optimized"},

@@ -1,0 +1,452 @@
+#include "mapping/mean_value_certificate.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Interval_nt.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/threads.hpp"
+#include "core/timer.hpp"
+#include "mapping/barycentric_map.hpp"
+#include "mapping/composite_mean_value_map.hpp"
+
+namespace warpfem::mapping {
+namespace {
+
+// Interval_nt<false> assumes the FPU rounds upward; every enclosure runs under
+// a Protect_FPU_rounding guard that sets and restores the mode.
+using I = CGAL::Interval_nt<false>;
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+/// An interval with its gradient g and Hessian h (xx, xy, yy): second-order
+/// forward differentiation in x and y.
+struct Jet {
+  I v, g[2], h[3];
+};
+Jet constant(I v) {
+  return {v, {I(0), I(0)}, {I(0), I(0), I(0)}};
+}
+Jet operator+(const Jet& a, const Jet& b) {
+  return {a.v + b.v, {a.g[0] + b.g[0], a.g[1] + b.g[1]}, {a.h[0] + b.h[0], a.h[1] + b.h[1], a.h[2] + b.h[2]}};
+}
+Jet operator-(const Jet& a, const Jet& b) {
+  return {a.v - b.v, {a.g[0] - b.g[0], a.g[1] - b.g[1]}, {a.h[0] - b.h[0], a.h[1] - b.h[1], a.h[2] - b.h[2]}};
+}
+Jet operator*(double s, const Jet& a) {
+  return {s * a.v, {s * a.g[0], s * a.g[1]}, {s * a.h[0], s * a.h[1], s * a.h[2]}};
+}
+Jet operator*(const Jet& a, const Jet& b) {
+  return {a.v * b.v,
+          {a.g[0] * b.v + a.v * b.g[0], a.g[1] * b.v + a.v * b.g[1]},
+          {a.h[0] * b.v + 2 * (a.g[0] * b.g[0]) + a.v * b.h[0],
+           a.h[1] * b.v + a.g[0] * b.g[1] + a.g[1] * b.g[0] + a.v * b.h[1],
+           a.h[2] * b.v + 2 * (a.g[1] * b.g[1]) + a.v * b.h[2]}};
+}
+Jet reciprocal(const Jet& b) {
+  const I i = 1 / b.v, i2 = CGAL::square(i), i3 = i2 * i;
+  return {i,
+          {-b.g[0] * i2, -b.g[1] * i2},
+          {2 * CGAL::square(b.g[0]) * i3 - b.h[0] * i2, 2 * (b.g[0] * b.g[1]) * i3 - b.h[1] * i2,
+           2 * CGAL::square(b.g[1]) * i3 - b.h[2] * i2}};
+}
+Jet operator/(const Jet& a, const Jet& b) {
+  return a * reciprocal(b);
+}
+
+I clamp_unit(const I& a) {  // a cosine or sine: [-1, 1] is always valid
+  return I(std::max(a.inf(), -1.0), std::min(a.sup(), 1.0));
+}
+
+/// Edges whose A varies by more than this ratio over a box are treated as touching it.
+constexpr Real kNearRatio = 0.5;
+/// Edges seen under an angle α with tan(α/2) above this dominate the weights
+/// of their vertices; they are scaled out too, so the quotient w / Σ w does not
+/// carry their (large, wide) t_k in both numerator and denominator.
+constexpr Real kNearTan = 4;
+
+/// One step's data: the polygon P_k and the vertex displacements u_i.
+struct StepData {
+  const Polygon& polygon;
+  const std::vector<Real>& ux;
+  const std::vector<Real>& uy;
+};
+
+/// The displacement minus a constant, Q = Σ φ_j (u_j − ū), over the box X × Y
+/// (a point when the intervals are thin), from the mean value weights
+///   w_j = (t_{j−1} + t_j) / r_j,  t_k = tan(α_k / 2),
+/// with t_k = A_k / (P_k + D_k) (A: cross, D: dot of d_k = v_k − x and d_{k+1},
+/// P = r_k r_{k+1}) for edges seen under less than 90°, and the equal
+/// t_k = (P_k − D_k) / A_k otherwise, so no denominator suffers cancellation.
+/// Where A_k may vanish (the box touches edge k) every weight is multiplied by
+/// A_k instead (φ = w / Σ w is unchanged), which extends the formula smoothly
+/// over the part of a boundary cell outside P_k. Returns false if Σ w may vanish.
+bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, double by, Jet& Qx, Jet& Qy,
+                       Jet& Ux, Jet& Uy, Jet& W, std::vector<Jet>& buf, std::vector<char>& near) {
+  const Index n = s.polygon.size();
+  buf.resize(static_cast<std::size_t>(3 * n));
+  Jet* r = buf.data();
+  Jet* t = r + n;
+  Jet* area = t + n;
+  for (Index i = 0; i < n; ++i) {
+    const Point<2>& v = s.polygon.vertex(i);
+    const I ex = v.x() - X, ey = v.y() - Y;
+    const I len = CGAL::sqrt(CGAL::square(ex) + CGAL::square(ey));
+    const I c = clamp_unit(-ex / len), sn = clamp_unit(-ey / len);
+    r[i] = {len, {c, sn}, {CGAL::square(sn) / len, -(c * sn) / len, CGAL::square(c) / len}};
+  }
+  near.assign(static_cast<std::size_t>(n), 0);
+  Jet scale = constant(I(1));
+  for (Index k = 0; k < n; ++k) {
+    const Index k1 = (k + 1) % n;
+    // A (affine in x) and D (a shifted square) in forms where x occurs once,
+    // so their enclosures are tight.
+    const Point<2>& a = s.polygon.vertex(k);
+    const Point<2>& b = s.polygon.vertex(k1);
+    const I exv = I(b.x()) - a.x(), eyv = I(b.y()) - a.y();
+    const Jet& A =
+        area[k] = {I(a.x()) * b.y() - I(a.y()) * b.x() + exv * Y - eyv * X, {-eyv, exv}, {I(0), I(0), I(0)}};
+    const I mx = (I(a.x()) + b.x()) / 2, my = (I(a.y()) + b.y()) / 2;
+    const Jet D{CGAL::square(X - mx) + CGAL::square(Y - my) - (CGAL::square(exv) + CGAL::square(eyv)) / 4,
+                {2 * (X - mx), 2 * (Y - my)},
+                {I(2), I(0), I(2)}};
+    const Jet P = r[k] * r[k1];
+    if (D.v.sup() < 0) {  // the edge is seen under more than 90°: t = (P − D) / A
+      // Unless A is well away from 0 (relative to its width), the box is at
+      // or close to the segment: then (P − D) times A, through the scale.
+      const Real lo = std::min(std::abs(A.v.inf()), std::abs(A.v.sup()));
+      const Real hi = std::max(std::abs(A.v.inf()), std::abs(A.v.sup()));
+      const Jet PmD = P - D;
+      if ((A.v.inf() > 0 || A.v.sup() < 0) && lo > kNearRatio * hi && PmD.v.inf() < kNearTan * hi) {
+        t[k] = PmD / A;
+      } else {
+        near[static_cast<std::size_t>(k)] = 1;
+        t[k] = PmD;
+        scale = scale * A;
+      }
+    } else {
+      t[k] = A / (P + D);
+    }
+  }
+  for (Index k = 0; k < n; ++k) {
+    if (!near[static_cast<std::size_t>(k)]) {
+      t[k] = t[k] * scale;
+      continue;
+    }
+    for (Index e = 0; e < n; ++e)  // Π over the other near edges
+      if (e != k && near[static_cast<std::size_t>(e)]) t[k] = t[k] * area[e];
+  }
+  W = Ux = Uy = constant(I(0));
+  for (Index j = 0; j < n; ++j) {
+    const Jet w = (t[(j + n - 1) % n] + t[j]) / r[j];
+    W = W + w;
+    Ux = Ux + (s.ux[static_cast<std::size_t>(j)] - bx) * w;
+    Uy = Uy + (s.uy[static_cast<std::size_t>(j)] - by) * w;
+  }
+  if (!(W.v.inf() > 0 || W.v.sup() < 0)) return false;
+  const Jet iW = reciprocal(W);
+  Qx = Ux * iW;
+  Qy = Uy * iW;
+  return true;
+}
+
+I hull(const I& a, const I& b) {
+  return I(std::min(a.inf(), b.inf()), std::max(a.sup(), b.sup()));
+}
+I meet(const I& a, const I& b) {
+  return I(std::max(a.inf(), b.inf()), std::min(a.sup(), b.sup()));
+}
+
+/// Encloses det J_k over the box [x0, x1] × [y0, y1]. Each entry of J_k − I,
+/// a first derivative of Q, is enclosed by its centred form (value at the
+/// centre plus the Hessian over the box times the half-widths) intersected
+/// with its direct enclosure over the box. The FPU must round upward.
+I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, std::vector<Jet>& buf,
+                std::vector<char>& near) {
+  const Real cx = x0 / 2 + x1 / 2, cy = y0 / 2 + y1 / 2;
+  Jet Cx, Cy, Ux, Uy, W, Bx, By;
+  if (!displacement_jets(s, I(cx), I(cy), 0, 0, Cx, Cy, Ux, Uy, W, buf, near)) return I::largest();
+  // Over the box, ū = the displacement at the centre (any constant is valid;
+  // this one keeps the quotient rule's terms small).
+  const double bx = Cx.v.inf() / 2 + Cx.v.sup() / 2, by = Cy.v.inf() / 2 + Cy.v.sup() / 2;
+  if (!displacement_jets(s, I(x0, x1), I(y0, y1), bx, by, Bx, By, Ux, Uy, W, buf, near)) return I::largest();
+  const I hx = hull(I(x0) - cx, I(x1) - cx), hy = hull(I(y0) - cy, I(y1) - cy);
+  auto entry = [&](const Jet& centre, const Jet& box, int j) {  // ∂Q/∂x_j over the box
+    const I centred = centre.g[j] + box.h[j] * hx + box.h[j + 1] * hy;
+    const I m = meet(centred, box.g[j]);
+    return m.inf() <= m.sup() ? m : centred;
+  };
+  const I a = entry(Cx, Bx, 0), b = entry(Cx, Bx, 1), c = entry(Cy, By, 0), d = entry(Cy, By, 1);
+  return (1 + a) * (1 + d) - b * c;
+}
+
+enum class CellSide { outside, inside, boundary };
+
+CellSide classify(const Polygon& polygon, const std::vector<Kernel::Segment_2>& edges, Real x0, Real x1,
+                  Real y0, Real y1) {
+  const Kernel::Iso_rectangle_2 box(Kernel::Point_2(x0, y0), Kernel::Point_2(x1, y1));
+  for (const auto& e : edges) {
+    const auto b = e.bbox();
+    if (b.xmax() < x0 || b.xmin() > x1 || b.ymax() < y0 || b.ymin() > y1) continue;
+    if (CGAL::do_intersect(e, box)) return CellSide::boundary;
+  }
+  // No edge meets the closed box: it lies entirely on one side.
+  return polygon.side_of(Point<2>(x0 / 2 + x1 / 2, y0 / 2 + y1 / 2)) > 0 ? CellSide::inside
+                                                                         : CellSide::outside;
+}
+
+/// True iff the closed box lies inside the closed disk (exactly: all four
+/// corners, bounded with upward-rounded interval arithmetic).
+bool box_in_disk(const Point<2>& c, Real rho, Real x0, Real x1, Real y0, Real y1) {
+  CGAL::Protect_FPU_rounding<true> guard;
+  const I dx = CGAL::max(CGAL::abs(I(x0) - c.x()), CGAL::abs(I(x1) - c.x()));
+  const I dy = CGAL::max(CGAL::abs(I(y0) - c.y()), CGAL::abs(I(y1) - c.y()));
+  return (CGAL::square(dx) + CGAL::square(dy)).sup() <= (I(rho) * I(rho)).inf();
+}
+
+std::string at(Real x, Real y) {
+  std::ostringstream os;
+  os << std::setprecision(8) << "(" << x << ", " << y << ")";
+  return os.str();
+}
+
+std::vector<Point<2>> targets_of(const Polygon& p, const std::vector<Real>& ux, const std::vector<Real>& uy) {
+  std::vector<Point<2>> t;
+  for (Index i = 0; i < p.size(); ++i)
+    t.emplace_back(p.vertex(i).x() + ux[static_cast<std::size_t>(i)],
+                   p.vertex(i).y() + uy[static_cast<std::size_t>(i)]);
+  return t;
+}
+
+Real point_det(const StepData& s, Real x, Real y) {
+  const BarycentricStep step(s.polygon, targets_of(s.polygon, s.ux, s.uy), Coordinates::mean_value);
+  Points<2> p(1, 2), fx;
+  p << x, y;
+  Jacobians<2> J;
+  step.apply(p, fx, &J);
+  return J(0, 0) * J(0, 3) - J(0, 1) * J(0, 2);
+}
+
+[[noreturn]] void refuse(const StepData& s, Index step, Real cx, Real cy, Real size, const I& det) {
+  std::ostringstream why;
+  why << std::setprecision(4) << "certificate refused: step " << step << " near x = " << at(cx, cy) << ": ";
+  if (det.sup() < 0)
+    why << "det J_" << step << " < 0 on a cell of size " << size << " (interval [" << det.inf() << ", "
+        << det.sup() << "]): the step folds there";
+  else
+    why << "det J_" << step << " cannot be proven positive on a cell of size " << size << " (interval ["
+        << det.inf() << ", " << det.sup() << "])";
+  if (s.polygon.side_of(Point<2>(cx, cy)) >= 0)
+    why << "; det J_" << step << " = " << point_det(s, cx, cy) << " there";
+  throw Error(why.str(),
+              {.file = "",
+               .key_path = "map.certify",
+               .hint = "the step may fold there; use a finer partition (more steps or \"partition\": "
+                       "\"adaptive\"), or \"certify\": false (sampled check only)"});
+}
+
+StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index step) {
+  const Polygon& P = s.polygon;
+  const Point<2> lo = P.bbox_min(), hi = P.bbox_max();
+  const Real diam = (hi - lo).norm();
+  StepCertificate c;
+  c.rho = o.rho_fraction * diam;
+  c.lower_bound = std::numeric_limits<Real>::infinity();
+  const Real min_size = o.min_cell_fraction * c.rho;
+  std::vector<Kernel::Segment_2> edges;
+  for (Index i = 0; i < P.size(); ++i)
+    edges.emplace_back(Kernel::Point_2(P.vertex(i).x(), P.vertex(i).y()),
+                       Kernel::Point_2(P.vertex(i + 1).x(), P.vertex(i + 1).y()));
+  const Real side = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  struct Cell {
+    Real x0, y0, h;
+  };
+  // The quadtree's first levels as independent roots, processed in parallel
+  // (each thread with its own rounding-mode guard and buffers).
+  constexpr int kRoots = 8;
+  std::vector<StepCertificate> parts(kRoots * kRoots);
+  std::atomic<Index> total_cells{0};
+  parallel_for(kRoots * kRoots, 1, [&](Index first, Index last) {
+    std::vector<Jet> buf;
+    std::vector<char> near;
+    std::vector<Cell> stack;
+    for (Index root = first; root < last; ++root) {
+      StepCertificate& part = parts[static_cast<std::size_t>(root)];
+      part.lower_bound = std::numeric_limits<Real>::infinity();
+      const Real h0 = side / kRoots;
+      stack.assign(1, Cell{lo.x() + static_cast<Real>(root % kRoots) * h0,
+                           lo.y() + static_cast<Real>(root / kRoots) * h0, h0});
+      while (!stack.empty()) {
+        const Cell cell = stack.back();
+        stack.pop_back();
+        const Real x1 = cell.x0 + cell.h, y1 = cell.y0 + cell.h;
+        if (classify(P, edges, cell.x0, x1, cell.y0, y1) == CellSide::outside) continue;
+        bool in_disk = false;
+        for (Index i = 0; i < P.size() && !in_disk; ++i)
+          in_disk = box_in_disk(P.vertex(i), c.rho, cell.x0, x1, cell.y0, y1);
+        if (in_disk) {
+          ++part.skipped_in_disks;
+          continue;
+        }
+        I det;
+        {
+          CGAL::Protect_FPU_rounding<true> guard;
+          det = det_enclosure(s, cell.x0, x1, cell.y0, y1, buf, near);
+        }
+        ++part.cells;
+        if (++total_cells > o.max_cells)
+          throw Error(
+              "certificate: step " + std::to_string(step) + " needs more than " +
+                  std::to_string(o.max_cells) + " quadtree cells",
+              {.file = "",
+               .key_path = "map.certify",
+               .hint = "use a finer partition (more steps), or \"certify\": false (sampled check only)"});
+        // A positive but loose interval is split further while cells are not
+        // tiny, so that b_k is close to the true minimum, not just above zero.
+        const bool loose = det.inf() < o.tightness * det.sup() && cell.h / 2 >= 16 * min_size;
+        if (det.inf() > 0 && !loose) {
+          if (det.inf() < part.lower_bound) {
+            part.lower_bound = det.inf();
+            part.lower_bound_at = Point<2>(cell.x0 + cell.h / 2, cell.y0 + cell.h / 2);
+          }
+          continue;
+        }
+        if (cell.h / 2 >= min_size) {
+          const Real h = cell.h / 2;
+          for (int q = 0; q < 4; ++q) stack.push_back({cell.x0 + (q % 2) * h, cell.y0 + (q / 2) * h, h});
+          continue;
+        }
+        refuse(s, step, cell.x0 + cell.h / 2, cell.y0 + cell.h / 2, cell.h, det);
+      }
+    }
+  });
+  for (const StepCertificate& part : parts) {
+    c.cells += part.cells;
+    c.skipped_in_disks += part.skipped_in_disks;
+    if (part.lower_bound < c.lower_bound) {
+      c.lower_bound = part.lower_bound;
+      c.lower_bound_at = part.lower_bound_at;
+    }
+  }
+  if (!std::isfinite(c.lower_bound))
+    throw Error("certificate: step " + std::to_string(step) + " has no cell outside the vertex disks");
+  return c;
+}
+
+/// min det J_f over points of Ω0 inside the ρ-disks (polar rings, interior points only).
+void sample_disks(const Map<2>& f, const Polygon& source, Real rho, int per_vertex, MapCertificate& out) {
+  const int rings = 6, rays = std::max(1, per_vertex / rings);
+  std::vector<Point<2>> pts;
+  for (Index i = 0; i < source.size(); ++i)
+    for (int a = 0; a < rays; ++a)
+      for (int k = 1; k <= rings; ++k) {
+        const Real ang = 2 * std::numbers::pi * (a + 0.5) / rays;
+        const Real rad = rho * std::pow(10.0, -3.0 * (rings - k) / (rings - 1));  // ρ·1e-3 … ρ
+        const Point<2> p = source.vertex(i) + rad * Point<2>(std::cos(ang), std::sin(ang));
+        if (source.side_of(p) > 0) pts.push_back(p);
+      }
+  out.disk_samples = static_cast<Index>(pts.size());
+  out.sampled_min_in_disks = std::numeric_limits<Real>::quiet_NaN();
+  if (pts.empty()) return;
+  Points<2> x(static_cast<Index>(pts.size()), 2);
+  for (Index p = 0; p < x.rows(); ++p) x.row(p) = pts[static_cast<std::size_t>(p)].transpose();
+  Jacobians<2> J;
+  f.jacobian(x, J);
+  Real m = std::numeric_limits<Real>::infinity();
+  for (Index p = 0; p < x.rows(); ++p) m = std::min(m, J(p, 0) * J(p, 3) - J(p, 1) * J(p, 2));
+  out.sampled_min_in_disks = m;
+}
+
+}  // namespace
+
+std::string MapCertificate::summary() const {
+  std::ostringstream os;
+  os << std::setprecision(4) << "det J_f >= " << lower_bound << " certified on Ω0 outside disks of radius "
+     << rho << " around the vertices (" << steps.size() << " step" << (steps.size() == 1 ? "" : "s") << ", "
+     << cells << " cells, " << format_seconds(seconds) << "); sampled min det J_f inside the disks "
+     << sampled_min_in_disks << " (" << disk_samples << " samples, not certified)";
+  return os.str();
+}
+
+std::pair<Real, Real> det_jacobian_enclosure(const Polygon& source, const std::vector<Point<2>>& target,
+                                             const Point<2>& lo, const Point<2>& hi) {
+  std::vector<Real> ux, uy;
+  for (Index i = 0; i < source.size(); ++i) {
+    ux.push_back(target[static_cast<std::size_t>(i)].x() - source.vertex(i).x());
+    uy.push_back(target[static_cast<std::size_t>(i)].y() - source.vertex(i).y());
+  }
+  std::vector<Jet> buf;
+  std::vector<char> near;
+  CGAL::Protect_FPU_rounding<true> guard;
+  const I det = det_enclosure({source, ux, uy}, lo.x(), hi.x(), lo.y(), hi.y(), buf, near);
+  return {det.inf(), det.sup()};
+}
+
+StepCertificate certify_mean_value_step(const Polygon& source, const std::vector<Point<2>>& target,
+                                        const CertifyOptions& options, Index step) {
+  require_same_vertex_count(source, Polygon(target));
+  std::vector<Real> ux, uy;
+  for (Index i = 0; i < source.size(); ++i) {
+    ux.push_back(target[static_cast<std::size_t>(i)].x() - source.vertex(i).x());
+    uy.push_back(target[static_cast<std::size_t>(i)].y() - source.vertex(i).y());
+  }
+  return certify_step({source, ux, uy}, options, step);
+}
+
+MapCertificate certify_composite(const CompositeMeanValueMap& map, const CertifyOptions& options) {
+  if (map.coordinates() != Coordinates::mean_value)
+    throw Error(
+        "the certificate covers mean value coordinates only, this map uses " + to_string(map.coordinates()),
+        {.file = "", .key_path = "map.certify", .hint = "remove \"certify\" (sampled check only)"});
+  Stopwatch watch;
+  MapCertificate c;
+  c.lower_bound = 1;
+  for (Index k = 0; k < map.steps(); ++k) {
+    const Polygon& P = map.polygons()[static_cast<std::size_t>(k)];
+    const std::vector<Point<2>>& next = map.polygons()[static_cast<std::size_t>(k + 1)].vertices();
+    c.steps.push_back(certify_mean_value_step(P, next, options, k));
+    c.lower_bound *= c.steps.back().lower_bound;
+    c.cells += c.steps.back().cells;
+  }
+  c.rho = c.steps.front().rho;
+  sample_disks(map, map.polygons().front(), c.rho, options.disk_samples_per_vertex, c);
+  c.seconds = watch.seconds();
+  return c;
+}
+
+bool is_certifiable(const Map<2>& map) {
+  if (const auto* m = dynamic_cast<const CompositeMeanValueMap*>(&map))
+    return m->coordinates() == Coordinates::mean_value;
+  if (const auto* m = dynamic_cast<const BarycentricMap*>(&map))
+    return m->step().coordinates() == Coordinates::mean_value;
+  return false;
+}
+
+MapCertificate certify_map(const Map<2>& map, const CertifyOptions& options) {
+  if (const auto* m = dynamic_cast<const CompositeMeanValueMap*>(&map)) return certify_composite(*m, options);
+  const auto* b = dynamic_cast<const BarycentricMap*>(&map);
+  if (!b || b->step().coordinates() != Coordinates::mean_value)
+    throw Error("no certificate for " + map.describe() + ": only mean value maps are certified",
+                {.file = "", .key_path = "map.certify", .hint = "remove \"certify\" (sampled check only)"});
+  Stopwatch watch;
+  std::vector<Point<2>> v;
+  for (std::size_t i = 0; i < b->step().source().x.size(); ++i)
+    v.emplace_back(b->step().source().x[i], b->step().source().y[i]);
+  const Polygon P(v, "source");
+  MapCertificate c;
+  c.steps.push_back(certify_step({P, b->step().displacement_x(), b->step().displacement_y()}, options, 0));
+  c.lower_bound = c.steps.back().lower_bound;
+  c.cells = c.steps.back().cells;
+  c.rho = c.steps.back().rho;
+  sample_disks(map, P, c.rho, options.disk_samples_per_vertex, c);
+  c.seconds = watch.seconds();
+  return c;
+}
+
+}  // namespace warpfem::mapping

@@ -1,0 +1,185 @@
+// The certified lower bound of det J_f (mapping/mean_value_certificate.hpp):
+// each cell's interval holds every point value in it, the bound is positive on
+// bijective pairs and below every sampled det J_f, and a folding step is refused.
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <random>
+
+#include "core/error.hpp"
+#include "mapping/barycentric_map.hpp"
+#include "mapping/composite_mean_value_map.hpp"
+#include "mapping/make_map.hpp"
+#include "mapping/mean_value_certificate.hpp"
+#include "mapping/polygon_sampling.hpp"
+#include "test_polygons.hpp"
+
+namespace warpfem::mapping {
+namespace {
+
+std::vector<Point<2>> shifted(const Polygon& p, const Point<2>& shift, Index vertex) {
+  std::vector<Point<2>> v = p.vertices();
+  v[static_cast<std::size_t>(vertex)] += shift;
+  return v;
+}
+
+Real det_at(const BarycentricStep& step, const Point<2>& x) {
+  Points<2> p(1, 2), fx;
+  p.row(0) = x.transpose();
+  Jacobians<2> J;
+  step.apply(p, fx, &J);
+  return J(0, 0) * J(0, 3) - J(0, 1) * J(0, 2);
+}
+
+// Soundness of one cell: det J at random points of random boxes inside the
+// polygon lies in the box's interval, and the interval shrinks with the box.
+TEST(Certificate, CellIntervalHoldsEveryPointValue) {
+  const Polygon P = test::concave32();
+  const std::vector<Point<2>> target = shifted(P, {0.15, -0.1}, 5);
+  const BarycentricStep step(P, target, Coordinates::mean_value);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<Real> u(0, 1);
+  int boxes = 0;
+  for (Real h : {0.2, 0.02, 0.002}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      const Point<2> lo(-1.5 + 3 * u(rng), -1.5 + 3 * u(rng)), hi = lo + Point<2>(h, h);
+      bool inside = true;
+      for (Point<2> c : {lo, hi, Point<2>(lo.x(), hi.y()), Point<2>(hi.x(), lo.y())})
+        inside = inside && P.side_of(c) > 0;
+      if (!inside) continue;
+      Real to_vertex = std::numeric_limits<Real>::infinity();
+      for (const Point<2>& v : P.vertices()) to_vertex = std::min(to_vertex, (lo - v).norm());
+      const auto [inf, sup] = det_jacobian_enclosure(P, target, lo, hi);
+      if (!std::isfinite(inf) || !std::isfinite(sup)) continue;
+      ++boxes;
+      if (to_vertex > 0.05 && sup - inf > 1e-9) {  // away from vertices the enclosure converges
+        const Point<2> c = lo + Point<2>(h / 2, h / 2), q(h / 20, h / 20);
+        const auto [inf10, sup10] = det_jacobian_enclosure(P, target, c - q, c + q);
+        EXPECT_LT(sup10 - inf10, (sup - inf) / 5) << "box at " << lo.transpose() << ", size " << h;
+      }
+      for (int k = 0; k < 20; ++k) {
+        const Point<2> x = lo + Point<2>(h * u(rng), h * u(rng));
+        const Real d = det_at(step, x);
+        EXPECT_GE(d, inf - 1e-12) << "at " << x.transpose() << ", box size " << h;
+        EXPECT_LE(d, sup + 1e-12) << "at " << x.transpose() << ", box size " << h;
+      }
+    }
+  }
+  EXPECT_GT(boxes, 100);
+}
+
+TEST(Certificate, BoxesCutByAnEdgeAreEnclosedToo) {
+  const Polygon P = test::convex6();
+  const std::vector<Point<2>> target = shifted(P, {0.2, 0.1}, 2);
+  const BarycentricStep step(P, target, Coordinates::mean_value);
+  // A small box around the midpoint of edge 0 (from (0, 0) to (2, −0.3)): its inside part.
+  const Point<2> m(1, -0.15), lo = m - Point<2>(1e-3, 1e-3), hi = m + Point<2>(1e-3, 1e-3);
+  const auto [inf, sup] = det_jacobian_enclosure(P, target, lo, hi);
+  ASSERT_TRUE(std::isfinite(inf) && std::isfinite(sup));
+  EXPECT_LT(sup - inf, 0.1);
+  for (int i = 0; i <= 10; ++i)
+    for (int j = 0; j <= 10; ++j) {
+      const Point<2> x = lo + Point<2>(2e-3 * i / 10, 2e-3 * j / 10);
+      if (P.side_of(x) < 0) continue;
+      const Real d = det_at(step, x);
+      EXPECT_GE(d, inf - 1e-12);
+      EXPECT_LE(d, sup + 1e-12);
+    }
+}
+
+/// min det J_f over samples of Ω0 whose images x_k stay out of every step's ρ_k-disks
+/// (the set on which the certificate speaks).
+Real sampled_min_outside_disks(const CompositeMeanValueMap& f, const MapCertificate& c, int resolution) {
+  Points<2> x = bijectivity_sample(f.polygons().front(), resolution);
+  MatrixX det_steps;
+  f.step_determinants(x, det_steps);
+  std::vector<char> keep(static_cast<std::size_t>(x.rows()), 1);
+  for (Index k = 0; k < f.steps(); ++k) {
+    const Polygon& P = f.polygons()[static_cast<std::size_t>(k)];
+    for (Index p = 0; p < x.rows(); ++p)
+      for (Index i = 0; i < P.size(); ++i)
+        if ((x.row(p).transpose() - P.vertex(i)).norm() <= c.steps[static_cast<std::size_t>(k)].rho)
+          keep[static_cast<std::size_t>(p)] = 0;
+    Points<2> next;
+    f.step(k).apply(x, next, nullptr);
+    x = next;
+  }
+  Real m = std::numeric_limits<Real>::infinity();
+  for (Index p = 0; p < det_steps.rows(); ++p)
+    if (keep[static_cast<std::size_t>(p)]) m = std::min(m, det_steps.row(p).prod());
+  return m;
+}
+
+void expect_true_lower_bound(const CompositeMeanValueMap& f) {
+  const MapCertificate c = certify_composite(f);
+  EXPECT_GT(c.lower_bound, 0);
+  EXPECT_EQ(c.steps.size(), static_cast<std::size_t>(f.steps()));
+  EXPECT_LE(c.rho,
+            1e-3 * (f.polygons().front().bbox_max() - f.polygons().front().bbox_min()).norm() * 1.0000001);
+  EXPECT_GT(c.cells, 0);
+  EXPECT_GT(c.disk_samples, 0);
+  EXPECT_TRUE(std::isfinite(c.sampled_min_in_disks));
+  EXPECT_LE(c.lower_bound, sampled_min_outside_disks(f, c, 48));
+  for (const StepCertificate& s : c.steps) {
+    EXPECT_GT(s.lower_bound, 0);
+    EXPECT_LE(s.lower_bound, 1.0 + 1e-9 + 10.0);  // finite
+  }
+}
+
+TEST(Certificate, ShippedDartExampleIsCertifiedAndTheBoundIsBelowEverySample) {
+  MapSpec spec = test::load_example("square_to_dart");
+  spec.certify = true;
+  MapCheck check;
+  const auto f = std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(spec, &check));
+  ASSERT_TRUE(f);
+  ASSERT_TRUE(check.certificate.has_value());
+  EXPECT_GT(check.certificate->lower_bound, 0);
+  EXPECT_LE(check.certificate->lower_bound, check.min_det);
+  expect_true_lower_bound(*f);
+}
+
+TEST(Certificate, TestPairsAreCertifiedAndTheBoundIsBelowEverySample) {
+  // A mild dart in one step, a convex hexagon with a moved vertex, and a
+  // concave 32-gon in an adaptive composite.
+  const Polygon hex = test::convex6();
+  const CompositeMeanValueMap one_step(std::vector<Polygon>{test::diamond(), test::dart(0.5)}, {0.0, 1.0});
+  expect_true_lower_bound(one_step);
+  const CompositeMeanValueMap hexagon(std::vector<Polygon>{hex, Polygon(shifted(hex, {0.4, -0.3}, 3))},
+                                      {0.0, 1.0});
+  expect_true_lower_bound(hexagon);
+  const Polygon c32 = test::concave32();
+  const VertexPath path(c32, Polygon(shifted(c32, {0.1, 0.05}, 8)), VertexPathType::linear);
+  const CompositeMeanValueMap concave(path, uniform_partition(2));
+  expect_true_lower_bound(concave);
+}
+
+TEST(Certificate, RefusesAFoldingSingleStep) {
+  // Thesis §2.1.2: one mean value step from the diamond onto the dart folds.
+  const BarycentricMap fold(test::diamond(), test::dart(), Coordinates::mean_value);
+  ASSERT_LT(min_det_jacobian(fold, bijectivity_sample(test::diamond(), 64)), 0);
+  try {
+    (void)certify_map(fold);
+    ADD_FAILURE() << "a folding step was certified";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("certificate refused: step 0 near x = ("), std::string::npos) << e.message();
+  }
+  MapSpec spec;
+  spec.type = "barycentric";
+  spec.source = test::diamond();
+  spec.target = test::dart();
+  spec.certify = true;
+  EXPECT_THROW((void)make_map(spec), Error);
+}
+
+TEST(Certificate, OnlyMeanValueMapsAreCertified) {
+  const Polygon hex = test::convex6();
+  const CompositeMeanValueMap wachspress(std::vector<Polygon>{hex, Polygon(shifted(hex, {0.1, 0}, 3))},
+                                         {0.0, 1.0}, Coordinates::wachspress);
+  EXPECT_FALSE(is_certifiable(wachspress));
+  EXPECT_THROW((void)certify_map(wachspress), Error);
+  EXPECT_FALSE(is_certifiable(IdentityMap<2>()));
+}
+
+}  // namespace
+}  // namespace warpfem::mapping
