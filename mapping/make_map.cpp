@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
+#include "mapping/adaptive_interpolant.hpp"
 #include "mapping/adaptive_partition.hpp"
 #include "mapping/barycentric_map.hpp"
 #include "mapping/composite_mean_value_map.hpp"
@@ -190,6 +191,17 @@ MapPtr<2> make_map(const MapSpec& spec, MapCheck* check) {
     if (spec.certify) certify_into(*map, spec, c);
     require_passed(c, spec);
     if (check) *check = c;
+    if (spec.evaluation == "interpolated") {
+      InterpolantOptions o;
+      o.tolerance = spec.interpolation_tolerance;
+      map = with_spec_context(spec, "map.interpolation_tolerance", [&] {
+        return std::make_shared<const AdaptiveInterpolant>(map, *spec.source, o);
+      });
+    } else if (spec.evaluation != "exact") {
+      throw Error(
+          "unknown evaluation \"" + spec.evaluation + "\"",
+          {.file = spec.origin, .key_path = "map.evaluation", .hint = "use \"exact\" or \"interpolated\""});
+    }
     return map;
   } catch (const Error& e) {
     // e.g. a failed inverse while the intermediate polygon is optimized

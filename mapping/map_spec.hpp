@@ -39,6 +39,9 @@ struct MapSpec {
       source_edge_speeds;  ///< per edge linear | quadratic | quadratic_reversed; empty = linear
   std::vector<std::string> target_edge_speeds;  ///< same, for the target's edges
   std::string origin = "map";                   ///< where this spec came from (file name) for messages
+  // How f is evaluated (mapping/adaptive_interpolant.hpp).
+  std::string evaluation = "exact";        ///< exact | interpolated
+  double interpolation_tolerance = 1e-12;  ///< f to this × diam(Ω0), J_f to 1000 × this relative
 };
 
 /// The same for maps between polyhedra (mapping/polyhedron_composite_map.hpp).

@@ -1,0 +1,385 @@
+#include "mapping/adaptive_interpolant.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/threads.hpp"
+#include "core/timer.hpp"
+#include "mapping/detail/mean_value_kernel.hpp"
+
+namespace warpfem::mapping {
+namespace {
+
+constexpr int kComponents = 6;  // f_x, f_y, J00, J01, J10, J11
+constexpr int kMaxDegree = 31;
+
+Real orient(const Point<2>& a, const Point<2>& b, Real x, Real y) {
+  return (b.x() - a.x()) * (y - a.y()) - (b.y() - a.y()) * (x - a.x());
+}
+
+// Conservative: true if segment ab may meet the closed box.
+bool segment_meets_box(const Point<2>& a, const Point<2>& b, Real x0, Real y0, Real x1, Real y1) {
+  if (std::max(a.x(), b.x()) < x0 || std::min(a.x(), b.x()) > x1) return false;
+  if (std::max(a.y(), b.y()) < y0 || std::min(a.y(), b.y()) > y1) return false;
+  const Real s[4] = {orient(a, b, x0, y0), orient(a, b, x1, y0), orient(a, b, x0, y1), orient(a, b, x1, y1)};
+  const bool all_pos = s[0] > 0 && s[1] > 0 && s[2] > 0 && s[3] > 0;
+  const bool all_neg = s[0] < 0 && s[1] < 0 && s[2] < 0 && s[3] < 0;
+  return !all_pos && !all_neg;
+}
+
+// Is p in the closed Ω0, given that the centre c of a cell has status
+// `c_inside` and `edges` holds every edge of ∂Ω0 meeting the cell? The segment
+// c → p stays in the cell, so only those edges can cross it, and none of their
+// end points lies in the cell (cells near vertices are never interpolated).
+bool inside_by_parity(const Polygon& s, const int* edges, int count, Real cx, Real cy, bool c_inside, Real x,
+                      Real y) {
+  const Point<2> c(cx, cy), p(x, y);
+  bool in = c_inside;
+  for (int k = 0; k < count; ++k) {
+    const Point<2>& a = s.vertex(edges[k]);
+    const Point<2>& b = s.vertex(edges[k] + 1);
+    const Real op = orient(a, b, x, y);
+    if (op == 0 && (a - p).dot(b - p) <= 0) return true;  // on ∂Ω0
+    const Real oc = orient(a, b, cx, cy);
+    if ((oc > 0) == (op > 0)) continue;
+    const Real oa = orient(c, p, a.x(), a.y()), ob = orient(c, p, b.x(), b.y());
+    if ((oa > 0) != (ob > 0)) in = !in;
+  }
+  return in;
+}
+
+inline void chebyshev(Real u, int n, Real* t) {
+  t[0] = 1;
+  if (n > 0) t[1] = u;
+  for (int k = 2; k <= n; ++k) t[k] = 2 * u * t[k - 1] - t[k - 2];
+}
+
+// out[c - first] = Σ_ij C_c(i, j) T_i(u) T_j(v) for components [first, last);
+// C_c(i, j) is at C[c·n1·P + i + j·P] with i padded by zero coefficients to the
+// compile-time stride P (a multiple of 4), four of them per vector operation.
+// Four doubles: GCC/Clang lower it to one AVX register in the AVX clones and to
+// two SSE registers otherwise (auto-vectorization leaves these short loops scalar).
+typedef Real Real4 __attribute__((vector_size(32)));
+
+template <int P>
+WARPFEM_KERNEL_INLINE void evaluate_leaf_padded(const Real* C, int n1, Real u, Real v, int first, int last,
+                                                Real* out) {
+  constexpr int V = P / 4;
+  alignas(32) Real tx[P], ty[P];
+  chebyshev(u, P - 1, tx);
+  chebyshev(v, n1 - 1, ty);
+  Real4 txv[V];
+  std::memcpy(txv, tx, sizeof tx);
+  for (int c = first; c < last; ++c) {
+    const Real* Cc = C + c * n1 * P;
+    Real4 r[V] = {};
+    for (int j = 0; j < n1; ++j)
+      for (int k = 0; k < V; ++k) {
+        Real4 cv;
+        std::memcpy(&cv, Cc + j * P + 4 * k, sizeof cv);
+        r[k] += cv * ty[j];
+      }
+    Real4 acc = r[0] * txv[0];
+    for (int k = 1; k < V; ++k) acc += r[k] * txv[k];
+    out[c - first] = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+  }
+}
+
+WARPFEM_KERNEL_CLONES void evaluate_leaf(const Real* C, int n1, Real u, Real v, int first, int last,
+                                         Real* out) {
+  switch ((n1 + 3) / 4) {
+    case 1: return evaluate_leaf_padded<4>(C, n1, u, v, first, last, out);
+    case 2: return evaluate_leaf_padded<8>(C, n1, u, v, first, last, out);
+    case 3: return evaluate_leaf_padded<12>(C, n1, u, v, first, last, out);
+    case 4: return evaluate_leaf_padded<16>(C, n1, u, v, first, last, out);
+    case 5: return evaluate_leaf_padded<20>(C, n1, u, v, first, last, out);
+    case 6: return evaluate_leaf_padded<24>(C, n1, u, v, first, last, out);
+    case 7: return evaluate_leaf_padded<28>(C, n1, u, v, first, last, out);
+    default: return evaluate_leaf_padded<32>(C, n1, u, v, first, last, out);
+  }
+}
+
+int padded(int n1) {
+  return (n1 + 3) / 4 * 4;
+}
+
+Real halton(int index, int base) {
+  Real f = 1, r = 0;
+  for (int i = index; i > 0; i /= base) {
+    f /= base;
+    r += f * (i % base);
+  }
+  return r;
+}
+
+}  // namespace
+
+class AdaptiveInterpolant::Builder {
+ public:
+  explicit Builder(AdaptiveInterpolant& m) : m_(m), o_(m.options_), n1_(o_.degree + 1) {
+    const Polygon& s = m_.source_;
+    const Point<2> lo = s.bbox_min(), hi = s.bbox_max();
+    diam_ = (hi - lo).norm();
+    side_ = std::max(hi.x() - lo.x(), hi.y() - lo.y()) * (1 + 1e-9);
+    const Point<2> mid = (lo + hi) / 2;
+    tol_f_ = o_.tolerance * diam_;
+    tol_J_ = 1000 * o_.tolerance;
+    M_.resize(n1_, n1_);
+    nodes_u_.resize(n1_);
+    for (int k = 0; k < n1_; ++k) nodes_u_[k] = std::cos(std::numbers::pi * (k + 0.5) / n1_);
+    for (int i = 0; i < n1_; ++i)
+      for (int k = 0; k < n1_; ++k)
+        M_(i, k) = (i == 0 ? 1.0 : 2.0) / n1_ * std::cos(i * std::numbers::pi * (k + 0.5) / n1_);
+    // Test points spread over the cell, denser towards its sides (where the
+    // interpolation error of a Chebyshev fit peaks).
+    for (int t = 1; t <= o_.test_points; ++t)
+      tests_.emplace_back(std::sin(std::numbers::pi / 2 * (2 * halton(t, 2) - 1)),
+                          std::sin(std::numbers::pi / 2 * (2 * halton(t, 3) - 1)));
+    m_.nodes_.push_back(Node{mid.x() - side_ / 2, mid.y() - side_ / 2, side_});
+  }
+
+  void build() {
+    std::vector<int> all(static_cast<std::size_t>(m_.source_.size()));
+    for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
+    process(0, 0, all);
+  }
+
+ private:
+  void process(int id, int depth, const std::vector<int>& parent_edges) {
+    const Node cell = m_.nodes_[static_cast<std::size_t>(id)];
+    const Polygon& s = m_.source_;
+    // f is singular at the vertices: a cell closer than its size to one would
+    // converge slowly (and test points might miss its error peak), so it is
+    // split (or left exact) without a fit. The edges kept are those meeting the
+    // cell grown by that much (a superset of those meeting its children's grown cells).
+    const Real reach = cell.h;
+    const Real x0 = cell.x0 - reach, y0 = cell.y0 - reach;
+    const Real x1 = cell.x0 + cell.h + reach, y1 = cell.y0 + cell.h + reach;
+    std::vector<int> edges;
+    bool has_vertex = false;
+    for (int e : parent_edges) {
+      const Point<2>& a = s.vertex(e);
+      if (!segment_meets_box(a, s.vertex(e + 1), x0, y0, x1, y1)) continue;
+      edges.push_back(e);
+      has_vertex = has_vertex || (a.x() >= x0 && a.x() <= x1 && a.y() >= y0 && a.y() <= y1);
+    }
+    const Point<2> center(cell.x0 + cell.h / 2, cell.y0 + cell.h / 2);
+    const int center_side = s.side_of(center);
+    if (edges.empty() && center_side < 0) {
+      ++m_.stats_.outside_leaves;
+      return;
+    }
+    const bool resolved = !has_vertex && center_side != 0 && fit(id, edges, center_side > 0);
+    if (resolved) return;
+    if (depth < o_.max_depth) {
+      subdivide(id, depth, edges);
+      return;
+    }
+    ++m_.stats_.exact_leaves;
+    m_.stats_.exact_area_fraction += cell.h * cell.h / (side_ * side_);
+  }
+
+  void subdivide(int id, int depth, const std::vector<int>& edges) {
+    const Node cell = m_.nodes_[static_cast<std::size_t>(id)];
+    const int first = static_cast<int>(m_.nodes_.size());
+    m_.nodes_[static_cast<std::size_t>(id)].child = first;
+    const Real h = cell.h / 2;
+    for (int q = 0; q < 4; ++q) m_.nodes_.push_back(Node{cell.x0 + (q & 1) * h, cell.y0 + (q >> 1) * h, h});
+    for (int q = 0; q < 4; ++q) process(first + q, depth + 1, edges);
+  }
+
+  // Fits the cell; on success stores it as an interpolated leaf.
+  bool fit(int id, const std::vector<int>& edges, bool center_inside) {
+    Node& cell = m_.nodes_[static_cast<std::size_t>(id)];
+    const Index nn = static_cast<Index>(n1_) * n1_;
+    const Index nt = static_cast<Index>(tests_.size());
+    Points<2> P(nn, 2), T(nt, 2);
+    auto to_x = [&](Real u) { return cell.x0 + (u + 1) / 2 * cell.h; };
+    auto to_y = [&](Real v) { return cell.y0 + (v + 1) / 2 * cell.h; };
+    for (int l = 0; l < n1_; ++l)
+      for (int k = 0; k < n1_; ++k) P.row(k + l * n1_) << to_x(nodes_u_[k]), to_y(nodes_u_[l]);
+    for (Index t = 0; t < nt; ++t) T.row(t) << to_x(tests_[t].first), to_y(tests_[t].second);
+    Points<2> X;
+    Jacobians<2> J;
+    m_.exact_->eval_with_jacobian(P, X, J);
+    m_.stats_.exact_evaluations += nn;
+    if (!X.allFinite() || !J.allFinite()) return false;
+
+    std::vector<Real> C(static_cast<std::size_t>(kComponents * nn));
+    const int stride = padded(n1_);
+    std::vector<Real> stored(static_cast<std::size_t>(kComponents * n1_ * stride), 0.0);
+    MatrixX F(n1_, n1_);
+    for (int c = 0; c < kComponents; ++c) {
+      for (int l = 0; l < n1_; ++l)
+        for (int k = 0; k < n1_; ++k) F(k, l) = c < 2 ? X(k + l * n1_, c) : J(k + l * n1_, c - 2);
+      const MatrixX Cc = M_ * F * M_.transpose();
+      std::copy(Cc.data(), Cc.data() + nn, C.begin() + c * nn);
+      for (int j = 0; j < n1_; ++j)
+        for (int i = 0; i < n1_; ++i)
+          stored[static_cast<std::size_t>(c * n1_ * stride + i + j * stride)] = Cc(i, j);
+    }
+    // The last Chebyshev coefficients estimate the error everywhere in the
+    // cell; they reject most cells before the test points cost evaluations.
+    Real small_J = std::numeric_limits<Real>::infinity();
+    for (Index r = 0; r < nn; ++r) small_J = std::min(small_J, J.row(r).lpNorm<Eigen::Infinity>());
+    for (int c = 0; c < kComponents; ++c) {
+      Real tail = 0;  // the last row and column: a conservative estimate of the error
+      for (int i = 0; i < n1_; ++i)
+        tail += std::abs(C[c * nn + (n1_ - 1) + i * n1_]) + std::abs(C[c * nn + i + (n1_ - 1) * n1_]);
+      if (tail > (c < 2 ? tol_f_ : tol_J_ * small_J) / 2) return false;
+    }
+    m_.exact_->eval_with_jacobian(T, X, J);
+    m_.stats_.exact_evaluations += nt;
+    Real worst_f = 0, worst_J = 0;
+    for (Index t = 0; t < nt; ++t) {
+      const Index r = t;
+      if (!inside_by_parity(m_.source_, edges.data(), static_cast<int>(edges.size()), cell.x0 + cell.h / 2,
+                            cell.y0 + cell.h / 2, center_inside, T(r, 0), T(r, 1)))
+        continue;
+      Real v[kComponents];
+      evaluate_leaf(stored.data(), n1_, tests_[t].first, tests_[t].second, 0, kComponents, v);
+      const Real ef = std::max(std::abs(v[0] - X(r, 0)), std::abs(v[1] - X(r, 1)));
+      Real eJ = 0, sJ = 0;
+      for (int c = 0; c < 4; ++c) {
+        eJ = std::max(eJ, std::abs(v[2 + c] - J(r, c)));
+        sJ = std::max(sJ, std::abs(J(r, c)));
+      }
+      // Half the tolerance: test points sample the error, they do not bound it.
+      if (ef > tol_f_ / 2 || eJ > tol_J_ / 2 * sJ) return false;
+      worst_f = std::max(worst_f, ef / diam_);
+      worst_J = std::max(worst_J, eJ / sJ);
+    }
+    InterpolantStats& st = m_.stats_;
+    st.max_f_error = std::max(st.max_f_error, worst_f);
+    st.max_J_error = std::max(st.max_J_error, worst_J);
+    ++st.interpolated_leaves;
+    cell.kind = 1;
+    cell.coefficients = static_cast<Index>(m_.coefficients_.size());
+    m_.coefficients_.insert(m_.coefficients_.end(), stored.begin(), stored.end());
+    cell.edges_begin = static_cast<int>(m_.edge_list_.size());
+    cell.edges_count = static_cast<int>(edges.size());
+    cell.center_inside = center_inside;
+    m_.edge_list_.insert(m_.edge_list_.end(), edges.begin(), edges.end());
+    return true;
+  }
+
+  AdaptiveInterpolant& m_;
+  const InterpolantOptions& o_;
+  const int n1_;
+  Real diam_ = 0, side_ = 0, tol_f_ = 0, tol_J_ = 0;
+  MatrixX M_;  // values at the Chebyshev points → coefficients
+  std::vector<Real> nodes_u_;
+  std::vector<std::pair<Real, Real>> tests_;
+};
+
+AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options)
+    : exact_(std::move(exact)), source_(source), options_(options) {
+  if (!(options_.tolerance > 0) || options_.degree < 1 || options_.degree >= kMaxDegree ||
+      options_.max_depth < 0 || options_.max_depth > 40 || options_.test_points < 0)
+    throw Error(
+        "map interpolant: the tolerance must be positive, the degree in [1, 30] and the depth in [0, 40]",
+        {.file = "", .key_path = "map.interpolation_tolerance", .hint = "e.g. 1e-12"});
+  const Stopwatch watch;
+  Builder(*this).build();
+  stats_.build_seconds = watch.seconds();
+  log::info("map interpolant: ", stats_.interpolated_leaves, " interpolated leaves (degree ", options_.degree,
+            "), ", stats_.exact_leaves, " exact (", stats_.exact_area_fraction * 100,
+            " % of the bounding square), ", stats_.exact_evaluations, " exact evaluations, built in ",
+            format_seconds(stats_.build_seconds), "; worst error at test points: f ", stats_.max_f_error,
+            " · diam, J_f ", stats_.max_J_error, " relative");
+}
+
+int AdaptiveInterpolant::leaf_of(Real x, Real y) const {
+  const Node& root = nodes_.front();
+  if (!(x >= root.x0 && x <= root.x0 + root.h && y >= root.y0 && y <= root.y0 + root.h)) return -1;
+  int id = 0;
+  while (nodes_[static_cast<std::size_t>(id)].child >= 0) {
+    const Node& n = nodes_[static_cast<std::size_t>(id)];
+    const Real half = n.h / 2;
+    id = n.child + (x >= n.x0 + half ? 1 : 0) + (y >= n.y0 + half ? 2 : 0);
+  }
+  return id;
+}
+
+bool AdaptiveInterpolant::inside(const Node& leaf, Real x, Real y) const {
+  return inside_by_parity(source_, edge_list_.data() + leaf.edges_begin, leaf.edges_count,
+                          leaf.x0 + leaf.h / 2, leaf.y0 + leaf.h / 2, leaf.center_inside, x, y);
+}
+
+void AdaptiveInterpolant::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J) const {
+  const Index N = x0.rows();
+  const int first = x ? 0 : 2, last = J ? 6 : 2;
+  const int n1 = options_.degree + 1;
+  // Read every input point before writing (x may alias x0); fallback points are written last.
+  std::vector<char> fallback(static_cast<std::size_t>(N), 0);
+  Points<2> out_x;
+  Jacobians<2> out_J;
+  Points<2>& X = x ? (x == &x0 ? out_x : *x) : out_x;
+  Jacobians<2>& JJ = J ? *J : out_J;
+  if (x) X.resize(N, 2);
+  if (J) JJ.resize(N, 4);
+  parallel_for(N, 4096, [&](Index begin, Index end) {
+    for (Index p = begin; p < end; ++p) {
+      const Real px = x0(p, 0), py = x0(p, 1);
+      const int id = leaf_of(px, py);
+      const Node* leaf = id < 0 ? nullptr : &nodes_[static_cast<std::size_t>(id)];
+      if (!leaf || leaf->kind == 0 || (leaf->edges_count > 0 && !inside(*leaf, px, py))) {
+        fallback[static_cast<std::size_t>(p)] = 1;
+        continue;
+      }
+      Real v[kComponents];
+      const Real u = 2 * (px - leaf->x0) / leaf->h - 1, w = 2 * (py - leaf->y0) / leaf->h - 1;
+      evaluate_leaf(coefficients_.data() + leaf->coefficients, n1, u, w, first, last, v);
+      if (x) X(p, 0) = v[0], X(p, 1) = v[1];
+      if (J)
+        for (int c = 0; c < 4; ++c) JJ(p, c) = v[c + 2 - first];
+    }
+  });
+  std::vector<Index> rest;
+  for (Index p = 0; p < N; ++p)
+    if (fallback[static_cast<std::size_t>(p)]) rest.push_back(p);
+  if (!rest.empty()) {
+    Points<2> sub(static_cast<Index>(rest.size()), 2), sx;
+    Jacobians<2> sJ;
+    for (std::size_t k = 0; k < rest.size(); ++k) sub.row(static_cast<Index>(k)) = x0.row(rest[k]);
+    if (x && J)
+      exact_->eval_with_jacobian(sub, sx, sJ);
+    else if (x)
+      exact_->eval(sub, sx);
+    else
+      exact_->jacobian(sub, sJ);
+    for (std::size_t k = 0; k < rest.size(); ++k) {
+      if (x) X.row(rest[k]) = sx.row(static_cast<Index>(k));
+      if (J) JJ.row(rest[k]) = sJ.row(static_cast<Index>(k));
+    }
+  }
+  if (x == &x0) *x = std::move(out_x);
+}
+
+void AdaptiveInterpolant::eval(const Points<2>& x0, Points<2>& x) const {
+  run(x0, &x, nullptr);
+}
+
+void AdaptiveInterpolant::jacobian(const Points<2>& x0, Jacobians<2>& J) const {
+  run(x0, nullptr, &J);
+}
+
+void AdaptiveInterpolant::eval_with_jacobian(const Points<2>& x0, Points<2>& x, Jacobians<2>& J) const {
+  run(x0, &x, &J);
+}
+
+std::string AdaptiveInterpolant::describe() const {
+  std::ostringstream os;
+  os << exact_->describe() << ", interpolated (" << stats_.interpolated_leaves << " leaves of degree "
+     << options_.degree << ", tolerance " << options_.tolerance << ")";
+  return os.str();
+}
+
+}  // namespace warpfem::mapping
