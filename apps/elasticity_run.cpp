@@ -192,12 +192,12 @@ ElasticityRunResult run_elasticity(const io::ElasticityConfig& cfg, MPI_Comm com
   if (options.write_output && cfg.output.vtk)
     output = std::make_unique<ElasticityOutput>(cfg, op, mesh, comm, cell_owner);
   petsc::Vector u = op.space().create_vector();
-  std::unique_ptr<multigrid::GeometricMultigrid> mg;
+  std::unique_ptr<multigrid::GeometricMultigrid<2>> mg;
   if (newton.pc_type == "mg") {
     // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
     watch.reset();
-    mg = std::make_unique<multigrid::GeometricMultigrid>(
-        hierarchy, op, multigrid::GeometricMultigrid::galerkin_defaults(), level_owners);
+    mg = std::make_unique<multigrid::GeometricMultigrid<2>>(
+        hierarchy, op, multigrid::GeometricMultigrid<2>::galerkin_defaults(), level_owners);
     if (newton.ksp_type == "preonly") newton.ksp_type = "gmres";  // one V-cycle is not a solve
     newton.configure_preconditioner = [&mg](KSP ksp, Mat jacobian) {
       WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp, 1e-10, 1e-50, PETSC_DEFAULT, 1000));

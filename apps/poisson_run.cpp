@@ -32,7 +32,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
 
   const Polygon& source = *cfg.map.source;
   const Polygon& target = cfg.map.target ? *cfg.map.target : source;
-  fem::PoissonData data;
+  fem::PoissonData<2> data;
   data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
   data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
   data.neumann = io::make_boundary_conditions(cfg.poisson.neumann, cfg.file);
@@ -45,26 +45,26 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   // otherwise the single level is solved with the configured (or algebraic) preconditioner.
   const bool use_mg = cfg.solver.linear.pc_type == "mg" && cfg.mesh.refinements > 0;
   watch.reset();
-  std::unique_ptr<multigrid::PoissonMultigridSolver> mg;
+  std::unique_ptr<multigrid::PoissonMultigridSolver<2>> mg;
   std::unique_ptr<warpfem::Mesh<2>> single_mesh;
-  std::unique_ptr<fem::PoissonProblem> single;
+  std::unique_ptr<fem::PoissonProblem<2>> single;
   if (use_mg) {
     multigrid::PoissonMultigridOptions mg_options;
     mg_options.linear = cfg.solver.linear;
     mg_options.multigrid = cfg.solver.multigrid;
     mg_options.finest_geometry = storage;
-    mg = std::make_unique<multigrid::PoissonMultigridSolver>(
+    mg = std::make_unique<multigrid::PoissonMultigridSolver<2>>(
         comm, fem::make_coarse_mesh(source, target, *map, cfg.mesh), cfg.mesh.refinements, map,
         cfg.poisson.order, qdeg, data, mg_options);
   } else {
     single_mesh = std::make_unique<warpfem::Mesh<2>>(fem::make_coarse_mesh(source, target, *map, cfg.mesh));
     for (int r = 0; r < cfg.mesh.refinements; ++r)
       *single_mesh = warpfem::refine_uniformly(*single_mesh).mesh;
-    single = std::make_unique<fem::PoissonProblem>(comm, *single_mesh, map, cfg.poisson.order, qdeg, data,
-                                                   storage);
+    single = std::make_unique<fem::PoissonProblem<2>>(comm, *single_mesh, map, cfg.poisson.order, qdeg, data,
+                                                      storage);
     single->assemble();
   }
-  fem::PoissonProblem& problem = use_mg ? mg->finest() : *single;
+  fem::PoissonProblem<2>& problem = use_mg ? mg->finest() : *single;
   const warpfem::Mesh<2>& mesh = problem.mesh();
   result.num_cells = mesh.num_cells();
   result.h = mesh.max_edge_length();
@@ -109,7 +109,7 @@ PoissonRunResult run_poisson(const io::RunConfig& cfg, MPI_Comm comm, const Pois
   if (!cfg.poisson.exact_solution.empty()) {
     const io::Expression exact(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");
     const auto u = exact.as_function_2d();
-    const fem::GradientFunction grad = [&exact](const Point<2>& x, double t) {
+    const fem::GradientFunction<2> grad = [&exact](const Point<2>& x, double t) {
       return exact.gradient<2>(x, t);
     };
     const auto e = problem.errors(u, grad);

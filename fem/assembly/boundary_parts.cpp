@@ -1,16 +1,31 @@
 #include "fem/assembly/boundary_parts.hpp"
 
+#include "core/error.hpp"
+
 namespace warpfem::fem {
 
-BoundaryParts::BoundaryParts(const Mesh<2>& mesh, const std::optional<Polygon>& source) : mesh_(&mesh) {
-  if (source) locator_.emplace(*source);
+template <int dim>
+BoundaryParts<dim>::BoundaryParts(const Mesh<dim>& mesh, const std::optional<Polygon>& source)
+    : mesh_(&mesh) {
+  if constexpr (dim == 2) {
+    if (source) locator_.emplace(*source);
+  } else {
+    require(!source, "BoundaryParts: a source polygon selects parts in 2D only; 3D parts are facet tags");
+  }
 }
 
-void BoundaryParts::at(Index facet, const Point<2>& x0, std::vector<int>& parts) const {
-  if (locator_)
-    locator_->edges_at(x0, parts);
-  else
-    parts.assign(1, mesh_->facet_tags[static_cast<std::size_t>(facet)]);
+template <int dim>
+void BoundaryParts<dim>::at(Index facet, const Point<dim>& x0, std::vector<int>& parts) const {
+  if constexpr (dim == 2) {
+    if (locator_) {
+      locator_->edges_at(x0, parts);
+      return;
+    }
+  }
+  parts.assign(1, mesh_->facet_tags[static_cast<std::size_t>(facet)]);
 }
+
+template class BoundaryParts<2>;
+template class BoundaryParts<3>;
 
 }  // namespace warpfem::fem

@@ -1,11 +1,12 @@
 #pragma once
 // Boundary parts and the one rule that selects boundary conditions on them.
 //
-// A boundary part is an edge of the source polygon (its index is also the
-// index of the corresponding target edge). When the source polygon is known,
-// the parts at a boundary point are found from the point itself, because one
-// facet of a coarse simple mesh can span several polygon edges (a 4x4 grid on
-// a square carrying 64 vertices); otherwise they are the facet's tag.
+// In 2D a boundary part is an edge of the source polygon (its index is also
+// the index of the corresponding target edge). When the source polygon is
+// known, the parts at a boundary point are found from the point itself,
+// because one facet of a coarse simple mesh can span several polygon edges (a
+// 4x4 grid on a square carrying 64 vertices); otherwise, and always in 3D
+// (a group of polyhedron faces, a box face), they are the facet's tag.
 //
 // Rule: at a point, the *last* condition whose part list names one of the
 // point's parts applies (an empty list names every part); a DOF takes the
@@ -21,16 +22,18 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 class BoundaryParts {
  public:
-  /// Parts of `mesh`'s boundary facets, by point on `source` when it is given.
-  BoundaryParts(const Mesh<2>& mesh, const std::optional<Polygon>& source);
+  /// Parts of `mesh`'s boundary facets, by point on `source` when it is given
+  /// (2D only: throws for a source polygon in 3D).
+  BoundaryParts(const Mesh<dim>& mesh, const std::optional<Polygon>& source);
 
   /// The parts containing x0, a point of boundary facet `facet` (in Ω0).
-  void at(Index facet, const Point<2>& x0, std::vector<int>& parts) const;
+  void at(Index facet, const Point<dim>& x0, std::vector<int>& parts) const;
 
  private:
-  const Mesh<2>* mesh_;
+  const Mesh<dim>* mesh_;
   std::optional<BoundaryLocator> locator_;
 };
 
@@ -52,9 +55,9 @@ int select_condition(const std::vector<Condition>& conditions, const std::vector
 
 /// Per DOF of `dofs`: the index of the condition that applies to it, -1 for
 /// DOFs no condition reaches (and for DOFs off the stored boundary facets).
-template <class Condition>
-std::vector<int> boundary_dof_conditions(const Mesh<2>& mesh, const DofMap<2>& dofs,
-                                         const BoundaryParts& parts,
+template <int dim, class Condition>
+std::vector<int> boundary_dof_conditions(const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                         const BoundaryParts<dim>& parts,
                                          const std::vector<Condition>& conditions) {
   std::vector<int> out(static_cast<std::size_t>(dofs.num_dofs()), -1);
   if (conditions.empty()) return out;

@@ -23,7 +23,7 @@ using VectorFunction = std::function<Point<2>(const Point<2>& x, double t)>;
 /// std::function leaves that component free (e.g. a roller: only u_y = 0).
 struct DisplacementCondition {
   std::vector<int> edges;  ///< empty: every boundary edge
-  std::array<ScalarFunction, 2> value;
+  std::array<ScalarFunction<2>, 2> value;
 };
 
 /// Dead-load traction (force per unit length of the warped reference boundary f(∂Ω0)).

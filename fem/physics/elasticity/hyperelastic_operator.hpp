@@ -103,7 +103,7 @@ class HyperelasticOperator final : public Problem<2> {
   struct Constraint {
     PetscInt local_row;  ///< index into the owned part of a vector
     Point<2> x;          ///< physical position f(x0) of the node
-    const ScalarFunction* value;
+    const ScalarFunction<2>* value;
   };
   /// Calls at_point(values, q) at every quadrature point, with `ue` holding the
   /// cell's coefficients of `relevant` (if given).
