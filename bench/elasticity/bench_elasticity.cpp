@@ -13,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-#include "apps/elasticity_run.hpp"
+#include "apps/run.hpp"
 #include "core/environment.hpp"
 #include "core/log.hpp"
 #include "core/mesh/structured_mesher.hpp"
@@ -86,7 +86,7 @@ void gear() {
   json["verbosity"] = "warning";
   const auto cfg = io::parse_elasticity_config(json, path);
   Stopwatch watch;
-  const auto result = apps::run_elasticity(cfg, PETSC_COMM_WORLD, {.write_output = false});
+  const auto result = apps::run(cfg, PETSC_COMM_WORLD, {.write_output = false});
   const double total = watch.seconds();
   if (Environment::rank() == 0) {
     std::printf("\n### Gear example (examples/gear_transient.json, no output)\n\n");

@@ -1,5 +1,8 @@
 #include "core/mesh/polygon_mesher.hpp"
 
+#include <CGAL/AABB_segment_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
 #include <CGAL/Delaunay_mesh_size_criteria_2.h>
@@ -11,8 +14,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
-#include <map>
+#include <iterator>
+#include <unordered_map>
 
 #include "core/error.hpp"
 
@@ -25,12 +28,13 @@ using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds>;
 using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
 using Mesher = CGAL::Delaunay_mesher_2<Cdt, Criteria>;
-
-double distance_to_segment(const Point<2>& p, const Point<2>& a, const Point<2>& b) {
-  const Point<2> d = b - a;
-  const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (p - (a + t * d)).norm();
-}
+constexpr std::size_t kSequentialInsertionLimit = 2048;
+// The polygon's edges in an AABB tree: a boundary facet finds the edge it lies
+// on in logarithmic time (a scan over all edges made meshing quadratic in the
+// number of polygon vertices). CGAL 5.5's AABB tree is 3D: the edges lie in z = 0.
+using Segments = std::vector<Kernel::Segment_3>;
+using EdgePrimitive = CGAL::AABB_segment_primitive<Kernel, Segments::const_iterator>;
+using EdgeTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, EdgePrimitive>>;
 
 /// The corners, and with max_length > 0 the points splitting every edge into
 /// ceil(length / max_length) equal pieces, in boundary order.
@@ -63,11 +67,25 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
   }
   const Index n = polygon.size();
   Cdt cdt;
-  std::vector<Cdt::Vertex_handle> nodes;  // counter-clockwise along the boundary, corners included
+  std::vector<Cdt::Point> nodes;
   for (const Point<2>& p : boundary_nodes(polygon, options.max_boundary_edge_length))
-    nodes.push_back(cdt.insert(Cdt::Point(p.x(), p.y())));
-  for (std::size_t j = 0; j < nodes.size(); ++j)
-    cdt.insert_constraint(nodes[j], nodes[(j + 1) % nodes.size()]);
+    nodes.emplace_back(p.x(), p.y());
+  if (nodes.size() > kSequentialInsertionLimit) {
+    // All nodes and edges at once: CGAL sorts them spatially first. In
+    // boundary order, nearly co-circular nodes (any finely sampled smooth
+    // outline) each flip O(n) triangles: quadratic in the node count.
+    std::vector<std::pair<std::size_t, std::size_t>> segments;
+    segments.reserve(nodes.size());
+    for (std::size_t j = 0; j < nodes.size(); ++j) segments.emplace_back(j, (j + 1) % nodes.size());
+    cdt.insert_constraints(nodes.begin(), nodes.end(), segments.begin(), segments.end());
+  } else {
+    // Few nodes: boundary order, which fixes the triangulation's tie-breaks
+    // (and so the refined mesh) independently of CGAL's spatial sort.
+    std::vector<Cdt::Vertex_handle> handles;
+    for (const Cdt::Point& p : nodes) handles.push_back(cdt.insert(p));
+    for (std::size_t j = 0; j < handles.size(); ++j)
+      cdt.insert_constraint(handles[j], handles[(j + 1) % handles.size()]);
+  }
   for (const Point<2>& p : interior_points) cdt.insert(Cdt::Point(p.x(), p.y()));
 
   // A seed-free refinement meshes every bounded component; the polygon is
@@ -79,7 +97,7 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
 
   Mesh<2> mesh;
   mesh.cell_type = CellType::triangle;
-  std::map<Cdt::Vertex_handle, Index> index;
+  std::unordered_map<Cdt::Vertex_handle, Index> index;
   std::vector<Point<2>> verts;
   std::vector<std::array<Index, 3>> tris;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
@@ -106,6 +124,14 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
     for (int k = 0; k < 3; ++k) mesh.cells(static_cast<Index>(c), k) = tris[c][k];
 
   // Boundary facets: edges of in-domain faces whose neighbour is outside.
+  Segments edges;
+  edges.reserve(static_cast<std::size_t>(n));
+  for (Index e = 0; e < n; ++e) {
+    const Point<2> a = polygon.vertex(e), b = polygon.vertex(e + 1);
+    edges.emplace_back(Kernel::Point_3(a.x(), a.y(), 0), Kernel::Point_3(b.x(), b.y(), 0));
+  }
+  EdgeTree tree(edges.cbegin(), edges.cend());
+  tree.accelerate_distance_queries();
   std::vector<std::array<Index, 2>> facets;
   std::vector<int> tags;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
@@ -117,14 +143,9 @@ Mesh<2> mesh_polygon(const Polygon& polygon, const PolygonMeshOptions& options,
       const Index a = index.at(f->vertex(cdt.ccw(k)));
       const Index b = index.at(f->vertex(cdt.cw(k)));
       const Point<2> mid = 0.5 * (verts[a] + verts[b]);
-      int best = -1;
-      double best_d = std::numeric_limits<double>::infinity();
-      for (Index e = 0; e < n; ++e) {
-        const double d = distance_to_segment(mid, polygon.vertex(e), polygon.vertex(e + 1));
-        if (d < best_d) best_d = d, best = static_cast<int>(e);
-      }
+      const auto nearest = tree.closest_point_and_primitive(Kernel::Point_3(mid.x(), mid.y(), 0));
       facets.push_back({a, b});
-      tags.push_back(best);
+      tags.push_back(static_cast<int>(std::distance(edges.cbegin(), nearest.second)));
     }
   }
   mesh.boundary_facets.resize(static_cast<Index>(facets.size()), 2);

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "apps/elasticity_run.hpp"
+#include "apps/run.hpp"
 #include "io/pvd_writer.hpp"
 
 using namespace warpfem;
@@ -113,14 +113,14 @@ TEST(PvdWriter, WritesAValidSeriesAfterEveryStep) {
 TEST(ElasticityRun, BlockCompressionReachesThePrescribedDisplacement) {
   const auto cfg = parse(kBlock);
   fs::remove_all(cfg.output.directory);
-  const auto result = apps::run_elasticity(cfg, MPI_COMM_SELF);
+  const auto result = apps::run(cfg, MPI_COMM_SELF);
   ASSERT_EQ(result.load_steps.size(), 2u);
   EXPECT_NEAR(result.load_steps.back().load, 1.0, 1e-14);
   EXPECT_NEAR(result.max_displacement, 0.3, 0.05) << "the top edge moves by 0.3, the sides bulge a little";
   EXPECT_GT(result.min_det_F, 0.2);
   EXPECT_LT(result.min_det_F, 1.0);
   EXPECT_EQ(result.vtk_files.size(), 3u) << "initial state and both load steps";
-  EXPECT_TRUE(fs::exists(result.pvd_file));
+  EXPECT_TRUE(fs::exists(result.output_file));
   for (const auto& f : result.vtk_files) EXPECT_TRUE(fs::exists(f)) << f;
 }
 
@@ -131,8 +131,8 @@ TEST(ElasticityRun, MultigridNewtonStepsGiveTheDirectSolversResult) {
   auto lu_cfg = parse(refined);
   auto mg_cfg = parse(with(refined, R"("load_stepping")", R"("solver": {"pc_type": "mg"}, "load_stepping")"));
   ASSERT_EQ(mg_cfg.solver.pc_type, "mg");
-  const auto lu = apps::run_elasticity(lu_cfg, MPI_COMM_SELF, {.write_output = false});
-  const auto mg = apps::run_elasticity(mg_cfg, MPI_COMM_SELF, {.write_output = false});
+  const auto lu = apps::run(lu_cfg, MPI_COMM_SELF, {.write_output = false});
+  const auto mg = apps::run(mg_cfg, MPI_COMM_SELF, {.write_output = false});
   EXPECT_EQ(mg.newton_iterations, lu.newton_iterations);
   EXPECT_NEAR(mg.max_displacement, lu.max_displacement, 1e-8);
   EXPECT_NEAR(mg.min_det_F, lu.min_det_F, 1e-8);
@@ -146,7 +146,7 @@ TEST(ElasticityRun, GearExampleSwingsUnderGravity) {
   json["verbosity"] = "warning";
   json["mesh"]["cells"] = {10, 10};
   const auto cfg = io::parse_elasticity_config(json, "examples/gear_transient.json");
-  const auto result = apps::run_elasticity(cfg, MPI_COMM_SELF, {.write_output = false});
+  const auto result = apps::run(cfg, MPI_COMM_SELF, {.write_output = false});
   EXPECT_EQ(result.time_steps, 5);
   EXPECT_GT(result.max_displacement, 1e-3) << "gravity must move the gear";
   EXPECT_LT(result.max_displacement, 0.2);
@@ -160,7 +160,7 @@ TEST(ElasticityRun, FailingLoadKeepsTheLastConvergedStateWritten) {
   cfg.load_stepping.min_increment = 0.1;
   fs::remove_all(cfg.output.directory);
   try {
-    apps::run_elasticity(cfg, MPI_COMM_SELF);
+    apps::run(cfg, MPI_COMM_SELF);
     FAIL() << "expected warpfem::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("quasi-static solve failed"), std::string::npos) << e.what();

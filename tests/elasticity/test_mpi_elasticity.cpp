@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "apps/elasticity_run.hpp"
+#include "apps/run.hpp"
 
 using namespace warpfem;
 
@@ -48,14 +48,12 @@ TEST_P(MpiElasticity, TwoRanksEqualSerial) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
   const auto cfg = config(GetParam());
-  const auto parallel =
-      apps::run_elasticity(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
-  const auto serial =
-      apps::run_elasticity(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
-  ASSERT_EQ(parallel.displacement.size(), serial.displacement.size());
-  const double scale = serial.displacement.lpNorm<Eigen::Infinity>();
+  const auto parallel = apps::run(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
+  const auto serial = apps::run(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
+  ASSERT_EQ(parallel.solution.size(), serial.solution.size());
+  const double scale = serial.solution.lpNorm<Eigen::Infinity>();
   EXPECT_GT(scale, 1e-3);
-  const double diff = (parallel.displacement - serial.displacement).lpNorm<Eigen::Infinity>();
+  const double diff = (parallel.solution - serial.solution).lpNorm<Eigen::Infinity>();
   EXPECT_LT(diff, 1e-8 * scale) << "max difference " << diff;
   EXPECT_EQ(parallel.newton_iterations, serial.newton_iterations);
   EXPECT_NE(parallel.vtk_files.back().find(".pvtu"), std::string::npos);

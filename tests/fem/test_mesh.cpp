@@ -33,6 +33,35 @@ double mesh_area(const Mesh<2>& m) {
 }
 }  // namespace
 
+// A finely sampled smooth outline (more nodes than the mesher inserts one by
+// one): the mesh covers the polygon, every facet lies on (and between the ends
+// of) the edge it is tagged with, and every edge is tagged exactly once.
+TEST(PolygonMesher, ManyVertexOutlineCoversAndTagsEveryEdge) {
+  const Index n = 6000;
+  std::vector<Point<2>> v;
+  for (Index i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * static_cast<double>(i) / static_cast<double>(n);
+    const double r = 1 + 0.1 * std::sin(12 * t);
+    v.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  const Polygon poly = Polygon::checked(std::move(v));
+  const Mesh<2> m = mesh_polygon(poly);
+  EXPECT_NEAR(mesh_area(m), poly.signed_area(), 1e-10);
+  ASSERT_EQ(m.num_boundary_facets(), n);  // no size bound: the polygon's own edges
+  std::vector<int> count(static_cast<std::size_t>(n), 0);
+  for (Index f = 0; f < m.num_boundary_facets(); ++f) {
+    const int e = m.facet_tags[f];
+    ASSERT_GE(e, 0);
+    ASSERT_LT(e, n);
+    ++count[static_cast<std::size_t>(e)];
+    const Point<2> a = poly.vertex(e), b = poly.vertex(e + 1);
+    const Point<2> p = m.vertex(m.boundary_facets(f, 0)), q = m.vertex(m.boundary_facets(f, 1));
+    EXPECT_EQ(p, a) << "facet " << f << " tagged " << e;
+    EXPECT_EQ(q, b) << "facet " << f << " tagged " << e;
+  }
+  EXPECT_TRUE(std::all_of(count.begin(), count.end(), [](int c) { return c == 1; }));
+}
+
 TEST(PolygonMesher, CoversPolygonRespectsSizeAndTagsEdges) {
   const Polygon poly = lshape();
   const Mesh<2> m = mesh_polygon(poly, {.max_edge_length = 0.2});

@@ -4,19 +4,19 @@
 
 #include <cmath>
 
-#include "apps/poisson_run.hpp"
+#include "apps/run.hpp"
 #include "core/log.hpp"
 
 using namespace warpfem;
 
 namespace {
 
-std::vector<apps::PoissonRunResult> refinement_study(const std::string& json_text, int levels) {
-  std::vector<apps::PoissonRunResult> out;
+std::vector<apps::RunResult> refinement_study(const std::string& json_text, int levels) {
+  std::vector<apps::RunResult> out;
   for (int r = 0; r < levels; ++r) {
     io::RunConfig cfg = io::parse_run_config(nlohmann::json::parse(json_text), "test.json");
     cfg.mesh.refinements = r;
-    out.push_back(apps::run_poisson(cfg, MPI_COMM_SELF, {.write_output = false}));
+    out.push_back(apps::run(cfg, MPI_COMM_SELF, {.write_output = false}));
   }
   return out;
 }
@@ -95,11 +95,10 @@ TEST(PoissonRun, StreamedGeometryGivesTheCachedResult) {
                 "exact_solution": "sin(2*x)*cos(y) + x^2"}
   })json";
   nlohmann::json j = nlohmann::json::parse(text);
-  const auto cached =
-      apps::run_poisson(io::parse_run_config(j, "test.json"), MPI_COMM_SELF, {.write_output = false});
+  const auto cached = apps::run(io::parse_run_config(j, "test.json"), MPI_COMM_SELF, {.write_output = false});
   j["problem"]["geometry"] = "streamed";
   const auto streamed =
-      apps::run_poisson(io::parse_run_config(j, "test.json"), MPI_COMM_SELF, {.write_output = false});
+      apps::run(io::parse_run_config(j, "test.json"), MPI_COMM_SELF, {.write_output = false});
   ASSERT_TRUE(cached.l2_error && streamed.l2_error);
   EXPECT_GT(*cached.l2_error, 0);
   EXPECT_NEAR(*streamed.l2_error, *cached.l2_error, 1e-10 * *cached.l2_error);

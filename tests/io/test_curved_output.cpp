@@ -18,7 +18,7 @@
 #include <map>
 #include <vector>
 
-#include "apps/poisson_run.hpp"
+#include "apps/run.hpp"
 #include "io/run_config.hpp"
 
 using namespace warpfem;
@@ -95,7 +95,7 @@ TEST_P(VtkDerivativeLayout, MatchesDifferencesOfItsOwnPositions) {
   // The derivative layout assumed above, checked against VTK's EvaluateLocation
   // on a triangle (gear) and a quadrilateral (default) output cell.
   const std::string dir = "output/test_curved_output_layout";
-  const auto result = apps::run_poisson(example(GetParam(), dir, 0), MPI_COMM_SELF);
+  const auto result = apps::run(example(GetParam(), dir, 0), MPI_COMM_SELF);
   auto reader = read(result.output_file);
   vtkCell* cell = reader->GetOutput()->GetCell(0);
   const double h = 1e-6, p[3] = {0.3, 0.2, 0}, pr[3] = {0.3 + h, 0.2, 0}, ps[3] = {0.3, 0.2 + h, 0};
@@ -115,7 +115,7 @@ INSTANTIATE_TEST_SUITE_P(CurvedOutput, VtkDerivativeLayout,
 TEST(CurvedOutput, GearCurvedCellsAreUntangled) {
   const std::string dir = "output/test_curved_output_gear";
   std::filesystem::remove_all(dir);
-  const auto result = apps::run_poisson(example("examples/poisson_gear_curved.json", dir, 1), MPI_COMM_SELF);
+  const auto result = apps::run(example("examples/poisson_gear_curved.json", dir, 1), MPI_COMM_SELF);
   auto reader = read(result.output_file);
   EXPECT_EQ(folded_cells(reader->GetOutput()), 0);
   EXPECT_EQ(result.output_folded_cells, 0);
@@ -124,7 +124,7 @@ TEST(CurvedOutput, GearCurvedCellsAreUntangled) {
 TEST(CurvedOutput, DefaultExampleFoldedCellsAreSubdividedAndTheCountIsTrue) {
   const std::string dir = "output/test_curved_output_default";
   std::filesystem::remove_all(dir);
-  const auto result = apps::run_poisson(example("examples/default.json", dir, 3), MPI_COMM_SELF);
+  const auto result = apps::run(example("examples/default.json", dir, 3), MPI_COMM_SELF);
   EXPECT_GT(result.output_subdivided_cells, 0);
   auto reader = read(result.output_file);
   vtkUnstructuredGrid* grid = reader->GetOutput();

@@ -20,7 +20,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "apps/poisson_run.hpp"
+#include "apps/run.hpp"
 #include "io/atomic_file.hpp"
 #include "io/png_image.hpp"
 #include "io/pvd_writer.hpp"
@@ -45,7 +45,7 @@ TEST(VtkOutput, VtuReadsBackWithPointsCellsAndSolution) {
   const std::string dir = "output/test_vtk_output";
   std::filesystem::remove_all(dir);
   const auto cfg = small_config(dir);
-  const auto result = apps::run_poisson(cfg, MPI_COMM_SELF, {.write_output = true, .gather_solution = true});
+  const auto result = apps::run(cfg, MPI_COMM_SELF, {.write_output = true, .gather_solution = true});
   ASSERT_EQ(result.output_file, dir + "/solution.vtu");
 
   vtkNew<vtkXMLUnstructuredGridReader> reader;
@@ -76,7 +76,7 @@ TEST(VtkOutput, QuadraticOutputUsesLagrangeCells) {
   const std::string dir = "output/test_vtk_output_p2";
   auto cfg = small_config(dir);
   cfg.poisson.order = 2;
-  const auto result = apps::run_poisson(cfg, MPI_COMM_SELF);
+  const auto result = apps::run(cfg, MPI_COMM_SELF);
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(result.output_file.c_str());
   reader->Update();
@@ -135,7 +135,7 @@ TEST(VtkOutput, EveryCompressionAndCellChoiceReadsBackTheSameData) {
   std::filesystem::remove_all(dir);
   auto cfg = warped_config(dir);
   cfg.output.name = "reference";
-  const auto reference_run = apps::run_poisson(cfg, MPI_COMM_SELF);
+  const auto reference_run = apps::run(cfg, MPI_COMM_SELF);
   const ReadBack reference = read_vtu(reference_run.output_file);
   vtkUnstructuredGrid& ref = *reference.grid;
   ASSERT_EQ(ref.GetNumberOfCells(), reference_run.num_cells);
@@ -155,7 +155,7 @@ TEST(VtkOutput, EveryCompressionAndCellChoiceReadsBackTheSameData) {
                      {"name", compression + "_" + cells},
                      {"compression", compression},
                      {"cells", cells}};
-      const auto run = apps::run_poisson(io::parse_run_config(j, "test.json"), MPI_COMM_SELF);
+      const auto run = apps::run(io::parse_run_config(j, "test.json"), MPI_COMM_SELF);
       const ReadBack back = read_vtu(run.output_file);
       vtkUnstructuredGrid& grid = *back.grid;
       const std::string expected_compressor = compression == "lz4"    ? "vtkLZ4DataCompressor"
@@ -255,7 +255,7 @@ TEST(AtomicFile, FullDiskKeepsThePreviousVtuAndThrows) {
   const std::string dir = "output/test_full_disk_vtu";
   std::filesystem::remove_all(dir);
   auto cfg = small_config(dir);
-  const auto first = apps::run_poisson(cfg, MPI_COMM_SELF);
+  const auto first = apps::run(cfg, MPI_COMM_SELF);
   const std::string good = file_bytes(first.output_file);
   ASSERT_GT(good.size(), 2048u);
   cfg.mesh.max_edge_length = 0.1;  // a different, larger result
@@ -264,7 +264,7 @@ TEST(AtomicFile, FullDiskKeepsThePreviousVtuAndThrows) {
     EXPECT_THROW(
         {
           try {
-            apps::run_poisson(cfg, MPI_COMM_SELF);
+            apps::run(cfg, MPI_COMM_SELF);
           } catch (const Error& e) {
             EXPECT_NE(std::string(e.what()).find("solution.vtu"), std::string::npos) << e.what();
             throw;
@@ -319,7 +319,7 @@ TEST(AtomicFile, OutputDirectoryBlockedByAFileIsReportedByName) {
   io::write_text_atomically(dir + "/blocker", "a file where the output directory should be");
   auto cfg = small_config(dir + "/blocker");
   try {
-    apps::run_poisson(cfg, MPI_COMM_SELF);
+    apps::run(cfg, MPI_COMM_SELF);
     ADD_FAILURE() << "expected an error";
   } catch (const Error& e) {
     EXPECT_EQ(e.context().file, dir + "/blocker");

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "apps/poisson_run.hpp"
+#include "apps/run.hpp"
 #include "core/mesh/structured_mesher.hpp"
 #include "core/mesh/uniform_refinement.hpp"
 #include "core/petsc/check.hpp"
@@ -38,9 +38,8 @@ TEST_P(MpiPoisson, TwoRanksEqualSerial) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
   const auto cfg = config(GetParam());
-  const auto parallel =
-      apps::run_poisson(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
-  const auto serial = apps::run_poisson(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
+  const auto parallel = apps::run(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
+  const auto serial = apps::run(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
   ASSERT_EQ(parallel.solution.size(), serial.solution.size());
   const double diff = (parallel.solution - serial.solution).lpNorm<Eigen::Infinity>();
   const double scale = serial.solution.lpNorm<Eigen::Infinity>();
@@ -120,9 +119,8 @@ TEST(MpiPoisson, LevelsBuiltAroundEachRankGiveTheSerialRun) {
                                            "mpi_partial_test.json");
   cfg.output.directory = "output/test_mpi";
   cfg.output.name = "partial";
-  const auto parallel =
-      apps::run_poisson(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
-  const auto serial = apps::run_poisson(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
+  const auto parallel = apps::run(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
+  const auto serial = apps::run(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
   ASSERT_EQ(parallel.solution.size(), serial.solution.size());
   EXPECT_LT((parallel.solution - serial.solution).lpNorm<Eigen::Infinity>(),
             1e-9 * serial.solution.lpNorm<Eigen::Infinity>());

@@ -1,0 +1,139 @@
+// Poisson in the run recipe: −Δu = g on the warped domain, one linear solve —
+// CG preconditioned by geometric multigrid on the nested hierarchy (default),
+// or the configured KSP on the finest mesh alone.
+
+#include <petscvec.h>
+
+#include <cmath>
+#include <iomanip>
+
+#include "apps/physics.hpp"
+#include "apps/run_output.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/mesh/uniform_refinement.hpp"
+#include "core/timer.hpp"
+#include "fem/physics/poisson.hpp"
+#include "io/expression.hpp"
+#include "multigrid/poisson_multigrid.hpp"
+
+namespace warpfem::apps {
+namespace {
+
+class PoissonPhysics final : public Physics<2> {
+ public:
+  PoissonPhysics(const io::RunConfig& cfg, MPI_Comm comm, const RunOptions& options)
+      : cfg_(cfg), comm_(comm), options_(options) {}
+
+  const fem::Problem<2>& set_up(Mesh<2> coarse, int refinements, mapping::MapPtr<2> map) override {
+    fem::PoissonData<2> data;
+    data.source = io::Expression(cfg_.poisson.source, cfg_.file, "/problem/source").as_function_2d();
+    data.dirichlet = io::make_boundary_conditions(cfg_.poisson.dirichlet, cfg_.file);
+    data.neumann = io::make_boundary_conditions(cfg_.poisson.neumann, cfg_.file);
+    data.boundary_polygon = *cfg_.map.source;
+    const int order = cfg_.poisson.order;
+    const int qdeg = cfg_.poisson.quadrature_degree > 0 ? cfg_.poisson.quadrature_degree
+                                                        : warpfem::default_quadrature_degree(order);
+    const fem::GeometryStorage storage =
+        cfg_.poisson.geometry == "streamed" ? fem::GeometryStorage::streamed : fem::GeometryStorage::cached;
+    Stopwatch watch;
+    if (use_multigrid()) {  // builds the (partitioned) hierarchy and assembles every level
+      multigrid::PoissonMultigridOptions mg_options;
+      mg_options.linear = cfg_.solver.linear;
+      mg_options.multigrid = cfg_.solver.multigrid;
+      mg_options.finest_geometry = storage;
+      mg_ = std::make_unique<multigrid::PoissonMultigridSolver<2>>(comm_, std::move(coarse), refinements, map,
+                                                                   order, qdeg, data, mg_options);
+    } else {
+      mesh_ = std::make_unique<Mesh<2>>(std::move(coarse));
+      for (int r = 0; r < refinements; ++r) *mesh_ = warpfem::refine_uniformly(*mesh_).mesh;
+      single_ = std::make_unique<fem::PoissonProblem<2>>(comm_, *mesh_, map, order, qdeg, data, storage);
+      single_->assemble();
+    }
+    const fem::PoissonProblem<2>& p = problem();
+    int size = 1;
+    MPI_Comm_size(comm_, &size);
+    log::info("assembled P", order, " Poisson", mg_ ? " on every level" : "", ": ", p.dofs().num_dofs(),
+              " DOFs on ", size, " rank(s), ", p.geometry().num_cells() * p.geometry().points_per_cell(),
+              " warped quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
+    check_load_is_finite();
+    return p;
+  }
+  int order() const override { return cfg_.poisson.order; }
+
+  void solve(RunOutput<2>*, RunResult& result) override {
+    if (mg_) {
+      result.solve = mg_->solve().linear;
+    } else {
+      petsc::LinearSolveOptions linear = cfg_.solver.linear;
+      if (linear.pc_type == "mg") linear.pc_type = "gamg";  // one level: nothing to build a hierarchy from
+      result.solve = single_->solve(linear);
+    }
+    result.solve_seconds = result.solve.solve_seconds;
+    log::info("solved with ", result.solve.ksp_type, "/", result.solve.pc_type,
+              mg_ ? " (" + std::to_string(cfg_.mesh.refinements + 1) + " levels)" : std::string(), ": ",
+              result.solve.iterations, " iterations, residual ", std::scientific, std::setprecision(2),
+              result.solve.residual_norm, " (setup ", format_seconds(result.solve.setup_seconds), ", solve ",
+              format_seconds(result.solve.solve_seconds), ")");
+  }
+
+  void report(RunResult& result) const override {
+    const fem::PoissonProblem<2>& p = problem();
+    result.area = p.area();
+    if (!cfg_.poisson.exact_solution.empty()) {
+      const io::Expression exact(cfg_.poisson.exact_solution, cfg_.file, "/problem/exact_solution");
+      const fem::GradientFunction<2> grad = [&exact](const Point<2>& x, double t) {
+        return exact.gradient<2>(x, t);
+      };
+      const auto e = p.errors(exact.as_function_2d(), grad);
+      result.l2_error = e.l2;
+      result.h1_error = e.h1_semi;
+      log::info("error against exact solution: L2 ", std::scientific, std::setprecision(4), e.l2,
+                ", H1-seminorm ", e.h1_semi);
+    }
+    if (options_.gather_solution) result.solution = p.distribution().gather_all(p.solution());
+  }
+
+  Vec state() const override { return problem().solution(); }
+  void add_fields(const fem::OutputMesh<2>& mesh, Vec u, io::VtkOutput<2>& vtk) const override {
+    const fem::PoissonProblem<2>& p = problem();
+    const VectorX values = mesh.interpolate(p.dofs(), p.distribution(), p.distribution().gather_relevant(u));
+    vtk.point_fields.push_back({"u", 1, std::vector<double>(values.data(), values.data() + values.size())});
+  }
+
+ private:
+  /// Geometric multigrid needs at least one refinement; one level is solved with
+  /// the configured (or an algebraic) preconditioner.
+  bool use_multigrid() const { return cfg_.solver.linear.pc_type == "mg" && cfg_.mesh.refinements > 0; }
+  const fem::PoissonProblem<2>& problem() const { return mg_ ? mg_->finest() : *single_; }
+
+  /// A NaN or inf load would only surface as a diverging multigrid smoother.
+  void check_load_is_finite() const {
+    PetscReal rhs_norm = 0;
+    PetscCallAbort(comm_, VecNorm(problem().rhs(), NORM_INFINITY, &rhs_norm));
+    if (!std::isfinite(rhs_norm))
+      throw Error(
+          "the assembled load vector contains NaN or inf: the source term (or a boundary value) is not "
+          "finite somewhere in the domain",
+          {.file = cfg_.file,
+           .key_path = "/problem/source",
+           .hint = "check /problem/source, /problem/dirichlet and /problem/neumann for division by zero "
+                   "or sqrt/log of negative values on the target domain"});
+  }
+
+  const io::RunConfig& cfg_;
+  MPI_Comm comm_;
+  RunOptions options_;
+  std::unique_ptr<multigrid::PoissonMultigridSolver<2>> mg_;
+  std::unique_ptr<Mesh<2>> mesh_;
+  std::unique_ptr<fem::PoissonProblem<2>> single_;
+};
+
+}  // namespace
+
+std::unique_ptr<Physics<2>> make_physics(const io::RunConfig& config, MPI_Comm comm,
+                                         const RunOptions& options) {
+  return std::make_unique<PoissonPhysics>(config, comm, options);
+}
+
+}  // namespace warpfem::apps

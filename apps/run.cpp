@@ -1,0 +1,118 @@
+// `warpfem run`: the one recipe every physics follows. The physics-specific
+// parts (problem, solver, report, fields) are apps/physics.hpp strategies; the
+// map, the mesh of Ω0 and the output are set up here, once.
+
+#include "apps/run.hpp"
+
+#include <iomanip>
+
+#include "apps/command_line.hpp"
+#include "apps/commands.hpp"
+#include "apps/physics.hpp"
+#include "apps/run_output.hpp"
+#include "core/environment.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/timer.hpp"
+#include "fem/hierarchy/mesh_factory.hpp"
+#include "io/config_field.hpp"
+#include "mapping/make_map.hpp"
+
+namespace warpfem::apps {
+namespace {
+
+template <int dim, class Config>
+RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options) {
+  RunResult result;
+  Stopwatch total, watch;
+
+  // 1. Config and options: `cfg` is validated (io::load_config); it names the physics.
+  const std::unique_ptr<Physics<dim>> physics = make_physics(cfg, comm, options);
+
+  // 2. The map f: Ω0 → Ω1, built and checked (a map that folds is refused here).
+  const mapping::MapPtr<dim> map = mapping::make_map(cfg.map);
+  log::info("map: ", map->describe(), " (", format_seconds(watch.seconds()), ")");
+
+  // 3. The simple mesh of Ω0 (pulled back from Ω1 if the config asks); the physics
+  // refines it into the hierarchy its solver needs.
+  Mesh<dim> coarse = fem::make_coarse_mesh(
+      *cfg.map.source, cfg.map.target ? *cfg.map.target : *cfg.map.source, *map, cfg.mesh);
+
+  // 4. The problem on the warped mesh: a fem::Problem<dim> on the finest level.
+  const fem::Problem<dim>& problem = physics->set_up(std::move(coarse), cfg.mesh.refinements, map);
+  const Mesh<dim>& mesh = problem.mesh();
+  result.num_cells = mesh.num_cells();
+  result.num_dofs = problem.components() * problem.dofs().num_dofs();
+  result.h = mesh.max_edge_length();
+  if (mesh.partial)  // stored only around this rank's cells: the largest over the ranks
+    MPI_Allreduce(MPI_IN_PLACE, &result.h, 1, MPI_DOUBLE, MPI_MAX, comm);
+  log::info("mesh of Ω0: ", mesh.num_cells(), " ", warpfem::to_string(mesh.cell_type), "s, ",
+            mesh.num_vertices(), " vertices, h = ", std::setprecision(4), result.h, " (",
+            cfg.mesh.refinements, " refinements)");
+
+  // 5. Solve: linear (Krylov + geometric multigrid), quasi-static load stepping or
+  // transient time stepping. A time series writes its steps as they converge.
+  std::unique_ptr<RunOutput<dim>> output;
+  if (options.write_output && cfg.output.vtk) {
+    const int order = cfg.output.vtk_order > 0 ? cfg.output.vtk_order
+                                               : std::max(physics->order(), map->is_affine() ? 1 : 2);
+    output = std::make_unique<RunOutput<dim>>(
+        comm, RunOutputSettings{cfg.output.directory, cfg.output.name, cfg.output.compression, order},
+        *physics, problem, *map);
+  }
+  physics->solve(output.get(), result);
+
+  // 6. Report: errors against an exact solution, energies, min det F.
+  physics->report(result);
+
+  // 7. Output through io: the solved state (a time series is written already).
+  if (output) output->finish(physics->state(), result);
+  log::info("total ", format_seconds(total.seconds()));
+  return result;
+}
+
+}  // namespace
+
+RunResult run(const io::Config& config, MPI_Comm comm, const RunOptions& options) {
+  // Every physics is two-dimensional today; a 3D config (polyhedra) selects run_recipe<3> here.
+  return std::visit([&](const auto& cfg) { return run_recipe<2>(cfg, comm, options); }, config);
+}
+
+int run_command(const std::vector<std::string>& args) {
+  const char* usage = "usage: warpfem run <config.json> [--output-dir DIR] [PETSc options]";
+  if (args.empty() || args[0].rfind("-", 0) == 0)
+    throw Error("missing config file (it must be the first argument)",
+                {.file = "", .key_path = "", .hint = usage});
+  const std::string config_path = args[0];
+  std::string output_dir;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    if (args[i] == "--output-dir") {
+      if (i + 1 >= args.size())
+        throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
+      output_dir = args[++i];
+    } else {
+      // Everything else is a PETSc option, already read by PetscInitialize.
+      check_flag(args[i], {"--output-dir"}, usage);
+    }
+  }
+  io::Config config = io::load_config(config_path);
+  std::visit(
+      [&](auto& cfg) {
+        if (!output_dir.empty()) cfg.output.directory = output_dir;
+        log::set_level(log::parse_level(cfg.verbosity));
+        Environment::insert_petsc_options(cfg.solver.petsc_options, config_path + ": /solver/petsc_options");
+        log::info("warpfem run ", config_path, " on ", Environment::size(), " rank(s)");
+        log::info(
+            "output directory ", cfg.output.directory,
+            output_dir.empty() ? " (a relative output.directory starts at the config's directory)" : "");
+      },
+      config);
+  try {
+    run(config, PETSC_COMM_WORLD);
+  } catch (const Error& e) {
+    throw io::in_config(e, config_path);  // errors that name a config field come from this config
+  }
+  return 0;
+}
+
+}  // namespace warpfem::apps
