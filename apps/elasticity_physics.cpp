@@ -57,9 +57,9 @@ class ElasticityPhysics final : public Physics<2> {
         mg ? fem::nested_partitions(*hierarchy_, size) : std::vector<std::vector<int>>{};
     const std::vector<int> cell_owner = level_owners.empty() ? std::vector<int>{} : level_owners.back();
     const Mesh<2>& mesh = hierarchy_->finest();
-    op_ = std::make_unique<fem::HyperelasticOperator>(comm_, mesh, map, cfg_.problem.order,
-                                                      cfg_.problem.quadrature_degree,
-                                                      io::make_elasticity_data(cfg_), cell_owner);
+    op_ = std::make_unique<fem::HyperelasticOperator<2>>(comm_, mesh, map, cfg_.problem.order,
+                                                         cfg_.problem.quadrature_degree,
+                                                         io::make_elasticity_data(cfg_), cell_owner);
     u_ = op_->space().create_vector();
     const std::string element = std::string(mesh.cell_type == warpfem::CellType::triangle ? "P" : "Q") +
                                 std::to_string(cfg_.problem.order);
@@ -68,7 +68,7 @@ class ElasticityPhysics final : public Physics<2> {
               op_->space().num_global(), " DOFs on ", size, " rank(s), ", op_->num_constrained(),
               " constrained (", format_seconds(watch.seconds()), ")");
     if (options_.write_output && cfg_.output.vtk)  // von Mises stress and det F at the nodes
-      projection_ = std::make_unique<fem::NodalProjection>(comm_, mesh, op_->geometry(), cell_owner);
+      projection_ = std::make_unique<fem::NodalProjection<2>>(comm_, mesh, op_->geometry(), cell_owner);
     if (mg) {
       // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
       watch.reset();
@@ -117,7 +117,7 @@ class ElasticityPhysics final : public Physics<2> {
       disp[static_cast<std::size_t>(3 * i + 1)] = uy(i);
     }
     const auto cells = op_->point_values(u);
-    const fem::NodalProjection& p = *projection_;
+    const fem::NodalProjection<2>& p = *projection_;
     const VectorX vm = mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.von_mises));
     const VectorX det = mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.det_F));
     vtk.point_fields.push_back({"displacement", 3, disp});
@@ -133,8 +133,8 @@ class ElasticityPhysics final : public Physics<2> {
   RunOptions options_;
   fem::NewtonOptions newton_;
   std::unique_ptr<fem::MeshHierarchy<2>> hierarchy_;
-  std::unique_ptr<fem::HyperelasticOperator> op_;
-  std::unique_ptr<fem::NodalProjection> projection_;
+  std::unique_ptr<fem::HyperelasticOperator<2>> op_;
+  std::unique_ptr<fem::NodalProjection<2>> projection_;
   std::unique_ptr<multigrid::GeometricMultigrid<2>> mg_;
   petsc::Vector u_;
 };

@@ -19,7 +19,7 @@ Error at_config_key(const Error& e, const std::string& file, const std::string& 
 }
 
 /// v(x) at every owned node from the initial-velocity expressions (x = f(x0)).
-void interpolate_initial_velocity(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator& op,
+void interpolate_initial_velocity(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator<2>& op,
                                   Vec v) {
   const auto& iv = cfg.problem.initial_velocity;
   if (iv[0] == "0" && iv[1] == "0") return;

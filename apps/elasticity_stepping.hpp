@@ -18,7 +18,7 @@ class RunOutput;
 
 struct SteppingContext {
   const io::ElasticityConfig& config;
-  const fem::HyperelasticOperator& op;
+  const fem::HyperelasticOperator<2>& op;
   const fem::NewtonOptions& newton;
   RunOutput<2>* output = nullptr;  ///< null: nothing written
   bool compute_energy = false;

@@ -256,16 +256,17 @@ fem::ScalarFunction<2> scalar(const std::string& text, const std::string& file, 
   return [e](const Point<2>& x, double t) { return e.at<2>(x, t); };
 }
 
-fem::VectorFunction vector(const VectorExpression& v, const std::string& file, const std::string& key_path) {
+fem::VectorFunction<2> vector(const VectorExpression& v, const std::string& file,
+                              const std::string& key_path) {
   const Expression ex(v[0], file, key_path + "/0"), ey(v[1], file, key_path + "/1");
   return [ex, ey](const Point<2>& x, double t) { return Point<2>(ex.at<2>(x, t), ey.at<2>(x, t)); };
 }
 
 }  // namespace
 
-fem::ElasticityData make_elasticity_data(const ElasticityConfig& cfg) {
+fem::ElasticityData<2> make_elasticity_data(const ElasticityConfig& cfg) {
   const auto& p = cfg.problem;
-  fem::ElasticityData data;
+  fem::ElasticityData<2> data;
   data.material = p.material;
   data.boundary_polygon = cfg.map.source;
   data.gravity = Point<2>(p.gravity[0], p.gravity[1]);

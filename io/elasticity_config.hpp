@@ -87,6 +87,6 @@ ElasticityConfig load_elasticity_config(const std::string& path);
 ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::string& file);
 
 /// The pointwise data (material, loads, boundary conditions) of a parsed config.
-fem::ElasticityData make_elasticity_data(const ElasticityConfig& config);
+fem::ElasticityData<2> make_elasticity_data(const ElasticityConfig& config);
 
 }  // namespace warpfem::io

@@ -37,7 +37,7 @@ void cantilever(int cells) {
   const auto map = mapping::make_map(spec);
   const warpfem::Mesh<2> mesh =
       warpfem::structured_mesh(source, 2 * cells, cells / 2, warpfem::CellType::quadrilateral);
-  fem::ElasticityData data;
+  fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(fem::MaterialModel::neo_hookean, 1000.0, 0.3);
   const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({{3}, {zero, zero}});

@@ -1,12 +1,12 @@
 #pragma once
 // Boundary parts and the one rule that selects boundary conditions on them.
 //
-// In 2D a boundary part is an edge of the source polygon (its index is also
-// the index of the corresponding target edge). When the source polygon is
-// known, the parts at a boundary point are found from the point itself,
-// because one facet of a coarse simple mesh can span several polygon edges (a
-// 4x4 grid on a square carrying 64 vertices); otherwise, and always in 3D
-// (a group of polyhedron faces, a box face), they are the facet's tag.
+// A boundary part is an edge of the source polygon in 2D (its index is also
+// the index of the corresponding target edge) or a tagged face group in 3D.
+// When the source polygon is known, the parts at a boundary point are found
+// from the point itself, because one facet of a coarse simple mesh can span
+// several polygon edges (a 4x4 grid on a square carrying 64 vertices);
+// otherwise they are the facet's tag.
 //
 // Rule: at a point, the *last* condition whose part list names one of the
 // point's parts applies (an empty list names every part); a DOF takes the
@@ -25,9 +25,8 @@ namespace warpfem::fem {
 template <int dim>
 class BoundaryParts {
  public:
-  /// Parts of `mesh`'s boundary facets, by point on `source` when it is given
-  /// (2D only: throws for a source polygon in 3D).
-  BoundaryParts(const Mesh<dim>& mesh, const std::optional<Polygon>& source);
+  /// Parts of `mesh`'s boundary facets, by point on `source` when it is given (2D only).
+  explicit BoundaryParts(const Mesh<dim>& mesh, const std::optional<Polygon>& source = std::nullopt);
 
   /// The parts containing x0, a point of boundary facet `facet` (in Ω0).
   void at(Index facet, const Point<dim>& x0, std::vector<int>& parts) const;

@@ -2,6 +2,7 @@
 // Small meshes, maps and helpers shared by the elasticity tests.
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/mesh/polygon_mesher.hpp"
 #include "core/mesh/structured_mesher.hpp"
@@ -39,12 +40,15 @@ inline mapping::MapPtr<2> identity_map() {
 }
 
 /// Global vector values as an Eigen vector (owned entries gathered to every rank).
-inline VectorX to_eigen(const fem::VectorSpace<2>& space, Vec v) {
+template <int dim>
+VectorX to_eigen(const fem::VectorSpace<dim>& space, Vec v) {
   return space.gather_all(v);
 }
 
 /// L2 norm over the warped domain of u_h - u_exact.
-inline double l2_error(const fem::HyperelasticOperator& op, Vec u, const fem::VectorFunction& exact) {
+template <int dim>
+double l2_error(const fem::HyperelasticOperator<dim>& op, Vec u,
+                const std::type_identity_t<fem::VectorFunction<dim>>& exact) {
   return op.l2_error(u, exact);
 }
 

@@ -13,8 +13,8 @@ using warpfem::CellType;
 
 namespace {
 
-fem::ElasticityData clamped_left(MaterialModel model) {
-  fem::ElasticityData data;
+fem::ElasticityData<2> clamped_left(MaterialModel model) {
+  fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(model, 10.0, 0.3, 1.0);
   const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({{3}, {zero, zero}});
@@ -42,7 +42,7 @@ class OperatorJacobian : public ::testing::TestWithParam<OperatorCase> {};
 TEST_P(OperatorJacobian, MatchesFiniteDifferencesOfTheResidualOnAWarpedMesh) {
   const auto& param = GetParam();
   const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 3, 3, param.type);
-  fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
+  fem::ElasticityData<2> data = clamped_left(MaterialModel::neo_hookean);
   data.gravity = Point<2>(0, -2);
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::warped_square_map(), param.order, 0, data);
   const auto& space = op.space();
@@ -84,7 +84,7 @@ INSTANTIATE_TEST_SUITE_P(Elements, OperatorJacobian,
 
 TEST(HyperelasticOperator, MassShiftAddsTheConsistentMassMatrix) {
   const warpfem::Mesh<2> mesh = test::block_mesh(2, 1, 4, 2, CellType::triangle);
-  fem::ElasticityData data = clamped_left(MaterialModel::linear_elastic);
+  fem::ElasticityData<2> data = clamped_left(MaterialModel::linear_elastic);
   data.dirichlet.clear();
   data.material.density = 3.0;
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map(), 2, 0, data);
@@ -111,7 +111,7 @@ TEST(QuasiStatic, SmallLoadLimitEqualsLinearElasticity) {
   const warpfem::Mesh<2> mesh = test::block_mesh(4, 1, 8, 2, CellType::quadrilateral);
   std::array<VectorX, 2> solutions;
   for (const MaterialModel model : {MaterialModel::neo_hookean, MaterialModel::linear_elastic}) {
-    fem::ElasticityData data = clamped_left(model);
+    fem::ElasticityData<2> data = clamped_left(model);
     data.neumann.push_back({{1}, [](const Point<2>&, double) { return Point<2>(0.0, -1e-5); }});
     const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map(), 2, 0, data);
     petsc::Vector u = op.space().create_vector();
@@ -126,7 +126,7 @@ TEST(QuasiStatic, SmallLoadLimitEqualsLinearElasticity) {
 
 TEST(QuasiStatic, NewtonConvergesQuadraticallyUnderAModerateLoad) {
   const warpfem::Mesh<2> mesh = test::block_mesh(4, 1, 8, 2, CellType::triangle, 1);
-  fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
+  fem::ElasticityData<2> data = clamped_left(MaterialModel::neo_hookean);
   data.neumann.push_back({{1}, [](const Point<2>&, double) { return Point<2>(0.0, -0.02); }});
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::warped_square_map(), 1, 0, data);
   petsc::Vector u = op.space().create_vector();
@@ -151,7 +151,7 @@ TEST(QuasiStatic, NewtonConvergesQuadraticallyUnderAModerateLoad) {
 TEST(QuasiStatic, InvertingTrialStatesAreRejectedAndTheLoadStepIsCut) {
   // A compressive traction of 1.5 E: the first (linear) Newton step inverts elements.
   const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 4, 4, CellType::triangle);
-  fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
+  fem::ElasticityData<2> data = clamped_left(MaterialModel::neo_hookean);
   data.neumann.push_back({{1}, [](const Point<2>&, double) { return Point<2>(-15.0, 0.0); }});
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map(), 1, 0, data);
   fem::NewtonOptions newton = quiet_newton();
@@ -170,7 +170,7 @@ TEST(QuasiStatic, InvertingTrialStatesAreRejectedAndTheLoadStepIsCut) {
 TEST(QuasiStatic, FailureBelowTheMinimumIncrementIsAClearError) {
   // No Dirichlet condition: the stiffness is singular, Newton cannot converge.
   const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 2, 2, CellType::triangle);
-  fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
+  fem::ElasticityData<2> data = clamped_left(MaterialModel::neo_hookean);
   data.dirichlet.clear();
   data.gravity = Point<2>(0, -1);
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map(), 1, 0, data);
@@ -206,7 +206,7 @@ Matrix<2> grad_u_exact(const Point<2>& x) {
 
 double convergence_error(const warpfem::Mesh<2>& mesh, int order, bool warped,
                          const fem::Material& material) {
-  fem::ElasticityData data;
+  fem::ElasticityData<2> data;
   data.material = material;
   // b = -Div P(I + ∇u_exact), by central differences of the analytic P.
   data.body_force = [material](const Point<2>& x, double) {
@@ -261,7 +261,7 @@ TEST(QuasiStatic, ManufacturedSolutionConvergesAtTheOptimalRate) {
 
 TEST(VectorSpace, BlockMatrixTypesAssembleTheSameOperator) {
   const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 3, 2, CellType::quadrilateral);
-  fem::ElasticityData data = clamped_left(MaterialModel::neo_hookean);
+  fem::ElasticityData<2> data = clamped_left(MaterialModel::neo_hookean);
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::warped_square_map(), 2, 0, data);
   WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, "-vector_space_test_mat_type", "baij"));
   petsc::Matrix aij = op.space().create_matrix(), baij = op.space().create_matrix("vector_space_test_");

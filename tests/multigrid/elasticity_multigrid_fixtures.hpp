@@ -29,8 +29,8 @@ inline mapping::MapPtr<2> warped_square() {
 }
 
 /// Clamped bottom edge, roller (u_x = 0) on the left edge, the rest free.
-inline fem::ElasticityData clamped_block() {
-  fem::ElasticityData data;
+inline fem::ElasticityData<2> clamped_block() {
+  fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(fem::MaterialModel::neo_hookean, 1000.0, 0.3, 1.0);
   const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({.edges = {0}, .value = {zero, zero}});

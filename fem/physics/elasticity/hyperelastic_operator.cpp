@@ -11,11 +11,12 @@
 
 namespace warpfem::fem {
 
-std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, const DofMap<2>& dofs,
-                                                          const ElasticityData& data) {
+template <int dim>
+std::vector<const DisplacementCondition<dim>*> node_conditions(const Mesh<dim>& mesh, const DofMap<dim>& dofs,
+                                                               const ElasticityData<dim>& data) {
   const std::vector<int> selected =
-      boundary_dof_conditions(mesh, dofs, BoundaryParts(mesh, data.boundary_polygon), data.dirichlet);
-  std::vector<const DisplacementCondition*> out(selected.size(), nullptr);
+      boundary_dof_conditions(mesh, dofs, BoundaryParts<dim>(mesh, data.boundary_polygon), data.dirichlet);
+  std::vector<const DisplacementCondition<dim>*> out(selected.size(), nullptr);
   for (std::size_t d = 0; d < selected.size(); ++d)
     if (selected[d] >= 0) out[d] = &data.dirichlet[static_cast<std::size_t>(selected[d])];
   return out;
@@ -23,7 +24,6 @@ std::vector<const DisplacementCondition*> node_conditions(const Mesh<2>& mesh, c
 
 namespace {
 
-using Gradients = Eigen::Matrix<double, 2, Eigen::Dynamic>;
 using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 /// Local read access to the owned part of a PETSc vector.
@@ -44,29 +44,41 @@ double global_sum(MPI_Comm comm, double local) {
   return global;
 }
 
+/// Rule on the reference facet for tractions: over-integrates the shape functions' degree.
+template <int dim>
+QuadratureRule<dim - 1> traction_rule(CellType cell, int order) {
+  if constexpr (dim == 2)
+    return gauss_legendre(order + 3);
+  else
+    return cell_quadrature<dim - 1>(facet_type(cell), 2 * order + 3);
+}
+
 }  // namespace
 
-HyperelasticOperator::HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map,
-                                           int order, int quadrature_degree, ElasticityData data,
-                                           const std::vector<int>& cell_owner)
+template <int dim>
+HyperelasticOperator<dim>::HyperelasticOperator(MPI_Comm comm, const Mesh<dim>& mesh,
+                                                mapping::MapPtr<dim> map, int order, int quadrature_degree,
+                                                ElasticityData<dim> data, const std::vector<int>& cell_owner)
     : comm_(comm),
       map_(std::move(map)),
       data_(std::move(data)),
-      space_(comm, mesh, LagrangeElement<2>(mesh.cell_type, order), 2, cell_owner),
-      geometry_(mesh, space_.nodes().local_cells(),
-                cell_quadrature<2>(mesh.cell_type, quadrature_degree > 0 ? quadrature_degree
-                                                                         : default_quadrature_degree(order)),
-                *map_) {
+      space_(comm, mesh, LagrangeElement<dim>(mesh.cell_type, order), dim, cell_owner),
+      geometry_(
+          mesh, space_.nodes().local_cells(),
+          cell_quadrature<dim>(mesh.cell_type,
+                               quadrature_degree > 0 ? quadrature_degree : default_quadrature_degree(order)),
+          *map_) {
   setup_constraints();
 }
 
-void HyperelasticOperator::setup_constraints() {
-  const DofDistribution<2>& dist = space_.nodes();
+template <int dim>
+void HyperelasticOperator<dim>::setup_constraints() {
+  const DofDistribution<dim>& dist = space_.nodes();
   // The owned constrained nodes, in the order the boundary facets reach them.
-  const std::vector<const DisplacementCondition*> condition =
+  const std::vector<const DisplacementCondition<dim>*> condition =
       node_conditions(space_.mesh(), space_.dofs(), data_);
   std::vector<char> seen(condition.size(), 0);
-  std::vector<std::pair<Index, const DisplacementCondition*>> nodes;
+  std::vector<std::pair<Index, const DisplacementCondition<dim>*>> nodes;
   for (Index f = 0; f < space_.mesh().num_boundary_facets(); ++f)
     for (Index d : space_.dofs().facet_dofs(space_.mesh(), f)) {
       const auto k = static_cast<std::size_t>(d);
@@ -74,15 +86,15 @@ void HyperelasticOperator::setup_constraints() {
       seen[k] = 1;
       nodes.emplace_back(d, condition[k]);
     }
-  Points<2> x0(static_cast<Index>(nodes.size()), 2);
+  Points<dim> x0(static_cast<Index>(nodes.size()), dim);
   for (std::size_t i = 0; i < nodes.size(); ++i)
     x0.row(static_cast<Index>(i)) = space_.dofs().dof_points().row(nodes[i].first);
-  const Points<2> x = warp_nodes(*map_, x0);  // once, at set-up
+  const Points<dim> x = warp_nodes(*map_, x0);  // once, at set-up
   for (std::size_t i = 0; i < nodes.size(); ++i)
-    for (int c = 0; c < 2; ++c) {
+    for (int c = 0; c < dim; ++c) {
       if (!nodes[i].second->value[c]) continue;
       const PetscInt row = space_.global(nodes[i].first, c);
-      constraints_.push_back({row - 2 * dist.owned_begin(), x.row(static_cast<Index>(i)).transpose(),
+      constraints_.push_back({row - dim * dist.owned_begin(), x.row(static_cast<Index>(i)).transpose(),
                               &nodes[i].second->value[c]});
       constrained_rows_.push_back(row);
     }
@@ -91,33 +103,36 @@ void HyperelasticOperator::setup_constraints() {
   num_constrained_global_ = global;
 }
 
-void HyperelasticOperator::cell_coefficients(const VectorX& relevant, Index cell, VectorX& ue) const {
+template <int dim>
+void HyperelasticOperator<dim>::cell_coefficients(const VectorX& relevant, Index cell, VectorX& ue) const {
   const auto& cd = space_.dofs().cell_dofs();
   for (Index k = 0; k < cd.cols(); ++k) {
     const Index r = space_.nodes().relevant_index(cd(cell, k));
-    ue(2 * k) = relevant(2 * r);
-    ue(2 * k + 1) = relevant(2 * r + 1);
+    ue.template segment<dim>(dim * k) = relevant.template segment<dim>(dim * r);
   }
 }
 
-void HyperelasticOperator::block_indices(Index cell, std::vector<PetscInt>& idx) const {
+template <int dim>
+void HyperelasticOperator<dim>::block_indices(Index cell, std::vector<PetscInt>& idx) const {
   const auto& cd = space_.dofs().cell_dofs();
   for (Index k = 0; k < cd.cols(); ++k) idx[static_cast<std::size_t>(k)] = space_.nodes().global(cd(cell, k));
 }
 
+template <int dim>
 template <class AtPoint>
-void HyperelasticOperator::visit_points(const VectorX* relevant, VectorX& ue, AtPoint&& at_point) const {
-  CellValues<2> values(space_.dofs().element(), geometry_, CellValues<2>::update_gradients);
+void HyperelasticOperator<dim>::visit_points(const VectorX* relevant, VectorX& ue, AtPoint&& at_point) const {
+  CellValues<dim> values(space_.dofs().element(), geometry_, CellValues<dim>::update_gradients);
   integrate_cells(geometry_, values,
                   make_kernel(
-                      [&](const CellValues<2>& v) {
+                      [&](const CellValues<dim>& v) {
                         if (relevant) cell_coefficients(*relevant, v.cell(), ue);
                         return true;
                       },
-                      at_point, [](const CellValues<2>&) {}));
+                      at_point, [](const CellValues<dim>&) {}));
 }
 
-Vec HyperelasticOperator::external_force(double t) const {
+template <int dim>
+Vec HyperelasticOperator<dim>::external_force(double t) const {
   if (f_ext_valid_ && f_ext_time_ == t) return f_ext_.get();
   if (!f_ext_) f_ext_ = space_.create_vector();
   Vec f = f_ext_.get();
@@ -125,59 +140,60 @@ Vec HyperelasticOperator::external_force(double t) const {
   const Index n = space_.dofs().element().num_dofs();
   const double rho = data_.material.density;
   std::vector<PetscInt> idx(static_cast<std::size_t>(n));
-  VectorX fe(2 * n);
+  VectorX fe(dim * n);
   if (data_.body_force || data_.gravity.squaredNorm() > 0) {
-    CellValues<2> values(space_.dofs().element(), geometry_, 0);
+    CellValues<dim> values(space_.dofs().element(), geometry_, 0);
     integrate_cells(geometry_, values,
                     make_kernel(
-                        [&](const CellValues<2>&) {
+                        [&](const CellValues<dim>&) {
                           fe.setZero();
                           return true;
                         },
-                        [&](const CellValues<2>& v, Index q) {
-                          Point<2> b = rho * data_.gravity;
+                        [&](const CellValues<dim>& v, Index q) {
+                          Point<dim> b = rho * data_.gravity;
                           if (data_.body_force) b += data_.body_force(v.point(q), t);
                           for (Index k = 0; k < n; ++k)
-                            fe.segment<2>(2 * k) += (v.JxW(q) * v.shape_value(q, static_cast<int>(k))) * b;
+                            fe.template segment<dim>(dim * k) +=
+                                (v.JxW(q) * v.shape_value(q, static_cast<int>(k))) * b;
                         },
-                        [&](const CellValues<2>& v) {
+                        [&](const CellValues<dim>& v) {
                           block_indices(v.cell(), idx);
                           WARPFEM_PETSC_CHECK(VecSetValuesBlocked(f, static_cast<PetscInt>(n), idx.data(),
                                                                   fe.data(), ADD_VALUES));
                         }));
   }
   // Tractions on boundary facets; a facet is integrated by the owner of its first vertex.
-  const Mesh<2>& mesh = space_.mesh();
+  const Mesh<dim>& mesh = space_.mesh();
   if (!data_.neumann.empty()) {
     std::vector<Index> facets;
     for (Index fct = 0; fct < mesh.num_boundary_facets(); ++fct)
       if (mesh.has_facet(fct) && space_.nodes().owns(mesh.boundary_facets(fct, 0))) facets.push_back(fct);
-    const WarpedFacets<2> warped(mesh, std::move(facets), gauss_legendre(space_.dofs().element().order() + 3),
-                                 *map_);
-    FacetValues<2> values(space_.dofs().element(), warped);
-    const BoundaryParts parts(mesh, data_.boundary_polygon);
+    const WarpedFacets<dim> warped(
+        mesh, std::move(facets), traction_rule<dim>(mesh.cell_type, space_.dofs().element().order()), *map_);
+    FacetValues<dim> values(space_.dofs().element(), warped);
+    const BoundaryParts<dim> parts(mesh, data_.boundary_polygon);
     std::vector<int> at;
     std::vector<Index> fd;
     std::vector<PetscInt> fidx;
     VectorX ff;
     integrate_facets(warped, values,
                      make_kernel(
-                         [&](const FacetValues<2>& v) {
+                         [&](const FacetValues<dim>& v) {
                            fd = space_.dofs().facet_dofs(mesh, v.facet());
-                           ff.setZero(2 * static_cast<Index>(fd.size()));
+                           ff.setZero(dim * static_cast<Index>(fd.size()));
                            return true;
                          },
-                         [&](const FacetValues<2>& v, Index q) {
+                         [&](const FacetValues<dim>& v, Index q) {
                            parts.at(v.facet(), v.reference_point(q), at);
                            const int k = select_condition(data_.neumann, at);
                            if (k < 0) return;
-                           const Point<2> tr =
+                           const Point<dim> tr =
                                data_.neumann[static_cast<std::size_t>(k)].traction(v.point(q), t);
                            for (std::size_t k = 0; k < fd.size(); ++k)
-                             ff.segment<2>(2 * static_cast<Index>(k)) +=
+                             ff.template segment<dim>(dim * static_cast<Index>(k)) +=
                                  (v.JxW(q) * v.shape_value(q, static_cast<int>(k))) * tr;
                          },
-                         [&](const FacetValues<2>&) {
+                         [&](const FacetValues<dim>&) {
                            fidx.resize(fd.size());
                            for (std::size_t k = 0; k < fd.size(); ++k) fidx[k] = space_.nodes().global(fd[k]);
                            WARPFEM_PETSC_CHECK(VecSetValuesBlocked(f, static_cast<PetscInt>(fd.size()),
@@ -191,7 +207,8 @@ Vec HyperelasticOperator::external_force(double t) const {
   return f;
 }
 
-std::vector<std::vector<char>> HyperelasticOperator::constrained() const {
+template <int dim>
+std::vector<std::vector<char>> HyperelasticOperator<dim>::constrained() const {
   const auto condition = node_conditions(space_.mesh(), space_.dofs(), data_);
   std::vector<std::vector<char>> mask(static_cast<std::size_t>(space_.components()),
                                       std::vector<char>(condition.size(), 0));
@@ -201,11 +218,13 @@ std::vector<std::vector<char>> HyperelasticOperator::constrained() const {
   return mask;
 }
 
-void HyperelasticOperator::jacobian(Vec u, const LoadState&, Mat J) const {
+template <int dim>
+void HyperelasticOperator<dim>::jacobian(Vec u, const LoadState&, Mat J) const {
   jacobian(u, 0.0, J);
 }
 
-bool HyperelasticOperator::residual(Vec u, Vec inertia, double scale, double t, Vec r) const {
+template <int dim>
+bool HyperelasticOperator<dim>::residual(Vec u, Vec inertia, double scale, double t, Vec r) const {
   const VectorX ur = space_.gather_relevant(u);
   VectorX ar;
   if (inertia) ar = space_.gather_relevant(inertia);
@@ -213,34 +232,35 @@ bool HyperelasticOperator::residual(Vec u, Vec inertia, double scale, double t, 
   const Index n = space_.dofs().element().num_dofs();
   const double rho = data_.material.density;
   std::vector<PetscInt> idx(static_cast<std::size_t>(n));
-  VectorX ue(2 * n), ae(2 * n), re(2 * n);
+  VectorX ue(dim * n), ae(dim * n), re(dim * n);
   int bad = 0;
-  CellValues<2> values(space_.dofs().element(), geometry_, CellValues<2>::update_gradients);
+  CellValues<dim> values(space_.dofs().element(), geometry_, CellValues<dim>::update_gradients);
   integrate_cells(geometry_, values,
                   make_kernel(
-                      [&](const CellValues<2>& v) {
+                      [&](const CellValues<dim>& v) {
                         cell_coefficients(ur, v.cell(), ue);
                         if (inertia) cell_coefficients(ar, v.cell(), ae);
                         re.setZero();
                         return true;
                       },
-                      [&](const CellValues<2>& v, Index q) {
-                        const Matrix<2> F = Matrix<2>::Identity() + v.vector_gradient(q, ue.data());
-                        if (!data_.material.admissible<2>(F)) {
+                      [&](const CellValues<dim>& v, Index q) {
+                        const Matrix<dim> F = Matrix<dim>::Identity() + v.vector_gradient(q, ue.data());
+                        if (!data_.material.admissible(F)) {
                           bad = 1;
                           return;
                         }
-                        const Matrix<2> P = data_.material.first_piola<2>(F);
+                        const Matrix<dim> P = data_.material.first_piola(F);
                         const auto g = v.shape_gradients(q);
-                        for (Index k = 0; k < n; ++k) re.segment<2>(2 * k) += v.JxW(q) * (P * g.col(k));
+                        for (Index k = 0; k < n; ++k)
+                          re.template segment<dim>(dim * k) += v.JxW(q) * (P * g.col(k));
                         if (inertia) {
-                          const Point<2> a = v.vector_value(q, ae.data());
+                          const Point<dim> a = v.vector_value(q, ae.data());
                           for (Index k = 0; k < n; ++k)
-                            re.segment<2>(2 * k) +=
+                            re.template segment<dim>(dim * k) +=
                                 (v.JxW(q) * rho * v.shape_value(q, static_cast<int>(k))) * a;
                         }
                       },
-                      [&](const CellValues<2>& v) {
+                      [&](const CellValues<dim>& v) {
                         block_indices(v.cell(), idx);
                         WARPFEM_PETSC_CHECK(VecSetValuesBlocked(r, static_cast<PetscInt>(n), idx.data(),
                                                                 re.data(), ADD_VALUES));
@@ -262,51 +282,55 @@ bool HyperelasticOperator::residual(Vec u, Vec inertia, double scale, double t, 
   return true;
 }
 
-void HyperelasticOperator::jacobian(Vec u, double mass_shift, Mat J, bool constrain) const {
+template <int dim>
+void HyperelasticOperator<dim>::jacobian(Vec u, double mass_shift, Mat J, bool constrain) const {
   const VectorX ur = space_.gather_relevant(u);
   WARPFEM_PETSC_CHECK(MatZeroEntries(J));
   const Index n = space_.dofs().element().num_dofs();
   const double rho = data_.material.density;
   std::vector<PetscInt> idx(static_cast<std::size_t>(n));
-  VectorX ue(2 * n);
-  RowMajorMatrix ke(2 * n, 2 * n);
-  Eigen::Matrix<double, 2, 4> B;
-  CellValues<2> values(space_.dofs().element(), geometry_, CellValues<2>::update_gradients);
+  VectorX ue(dim * n);
+  RowMajorMatrix ke(dim * n, dim * n);
+  Eigen::Matrix<double, dim, dim * dim> B;
+  CellValues<dim> values(space_.dofs().element(), geometry_, CellValues<dim>::update_gradients);
   integrate_cells(geometry_, values,
                   make_kernel(
-                      [&](const CellValues<2>& v) {
+                      [&](const CellValues<dim>& v) {
                         cell_coefficients(ur, v.cell(), ue);
                         ke.setZero();
                         return true;
                       },
-                      [&](const CellValues<2>& v, Index q) {
-                        const Matrix<2> F = Matrix<2>::Identity() + v.vector_gradient(q, ue.data());
-                        if (!data_.material.admissible<2>(F))
-                          return;  // never reached from an accepted residual
+                      [&](const CellValues<dim>& v, Index q) {
+                        const Matrix<dim> F = Matrix<dim>::Identity() + v.vector_gradient(q, ue.data());
+                        if (!data_.material.admissible(F)) return;  // never reached from an accepted residual
                         const double w = v.JxW(q);
-                        const Tangent<2> A = w * data_.material.tangent<2>(F);
+                        const Tangent<dim> A = w * data_.material.tangent(F);
                         const auto g = v.shape_gradients(q);
                         for (Index k = 0; k < n; ++k) {
-                          // B(i, m·2 + L) = Σ_J A(iJ, mL) g_J(k)
-                          for (int ii = 0; ii < 2; ++ii)
-                            for (int mL = 0; mL < 4; ++mL)
-                              B(ii, mL) = A(ii * 2 + 0, mL) * g(0, k) + A(ii * 2 + 1, mL) * g(1, k);
+                          // B(i, m·dim + L) = Σ_J A(i·dim + J, m·dim + L) g_J(k)
+                          for (int ii = 0; ii < dim; ++ii)
+                            for (int mL = 0; mL < dim * dim; ++mL) {
+                              double b = A(ii * dim, mL) * g(0, k);
+                              for (int J = 1; J < dim; ++J) b += A(ii * dim + J, mL) * g(J, k);
+                              B(ii, mL) = b;
+                            }
                           for (Index l = 0; l < n; ++l)
-                            for (int ii = 0; ii < 2; ++ii)
-                              for (int m = 0; m < 2; ++m)
-                                ke(2 * k + ii, 2 * l + m) +=
-                                    B(ii, m * 2 + 0) * g(0, l) + B(ii, m * 2 + 1) * g(1, l);
+                            for (int ii = 0; ii < dim; ++ii)
+                              for (int m = 0; m < dim; ++m) {
+                                double kl = B(ii, m * dim) * g(0, l);
+                                for (int L = 1; L < dim; ++L) kl += B(ii, m * dim + L) * g(L, l);
+                                ke(dim * k + ii, dim * l + m) += kl;
+                              }
                         }
                         if (mass_shift != 0.0)
                           for (Index k = 0; k < n; ++k)
                             for (Index l = 0; l < n; ++l) {
                               const double m = mass_shift * rho * w * v.shape_value(q, static_cast<int>(k)) *
                                                v.shape_value(q, static_cast<int>(l));
-                              ke(2 * k, 2 * l) += m;
-                              ke(2 * k + 1, 2 * l + 1) += m;
+                              for (int c = 0; c < dim; ++c) ke(dim * k + c, dim * l + c) += m;
                             }
                       },
-                      [&](const CellValues<2>& v) {
+                      [&](const CellValues<dim>& v) {
                         block_indices(v.cell(), idx);
                         WARPFEM_PETSC_CHECK(MatSetValuesBlocked(J, static_cast<PetscInt>(n), idx.data(),
                                                                 static_cast<PetscInt>(n), idx.data(),
@@ -321,23 +345,22 @@ void HyperelasticOperator::jacobian(Vec u, double mass_shift, Mat J, bool constr
                                          constrained_rows_.data(), 1.0, nullptr, nullptr));
 }
 
-void HyperelasticOperator::set_near_null_space(Mat J) const {
-  const DofDistribution<2>& dist = space_.nodes();
+template <int dim>
+void HyperelasticOperator<dim>::set_near_null_space(Mat J) const {
+  const DofDistribution<dim>& dist = space_.nodes();
   std::vector<Index> owned;
   for (Index d : dist.relevant_dofs())
     if (dist.owns(d)) owned.push_back(d);
   std::sort(owned.begin(), owned.end(), [&](Index a, Index b) { return dist.global(a) < dist.global(b); });
-  Points<2> x0(static_cast<Index>(owned.size()), 2);
+  Points<dim> x0(static_cast<Index>(owned.size()), dim);
   for (std::size_t i = 0; i < owned.size(); ++i)
     x0.row(static_cast<Index>(i)) = space_.dofs().dof_points().row(owned[i]);
-  const Points<2> x = warp_nodes(*map_, x0);  // once per matrix, at set-up
+  const Points<dim> x = warp_nodes(*map_, x0);  // once per matrix, at set-up
   petsc::Vector coords = space_.create_vector();
   PetscScalar* a = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArray(coords.get(), &a));
-  for (std::size_t i = 0; i < owned.size(); ++i) {
-    a[2 * i] = x(static_cast<Index>(i), 0);
-    a[2 * i + 1] = x(static_cast<Index>(i), 1);
-  }
+  for (std::size_t i = 0; i < owned.size(); ++i)
+    for (int c = 0; c < dim; ++c) a[dim * i + static_cast<std::size_t>(c)] = x(static_cast<Index>(i), c);
   WARPFEM_PETSC_CHECK(VecRestoreArray(coords.get(), &a));
   MatNullSpace modes = nullptr;
   WARPFEM_PETSC_CHECK(MatNullSpaceCreateRigidBody(coords.get(), &modes));
@@ -345,44 +368,48 @@ void HyperelasticOperator::set_near_null_space(Mat J) const {
   WARPFEM_PETSC_CHECK(MatNullSpaceDestroy(&modes));
 }
 
-double HyperelasticOperator::min_det_F(Vec u) const {
+template <int dim>
+double HyperelasticOperator<dim>::min_det_F(Vec u) const {
   const VectorX ur = space_.gather_relevant(u);
-  VectorX ue(2 * space_.dofs().element().num_dofs());
+  VectorX ue(dim * space_.dofs().element().num_dofs());
   double local = std::numeric_limits<double>::infinity();
-  visit_points(&ur, ue, [&](const CellValues<2>& v, Index q) {
-    local = std::min(local, (Matrix<2>::Identity() + v.vector_gradient(q, ue.data())).determinant());
+  visit_points(&ur, ue, [&](const CellValues<dim>& v, Index q) {
+    local = std::min(local, (Matrix<dim>::Identity() + v.vector_gradient(q, ue.data())).determinant());
   });
   double global = 0;
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MIN, comm_);
   return global;
 }
 
-void HyperelasticOperator::apply_dirichlet(Vec u, double scale, double t) const {
+template <int dim>
+void HyperelasticOperator<dim>::apply_dirichlet(Vec u, double scale, double t) const {
   PetscScalar* a = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArray(u, &a));
   for (const auto& con : constraints_) a[con.local_row] = scale * (*con.value)(con.x, t);
   WARPFEM_PETSC_CHECK(VecRestoreArray(u, &a));
 }
 
-void HyperelasticOperator::zero_constrained(Vec v) const {
+template <int dim>
+void HyperelasticOperator<dim>::zero_constrained(Vec v) const {
   PetscScalar* a = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArray(v, &a));
   for (const auto& con : constraints_) a[con.local_row] = 0.0;
   WARPFEM_PETSC_CHECK(VecRestoreArray(v, &a));
 }
 
-std::optional<double> HyperelasticOperator::potential_energy(Vec u, double scale, double t) const {
+template <int dim>
+std::optional<double> HyperelasticOperator<dim>::potential_energy(Vec u, double scale, double t) const {
   const VectorX ur = space_.gather_relevant(u);
-  VectorX ue(2 * space_.dofs().element().num_dofs());
+  VectorX ue(dim * space_.dofs().element().num_dofs());
   double local = 0;
   int bad = 0;
-  visit_points(&ur, ue, [&](const CellValues<2>& v, Index q) {
-    const Matrix<2> F = Matrix<2>::Identity() + v.vector_gradient(q, ue.data());
-    if (!data_.material.admissible<2>(F)) {
+  visit_points(&ur, ue, [&](const CellValues<dim>& v, Index q) {
+    const Matrix<dim> F = Matrix<dim>::Identity() + v.vector_gradient(q, ue.data());
+    if (!data_.material.admissible(F)) {
       bad = 1;
       return;
     }
-    local += v.JxW(q) * data_.material.energy<2>(F);
+    local += v.JxW(q) * data_.material.energy(F);
   });
   int any_bad = 0;
   MPI_Allreduce(&bad, &any_bad, 1, MPI_INT, MPI_MAX, comm_);
@@ -390,46 +417,51 @@ std::optional<double> HyperelasticOperator::potential_energy(Vec u, double scale
   return global_sum(comm_, local) - external_work(u, scale, t);
 }
 
-double HyperelasticOperator::strain_energy(Vec u) const {
+template <int dim>
+double HyperelasticOperator<dim>::strain_energy(Vec u) const {
   const VectorX ur = space_.gather_relevant(u);
-  VectorX ue(2 * space_.dofs().element().num_dofs());
+  VectorX ue(dim * space_.dofs().element().num_dofs());
   double local = 0;
-  visit_points(&ur, ue, [&](const CellValues<2>& v, Index q) {
-    const Matrix<2> F = Matrix<2>::Identity() + v.vector_gradient(q, ue.data());
-    if (!data_.material.admissible<2>(F))
+  visit_points(&ur, ue, [&](const CellValues<dim>& v, Index q) {
+    const Matrix<dim> F = Matrix<dim>::Identity() + v.vector_gradient(q, ue.data());
+    if (!data_.material.admissible(F))
       throw Error("strain energy of an inadmissible displacement (det F <= 0)");
-    local += v.JxW(q) * data_.material.energy<2>(F);
+    local += v.JxW(q) * data_.material.energy(F);
   });
   return global_sum(comm_, local);
 }
 
-double HyperelasticOperator::kinetic_energy(Vec v) const {
+template <int dim>
+double HyperelasticOperator<dim>::kinetic_energy(Vec v) const {
   const VectorX vr = space_.gather_relevant(v);
-  VectorX ve(2 * space_.dofs().element().num_dofs());
+  VectorX ve(dim * space_.dofs().element().num_dofs());
   double local = 0;
-  visit_points(&vr, ve, [&](const CellValues<2>& values, Index q) {
+  visit_points(&vr, ve, [&](const CellValues<dim>& values, Index q) {
     local += 0.5 * data_.material.density * values.JxW(q) * values.vector_value(q, ve.data()).squaredNorm();
   });
   return global_sum(comm_, local);
 }
 
-double HyperelasticOperator::l2_error(Vec u, const VectorFunction& exact) const {
+template <int dim>
+double HyperelasticOperator<dim>::l2_error(Vec u, const VectorFunction<dim>& exact) const {
   const VectorX ur = space_.gather_relevant(u);
-  VectorX ue(2 * space_.dofs().element().num_dofs());
+  VectorX ue(dim * space_.dofs().element().num_dofs());
   double local = 0;
-  visit_points(&ur, ue, [&](const CellValues<2>& v, Index q) {
+  visit_points(&ur, ue, [&](const CellValues<dim>& v, Index q) {
     local += v.JxW(q) * (v.vector_value(q, ue.data()) - exact(v.point(q), 0.0)).squaredNorm();
   });
   return std::sqrt(global_sum(comm_, local));
 }
 
-double HyperelasticOperator::external_work(Vec u, double scale, double t) const {
+template <int dim>
+double HyperelasticOperator<dim>::external_work(Vec u, double scale, double t) const {
   PetscScalar dot = 0;
   WARPFEM_PETSC_CHECK(VecDot(external_force(t), u, &dot));
   return scale * dot;
 }
 
-HyperelasticOperator::PointValues HyperelasticOperator::point_values(Vec u) const {
+template <int dim>
+typename HyperelasticOperator<dim>::PointValues HyperelasticOperator<dim>::point_values(Vec u) const {
   const VectorX ur = space_.gather_relevant(u);
   const Index nq = geometry_.points_per_cell(), nc = geometry_.num_cells();
   PointValues out;
@@ -438,28 +470,35 @@ HyperelasticOperator::PointValues HyperelasticOperator::point_values(Vec u) cons
   out.measure.setZero(nc);
   out.von_mises.assign(static_cast<std::size_t>(nc), std::vector<double>(static_cast<std::size_t>(nq)));
   out.det_F.assign(static_cast<std::size_t>(nc), std::vector<double>(static_cast<std::size_t>(nq)));
-  VectorX ue(2 * space_.dofs().element().num_dofs());
-  CellValues<2> values(space_.dofs().element(), geometry_, CellValues<2>::update_gradients);
+  VectorX ue(dim * space_.dofs().element().num_dofs());
+  CellValues<dim> values(space_.dofs().element(), geometry_, CellValues<dim>::update_gradients);
   integrate_cells(
       geometry_, values,
       make_kernel(
-          [&](const CellValues<2>& v) {
+          [&](const CellValues<dim>& v) {
             cell_coefficients(ur, v.cell(), ue);
             return true;
           },
-          [&](const CellValues<2>& v, Index q) {
+          [&](const CellValues<dim>& v, Index q) {
             const Index i = v.position();
-            const Matrix<2> F = Matrix<2>::Identity() + v.vector_gradient(q, ue.data());
+            const Matrix<dim> F = Matrix<dim>::Identity() + v.vector_gradient(q, ue.data());
             const double d = F.determinant();
-            const double s = data_.material.admissible<2>(F) ? data_.material.von_mises<2>(F) : 0.0;
+            const double s = data_.material.admissible(F) ? data_.material.von_mises(F) : 0.0;
             out.von_mises[static_cast<std::size_t>(i)][static_cast<std::size_t>(q)] = s;
             out.det_F[static_cast<std::size_t>(i)][static_cast<std::size_t>(q)] = d;
             out.min_det_F(i) = std::min(out.min_det_F(i), d);
             out.mean_von_mises(i) += v.JxW(q) * s;
             out.measure(i) += v.JxW(q);
           },
-          [&](const CellValues<2>& v) { out.mean_von_mises(v.position()) /= out.measure(v.position()); }));
+          [&](const CellValues<dim>& v) { out.mean_von_mises(v.position()) /= out.measure(v.position()); }));
   return out;
 }
+
+template std::vector<const DisplacementCondition<2>*> node_conditions(const Mesh<2>&, const DofMap<2>&,
+                                                                      const ElasticityData<2>&);
+template std::vector<const DisplacementCondition<3>*> node_conditions(const Mesh<3>&, const DofMap<3>&,
+                                                                      const ElasticityData<3>&);
+template class HyperelasticOperator<2>;
+template class HyperelasticOperator<3>;
 
 }  // namespace warpfem::fem

@@ -27,19 +27,21 @@
 
 namespace warpfem::fem {
 
-class HyperelasticOperator final : public Problem<2> {
+template <int dim>
+class HyperelasticOperator final : public Problem<dim> {
  public:
   /// `mesh` must outlive the operator. quadrature_degree 0 picks 2·order + 2.
   /// `cell_owner`: the rank of every cell (empty: partition_cells()); with
   /// multigrid, the finest entry of fem::nested_partitions() of the hierarchy.
-  HyperelasticOperator(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
-                       int quadrature_degree, ElasticityData data, const std::vector<int>& cell_owner = {});
+  HyperelasticOperator(MPI_Comm comm, const Mesh<dim>& mesh, mapping::MapPtr<dim> map, int order,
+                       int quadrature_degree, ElasticityData<dim> data,
+                       const std::vector<int>& cell_owner = {});
 
-  const VectorSpace<2>& space() const { return space_; }
+  const VectorSpace<dim>& space() const { return space_; }
   MPI_Comm comm() const override { return comm_; }
-  const Mesh<2>& mesh() const override { return space_.mesh(); }
-  const DofMap<2>& dofs() const override { return space_.dofs(); }
-  const DofDistribution<2>& nodes() const override { return space_.nodes(); }
+  const Mesh<dim>& mesh() const override { return space_.mesh(); }
+  const DofMap<dim>& dofs() const override { return space_.dofs(); }
+  const DofDistribution<dim>& nodes() const override { return space_.nodes(); }
   int components() const override { return space_.components(); }
   /// Component c of node d is constrained iff node_conditions() gives it a condition with value[c].
   std::vector<std::vector<char>> constrained() const override;
@@ -51,10 +53,10 @@ class HyperelasticOperator final : public Problem<2> {
   }
   /// The static tangent: jacobian(u, 0, J) (the loads are dead: `load` does not enter).
   void jacobian(Vec u, const LoadState& load, Mat J) const override;
-  const WarpedGeometry<2>& geometry() const { return geometry_; }
-  const ElasticityData& data() const { return data_; }
+  const WarpedGeometry<dim>& geometry() const { return geometry_; }
+  const ElasticityData<dim>& data() const { return data_; }
   const Material& material() const { return data_.material; }
-  const mapping::Map<2>& map() const { return *map_; }
+  const mapping::Map<dim>& map() const { return *map_; }
 
   /// R(u) with loads scaled by `scale` and evaluated at time `t`; `inertia` (may be
   /// null) is the field a (+ damping) multiplying the mass matrix. Collective.
@@ -67,7 +69,7 @@ class HyperelasticOperator final : public Problem<2> {
   /// +∞ is not returned: an inadmissible u gives std::nullopt.
   std::optional<double> potential_energy(Vec u, double scale, double t) const;
 
-  /// Attaches the rigid body modes (translations, rotation about the physical node positions)
+  /// Attaches the rigid body modes (translations, rotations about the physical node positions)
   /// as near null space, which algebraic multigrid (-elasticity_pc_type gamg) needs.
   void set_near_null_space(Mat J) const;
 
@@ -88,7 +90,7 @@ class HyperelasticOperator final : public Problem<2> {
   double external_work(Vec u, double scale, double t) const;
 
   /// ‖u − u_exact‖_L2 over the warped domain (collective).
-  double l2_error(Vec u, const VectorFunction& exact) const;
+  double l2_error(Vec u, const VectorFunction<dim>& exact) const;
 
   /// Per local cell (geometry().cells() order): min det F and mean von Mises stress
   /// over its quadrature points, and ∫ cell of 1 (for averages). det F ≤ 0 gives von Mises NaN-free 0.
@@ -102,8 +104,8 @@ class HyperelasticOperator final : public Problem<2> {
  private:
   struct Constraint {
     PetscInt local_row;  ///< index into the owned part of a vector
-    Point<2> x;          ///< physical position f(x0) of the node
-    const ScalarFunction<2>* value;
+    Point<dim> x;        ///< physical position f(x0) of the node
+    const ComponentFunction<dim>* value;
   };
   /// Calls at_point(values, q) at every quadrature point, with `ue` holding the
   /// cell's coefficients of `relevant` (if given).
@@ -115,10 +117,10 @@ class HyperelasticOperator final : public Problem<2> {
   void setup_constraints();
 
   MPI_Comm comm_;
-  mapping::MapPtr<2> map_;
-  ElasticityData data_;
-  VectorSpace<2> space_;
-  WarpedGeometry<2> geometry_;
+  mapping::MapPtr<dim> map_;
+  ElasticityData<dim> data_;
+  VectorSpace<dim> space_;
+  WarpedGeometry<dim> geometry_;
   std::vector<Constraint> constraints_;
   std::vector<PetscInt> constrained_rows_;  // global rows owned here
   Index num_constrained_global_ = 0;
@@ -126,5 +128,9 @@ class HyperelasticOperator final : public Problem<2> {
   mutable double f_ext_time_ = 0;
   mutable bool f_ext_valid_ = false;
 };
+
+/// Lets `HyperelasticOperator op(comm, mesh, ...)` take dim from the mesh.
+template <int dim, class... Rest>
+HyperelasticOperator(MPI_Comm, const Mesh<dim>&, Rest&&...) -> HyperelasticOperator<dim>;
 
 }  // namespace warpfem::fem

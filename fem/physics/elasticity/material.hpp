@@ -2,13 +2,16 @@
 // Pointwise hyperelastic material laws of the total Lagrangian formulation:
 // strain energy density W(F), first Piola–Kirchhoff stress P = ∂W/∂F and the
 // consistent tangent A = ∂P/∂F, as functions of the deformation gradient F only
-// (they never see geometry; see fem/elasticity/hyperelastic_operator.hpp).
+// (they never see geometry; see fem/physics/elasticity/hyperelastic_operator.hpp).
 //
 //   neo_hookean:     W = μ/2 (tr C − d) − μ ln J + λ/2 (ln J)²,  C = FᵀF, J = det F
 //                    P = μ F + (λ ln J − μ) F⁻ᵀ
 //   linear_elastic:  W = λ/2 (tr ε)² + μ ε:ε,  ε = sym(F − I)   (small strain)
 //
-// In 2D the model is plane strain (F_zz = 1). The tangent is stored as a
+// One compressible neo-Hookean family in both dimensions: the 3D law is W above
+// with d = 3, and the 2D law is that same W in plane strain, F = diag(F_2D, 1)
+// (tr C − 3 = tr C_2D − 2, equal J), so 2D and 3D results agree on a plane
+// strain slab. The tangent is stored as a
 // (dim·dim) x (dim·dim) matrix with A(i·dim + J, k·dim + L) = ∂P_iJ / ∂F_kL.
 
 #include <Eigen/LU>
@@ -90,7 +93,7 @@ struct Material {
     return A;
   }
 
-  /// Cauchy stress σ = P Fᵀ / det F (in-plane components).
+  /// Cauchy stress σ = P Fᵀ / det F (in 2D its in-plane components).
   template <int dim>
   Matrix<dim> cauchy(const Matrix<dim>& F) const {
     if (model == MaterialModel::linear_elastic) return first_piola(F);

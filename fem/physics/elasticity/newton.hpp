@@ -42,7 +42,6 @@ struct NewtonOptions {
 
 /// State shared with the PETSc callbacks of one SNES.
 struct NewtonContext {
-  const HyperelasticOperator* op = nullptr;
   CallbackGuard guard;
   petsc::Vector work;
   std::vector<double> residuals;  ///< |R| per iteration of the current solve

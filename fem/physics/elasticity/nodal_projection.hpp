@@ -12,12 +12,13 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 class NodalProjection {
  public:
   /// `geometry` must cover exactly this rank's cells of the partition of `mesh`:
   /// `cell_owner` (the one the geometry's space was built with), or
   /// partition_cells() if that is empty.
-  NodalProjection(MPI_Comm comm, const Mesh<2>& mesh, const WarpedGeometry<2>& geometry,
+  NodalProjection(MPI_Comm comm, const Mesh<dim>& mesh, const WarpedGeometry<dim>& geometry,
                   const std::vector<int>& cell_owner = {});
   NodalProjection(const NodalProjection&) = delete;
   NodalProjection& operator=(const NodalProjection&) = delete;
@@ -26,17 +27,17 @@ class NodalProjection {
   /// values at distribution().relevant_dofs(). Collective.
   VectorX project(const std::vector<std::vector<double>>& values) const;
 
-  const DofMap<2>& dofs() const { return dofs_; }
-  const DofDistribution<2>& distribution() const { return dist_; }
+  const DofMap<dim>& dofs() const { return dofs_; }
+  const DofDistribution<dim>& distribution() const { return dist_; }
 
  private:
   /// sum_k = Σ_cells ∫ value(i, q) φ_k dx (value at quadrature point q of geometry cell i).
   template <class Value>
   void accumulate(Vec sum, Value&& value) const;
 
-  const WarpedGeometry<2>& geometry_;
-  DofMap<2> dofs_;
-  DofDistribution<2> dist_;
+  const WarpedGeometry<dim>& geometry_;
+  DofMap<dim> dofs_;
+  DofDistribution<dim> dist_;
   petsc::Vector weights_;
 };
 

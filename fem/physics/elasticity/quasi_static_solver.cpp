@@ -18,12 +18,12 @@ int QuasiStaticReport::newton_iterations() const {
                          [](int n, const LoadStep& s) { return n + s.iterations; });
 }
 
-QuasiStaticSolver::QuasiStaticSolver(const HyperelasticOperator& op, NewtonOptions newton,
-                                     LoadSteppingOptions steps)
+template <int dim>
+QuasiStaticSolver<dim>::QuasiStaticSolver(const HyperelasticOperator<dim>& op, NewtonOptions newton,
+                                          LoadSteppingOptions steps)
     : op_(op), newton_(std::move(newton)), stepping_(steps) {
   require(stepping_.steps >= 1, "load stepping needs at least one step");
   require(stepping_.min_increment > 0, "the minimum load increment must be positive");
-  context_.op = &op_;
   r_ = op_.space().create_vector();
   J_ = op_.space().create_matrix(newton_.prefix.c_str());
   op_.set_near_null_space(J_.get());
@@ -36,7 +36,8 @@ QuasiStaticSolver::QuasiStaticSolver(const HyperelasticOperator& op, NewtonOptio
   rhs_ = op_.space().create_vector();
 }
 
-void QuasiStaticSolver::predict(Vec u, double load, Vec trial) {
+template <int dim>
+void QuasiStaticSolver<dim>::predict(Vec u, double load, Vec trial) {
   WARPFEM_PETSC_CHECK(VecCopy(u, trial));
   op_.apply_dirichlet(trial, load, 1.0);
   WARPFEM_PETSC_CHECK(VecWAXPY(delta_.get(), -1.0, u, trial));  // nonzero on constrained DOFs only
@@ -62,19 +63,23 @@ void QuasiStaticSolver::predict(Vec u, double load, Vec trial) {
   if (op_.min_det_F(r_.get()) > 0) WARPFEM_PETSC_CHECK(VecCopy(r_.get(), trial));
 }
 
-PetscErrorCode QuasiStaticSolver::form_residual(SNES snes, Vec u, Vec r, void* ctx) {
+template <int dim>
+PetscErrorCode QuasiStaticSolver<dim>::form_residual(SNES snes, Vec u, Vec r, void* ctx) {
   auto* self = static_cast<QuasiStaticSolver*>(ctx);
   return self->context_.guard.run([&] {
     if (!self->op_.residual(u, nullptr, self->load_, 1.0, r)) self->context_.reject(snes);
   });
 }
 
-PetscErrorCode QuasiStaticSolver::form_jacobian(SNES, Vec u, Mat, Mat P, void* ctx) {
+template <int dim>
+PetscErrorCode QuasiStaticSolver<dim>::form_jacobian(SNES, Vec u, Mat, Mat P, void* ctx) {
   auto* self = static_cast<QuasiStaticSolver*>(ctx);
   return self->context_.guard.run([&] { self->op_.jacobian(u, 0.0, P); });
 }
 
-QuasiStaticReport QuasiStaticSolver::solve(Vec u, const std::function<void(const LoadStep&, Vec)>& on_step) {
+template <int dim>
+QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
+                                                const std::function<void(const LoadStep&, Vec)>& on_step) {
   QuasiStaticReport report;
   const double nominal = 1.0 / stepping_.steps;
   double s = 0, ds = nominal;
@@ -130,5 +135,8 @@ QuasiStaticReport QuasiStaticSolver::solve(Vec u, const std::function<void(const
   report.step_halvings = context_.step_halvings;
   return report;
 }
+
+template class QuasiStaticSolver<2>;
+template class QuasiStaticSolver<3>;
 
 }  // namespace warpfem::fem

@@ -35,9 +35,10 @@ struct QuasiStaticReport {
   int newton_iterations() const;
 };
 
+template <int dim>
 class QuasiStaticSolver {
  public:
-  QuasiStaticSolver(const HyperelasticOperator& op, NewtonOptions newton = {},
+  QuasiStaticSolver(const HyperelasticOperator<dim>& op, NewtonOptions newton = {},
                     LoadSteppingOptions steps = {});
 
   /// Solves for s = 0 → 1 starting from `u` (the state at s = 0, normally zero) and leaves the
@@ -52,7 +53,7 @@ class QuasiStaticSolver {
   /// response (one Newton step about the converged state), if that is admissible.
   void predict(Vec u, double load, Vec trial);
 
-  const HyperelasticOperator& op_;
+  const HyperelasticOperator<dim>& op_;
   NewtonOptions newton_;
   LoadSteppingOptions stepping_;
   NewtonContext context_;

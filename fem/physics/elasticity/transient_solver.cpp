@@ -8,13 +8,13 @@
 
 namespace warpfem::fem {
 
-TransientSolver::TransientSolver(const HyperelasticOperator& op, TransientOptions options,
-                                 NewtonOptions newton)
+template <int dim>
+TransientSolver<dim>::TransientSolver(const HyperelasticOperator<dim>& op, TransientOptions options,
+                                      NewtonOptions newton)
     : op_(op), options_(options), newton_(std::move(newton)) {
   require(options_.time_step > 0, "the time step must be positive");
   require(options_.end_time > 0, "the end time must be positive");
   require(options_.rho_infinity >= 0 && options_.rho_infinity <= 1, "rho_infinity must lie in [0, 1]");
-  context_.op = &op_;
   r_ = op_.space().create_vector();
   inertia_ = op_.space().create_vector();
   J_ = op_.space().create_matrix(newton_.prefix.c_str());
@@ -39,7 +39,9 @@ TransientSolver::TransientSolver(const HyperelasticOperator& op, TransientOption
   WARPFEM_PETSC_CHECK(TSSetFromOptions(ts_.get()));
 }
 
-PetscErrorCode TransientSolver::form_residual(TS ts, PetscReal t, Vec U, Vec V, Vec A, Vec F, void* ctx) {
+template <int dim>
+PetscErrorCode TransientSolver<dim>::form_residual(TS ts, PetscReal t, Vec U, Vec V, Vec A, Vec F,
+                                                   void* ctx) {
   auto* self = static_cast<TransientSolver*>(ctx);
   return self->context_.guard.run([&] {
     // inertia = A + c V, multiplied by the mass matrix inside the operator
@@ -52,8 +54,9 @@ PetscErrorCode TransientSolver::form_residual(TS ts, PetscReal t, Vec U, Vec V, 
   });
 }
 
-PetscErrorCode TransientSolver::form_jacobian(TS, PetscReal, Vec U, Vec, Vec, PetscReal shiftV,
-                                              PetscReal shiftA, Mat J, Mat P, void* ctx) {
+template <int dim>
+PetscErrorCode TransientSolver<dim>::form_jacobian(TS, PetscReal, Vec U, Vec, Vec, PetscReal shiftV,
+                                                   PetscReal shiftA, Mat J, Mat P, void* ctx) {
   auto* self = static_cast<TransientSolver*>(ctx);
   return self->context_.guard.run([&] {
     self->op_.jacobian(U, shiftA + self->options_.damping * shiftV, P);
@@ -64,7 +67,8 @@ PetscErrorCode TransientSolver::form_jacobian(TS, PetscReal, Vec U, Vec, Vec, Pe
   });
 }
 
-TransientStep TransientSolver::make_step(int step, double t, Vec u, Vec v) const {
+template <int dim>
+TransientStep TransientSolver<dim>::make_step(int step, double t, Vec u, Vec v) const {
   TransientStep s;
   s.step = step;
   s.time = t;
@@ -76,7 +80,8 @@ TransientStep TransientSolver::make_step(int step, double t, Vec u, Vec v) const
   return s;
 }
 
-PetscErrorCode TransientSolver::monitor(TS ts, PetscInt step, PetscReal t, Vec U, void* ctx) {
+template <int dim>
+PetscErrorCode TransientSolver<dim>::monitor(TS ts, PetscInt step, PetscReal t, Vec U, void* ctx) {
   auto* self = static_cast<TransientSolver*>(ctx);
   return self->context_.guard.run([&] {
     Vec u = nullptr, v = nullptr;
@@ -95,8 +100,9 @@ PetscErrorCode TransientSolver::monitor(TS ts, PetscInt step, PetscReal t, Vec U
   });
 }
 
-TransientReport TransientSolver::solve(Vec u, Vec v,
-                                       const std::function<void(const TransientStep&, Vec, Vec)>& on_step) {
+template <int dim>
+TransientReport TransientSolver<dim>::solve(
+    Vec u, Vec v, const std::function<void(const TransientStep&, Vec, Vec)>& on_step) {
   on_step_ = &on_step;
   report_ = {};
   last_snes_iterations_ = 0;
@@ -118,5 +124,8 @@ TransientReport TransientSolver::solve(Vec u, Vec v,
   }
   return report_;
 }
+
+template class TransientSolver<2>;
+template class TransientSolver<3>;
 
 }  // namespace warpfem::fem

@@ -36,9 +36,10 @@ struct TransientReport {
   int domain_rejections = 0;
 };
 
+template <int dim>
 class TransientSolver {
  public:
-  TransientSolver(const HyperelasticOperator& op, TransientOptions options, NewtonOptions newton = {});
+  TransientSolver(const HyperelasticOperator<dim>& op, TransientOptions options, NewtonOptions newton = {});
 
   /// Integrates from t = 0 with displacement `u` and velocity `v` (both updated in place).
   /// `on_step` runs at t = 0 (step 0) and after every step. Throws warpfem::Error if a step
@@ -53,7 +54,7 @@ class TransientSolver {
   static PetscErrorCode monitor(TS ts, PetscInt step, PetscReal t, Vec U, void* ctx);
   TransientStep make_step(int step, double t, Vec u, Vec v) const;
 
-  const HyperelasticOperator& op_;
+  const HyperelasticOperator<dim>& op_;
   TransientOptions options_;
   NewtonOptions newton_;
   NewtonContext context_;
