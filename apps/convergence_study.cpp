@@ -63,8 +63,8 @@ std::string fixed(double v, int precision = 2) {
   return os.str();
 }
 
-fem::PoissonData poisson_data(const io::RunConfig& cfg) {
-  fem::PoissonData data;
+fem::PoissonData<2> poisson_data(const io::RunConfig& cfg) {
+  fem::PoissonData<2> data;
   data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
   data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
   data.neumann = io::make_boundary_conditions(cfg.poisson.neumann, cfg.file);
@@ -147,7 +147,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   const int order = cfg.poisson.order;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
                                                      : warpfem::default_quadrature_degree(order);
-  const fem::PoissonData data = poisson_data(cfg);
+  const fem::PoissonData<2> data = poisson_data(cfg);
   petsc::LinearSolveOptions linear = cfg.solver.linear;
   if (linear.pc_type == "mg") linear.pc_type = "gamg";  // the study solves each level on its own
   const int first = cfg.mesh.refinements;
@@ -157,17 +157,17 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
 
   std::optional<io::Expression> u_exact;
   if (exact) u_exact.emplace(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");
-  const fem::ScalarFunction u_fn = exact ? u_exact->as_function_2d() : fem::ScalarFunction{};
-  const fem::GradientFunction grad_fn = [&u_exact](const Point<2>& x, double t) {
+  const fem::ScalarFunction<2> u_fn = exact ? u_exact->as_function_2d() : fem::ScalarFunction<2>{};
+  const fem::GradientFunction<2> grad_fn = [&u_exact](const Point<2>& x, double t) {
     return u_exact->gradient<2>(x, t);
   };
 
   // Reference: ‖u‖ from the exact solution, or the warped solution on the reference level.
-  std::unique_ptr<fem::PoissonProblem> reference;
+  std::unique_ptr<fem::PoissonProblem<2>> reference;
   double reference_norm = 0;
   if (!exact) {
     Stopwatch w;
-    reference = std::make_unique<fem::PoissonProblem>(comm, hierarchy.finest(), f, order, qdeg, data);
+    reference = std::make_unique<fem::PoissonProblem<2>>(comm, hierarchy.finest(), f, order, qdeg, data);
     reference->assemble();
     reference->solve(linear);
     reference_norm = reference->solution_l2_norm();
@@ -197,9 +197,9 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
       mapping::MapPtr<2> map = f;
       if (d == "standard") map = coarse_interpolant;
       if (d == "standard_recovered") map = std::make_shared<fem::InterpolatedMap>(mesh, *f);
-      std::unique_ptr<fem::PoissonProblem> owned;
+      std::unique_ptr<fem::PoissonProblem<2>> owned;
       try {
-        owned = std::make_unique<fem::PoissonProblem>(comm, mesh, map, order, qdeg, data);
+        owned = std::make_unique<fem::PoissonProblem<2>>(comm, mesh, map, order, qdeg, data);
       } catch (const Error& e) {
         // Straight elements through mapped vertices can be inverted on coarse meshes of
         // strongly curved domains: the standard discretization does not exist on this level.
@@ -212,7 +212,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
         result.rows.push_back(row);
         continue;
       }
-      fem::PoissonProblem& problem = *owned;
+      fem::PoissonProblem<2>& problem = *owned;
       problem.assemble();
       const auto solve = problem.solve(linear);
       StudyRow row;

@@ -72,8 +72,8 @@ class ElasticityPhysics final : public Physics<2> {
     if (mg) {
       // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
       watch.reset();
-      mg_ = std::make_unique<multigrid::GeometricMultigrid>(
-          *hierarchy_, *op_, multigrid::GeometricMultigrid::galerkin_defaults(), level_owners);
+      mg_ = std::make_unique<multigrid::GeometricMultigrid<2>>(
+          *hierarchy_, *op_, multigrid::GeometricMultigrid<2>::galerkin_defaults(), level_owners);
       if (newton_.ksp_type == "preonly") newton_.ksp_type = "gmres";  // one V-cycle is not a solve
       newton_.configure_preconditioner = [this](KSP ksp, Mat jacobian) {
         WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp, 1e-10, 1e-50, PETSC_DEFAULT, 1000));
@@ -135,7 +135,7 @@ class ElasticityPhysics final : public Physics<2> {
   std::unique_ptr<fem::MeshHierarchy<2>> hierarchy_;
   std::unique_ptr<fem::HyperelasticOperator<2>> op_;
   std::unique_ptr<fem::NodalProjection<2>> projection_;
-  std::unique_ptr<multigrid::GeometricMultigrid> mg_;
+  std::unique_ptr<multigrid::GeometricMultigrid<2>> mg_;
   petsc::Vector u_;
 };
 

@@ -26,7 +26,7 @@ class PoissonPhysics final : public Physics<2> {
       : cfg_(cfg), comm_(comm), options_(options) {}
 
   const fem::Problem<2>& set_up(Mesh<2> coarse, int refinements, mapping::MapPtr<2> map) override {
-    fem::PoissonData data;
+    fem::PoissonData<2> data;
     data.source = io::Expression(cfg_.poisson.source, cfg_.file, "/problem/source").as_function_2d();
     data.dirichlet = io::make_boundary_conditions(cfg_.poisson.dirichlet, cfg_.file);
     data.neumann = io::make_boundary_conditions(cfg_.poisson.neumann, cfg_.file);
@@ -42,15 +42,15 @@ class PoissonPhysics final : public Physics<2> {
       mg_options.linear = cfg_.solver.linear;
       mg_options.multigrid = cfg_.solver.multigrid;
       mg_options.finest_geometry = storage;
-      mg_ = std::make_unique<multigrid::PoissonMultigridSolver>(comm_, std::move(coarse), refinements, map,
-                                                                order, qdeg, data, mg_options);
+      mg_ = std::make_unique<multigrid::PoissonMultigridSolver<2>>(comm_, std::move(coarse), refinements, map,
+                                                                   order, qdeg, data, mg_options);
     } else {
       mesh_ = std::make_unique<Mesh<2>>(std::move(coarse));
       for (int r = 0; r < refinements; ++r) *mesh_ = warpfem::refine_uniformly(*mesh_).mesh;
-      single_ = std::make_unique<fem::PoissonProblem>(comm_, *mesh_, map, order, qdeg, data, storage);
+      single_ = std::make_unique<fem::PoissonProblem<2>>(comm_, *mesh_, map, order, qdeg, data, storage);
       single_->assemble();
     }
-    const fem::PoissonProblem& p = problem();
+    const fem::PoissonProblem<2>& p = problem();
     int size = 1;
     MPI_Comm_size(comm_, &size);
     log::info("assembled P", order, " Poisson", mg_ ? " on every level" : "", ": ", p.dofs().num_dofs(),
@@ -78,11 +78,11 @@ class PoissonPhysics final : public Physics<2> {
   }
 
   void report(RunResult& result) const override {
-    const fem::PoissonProblem& p = problem();
+    const fem::PoissonProblem<2>& p = problem();
     result.area = p.area();
     if (!cfg_.poisson.exact_solution.empty()) {
       const io::Expression exact(cfg_.poisson.exact_solution, cfg_.file, "/problem/exact_solution");
-      const fem::GradientFunction grad = [&exact](const Point<2>& x, double t) {
+      const fem::GradientFunction<2> grad = [&exact](const Point<2>& x, double t) {
         return exact.gradient<2>(x, t);
       };
       const auto e = p.errors(exact.as_function_2d(), grad);
@@ -96,7 +96,7 @@ class PoissonPhysics final : public Physics<2> {
 
   Vec state() const override { return problem().solution(); }
   void add_fields(const fem::OutputMesh<2>& mesh, Vec u, io::VtkOutput<2>& vtk) const override {
-    const fem::PoissonProblem& p = problem();
+    const fem::PoissonProblem<2>& p = problem();
     const VectorX values = mesh.interpolate(p.dofs(), p.distribution(), p.distribution().gather_relevant(u));
     vtk.point_fields.push_back({"u", 1, std::vector<double>(values.data(), values.data() + values.size())});
   }
@@ -105,7 +105,7 @@ class PoissonPhysics final : public Physics<2> {
   /// Geometric multigrid needs at least one refinement; one level is solved with
   /// the configured (or an algebraic) preconditioner.
   bool use_multigrid() const { return cfg_.solver.linear.pc_type == "mg" && cfg_.mesh.refinements > 0; }
-  const fem::PoissonProblem& problem() const { return mg_ ? mg_->finest() : *single_; }
+  const fem::PoissonProblem<2>& problem() const { return mg_ ? mg_->finest() : *single_; }
 
   /// A NaN or inf load would only surface as a diverging multigrid smoother.
   void check_load_is_finite() const {
@@ -124,9 +124,9 @@ class PoissonPhysics final : public Physics<2> {
   const io::RunConfig& cfg_;
   MPI_Comm comm_;
   RunOptions options_;
-  std::unique_ptr<multigrid::PoissonMultigridSolver> mg_;
+  std::unique_ptr<multigrid::PoissonMultigridSolver<2>> mg_;
   std::unique_ptr<Mesh<2>> mesh_;
-  std::unique_ptr<fem::PoissonProblem> single_;
+  std::unique_ptr<fem::PoissonProblem<2>> single_;
 };
 
 }  // namespace

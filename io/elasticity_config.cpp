@@ -250,7 +250,7 @@ ElasticityConfig load_elasticity_config(const std::string& path) {
 
 namespace {
 
-fem::ScalarFunction scalar(const std::string& text, const std::string& file, const std::string& key_path) {
+fem::ScalarFunction<2> scalar(const std::string& text, const std::string& file, const std::string& key_path) {
   if (text.empty()) return {};
   const Expression e(text, file, key_path);
   return [e](const Point<2>& x, double t) { return e.at<2>(x, t); };

@@ -338,9 +338,9 @@ RunConfig load_run_config(const std::string& path) {
   return parse_run_config(json, path);
 }
 
-std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
-                                                             const std::string& file) {
-  std::vector<fem::BoundaryCondition> out;
+std::vector<fem::BoundaryCondition<2>> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
+                                                                const std::string& file) {
+  std::vector<fem::BoundaryCondition<2>> out;
   for (const auto& s : specs)
     out.push_back({s.edges, Expression(s.value, file, s.key_path).as_function_2d()});
   return out;

@@ -98,7 +98,7 @@ void check_output_options(const ConfigNode& output, const std::string& name, int
 std::string config_relative_path(const std::string& config_file, const std::string& path);
 
 /// Turns boundary specs into fem boundary conditions (parses the expressions).
-std::vector<fem::BoundaryCondition> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
-                                                             const std::string& file);
+std::vector<fem::BoundaryCondition<2>> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
+                                                                const std::string& file);
 
 }  // namespace warpfem::io

@@ -4,14 +4,16 @@
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
+#include "fem/dofs/cell_partition.hpp"
 #include "multigrid/prolongation.hpp"
 
 namespace warpfem::multigrid {
 
-struct GeometricMultigrid::CoarseLevel {
-  fem::DofMap<2> dofs;
-  fem::DofDistribution<2> distribution;
-  CoarseLevel(MPI_Comm comm, const warpfem::Mesh<2>& mesh, const fem::LagrangeElement<2>& element,
+template <int dim>
+struct GeometricMultigrid<dim>::CoarseLevel {
+  fem::DofMap<dim> dofs;
+  fem::DofDistribution<dim> distribution;
+  CoarseLevel(MPI_Comm comm, const warpfem::Mesh<dim>& mesh, const fem::LagrangeElement<dim>& element,
               const std::vector<int>& cell_owner)
       : dofs(mesh, element), distribution(comm, mesh, dofs, cell_owner) {}
 };
@@ -25,8 +27,9 @@ using ComponentMasks = std::vector<std::vector<char>>;
 /// fine vertex at coarse node d is transfer.fine_vertex_of_node[d], and fine
 /// vertex v is fine DOF v (DofMap numbers vertices first). The positions are
 /// checked.
-ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap<2>& fine_dofs,
-                             const fem::DofMap<2>& coarse_dofs, const warpfem::RefinedMesh<2>& transfer) {
+template <int dim>
+ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap<dim>& fine_dofs,
+                             const fem::DofMap<dim>& coarse_dofs, const warpfem::RefinedMesh<dim>& transfer) {
   const Index n = coarse_dofs.num_dofs();
   require(n <= static_cast<Index>(transfer.fine_vertex_of_node.size()),
           "GeometricMultigrid: the coarse level has more DOFs than the refinement has nodes");
@@ -46,8 +49,9 @@ ComponentMasks coarser_masks(const ComponentMasks& fine, const fem::DofMap<2>& f
 }
 
 /// P(k i + c, k j + c) = P_c(i, j) for the owned rows, block size k.
-petsc::Matrix interleave(const std::vector<petsc::Matrix>& scalar, const fem::DofDistribution<2>& fine,
-                         const fem::DofDistribution<2>& coarse) {
+template <int dim>
+petsc::Matrix interleave(const std::vector<petsc::Matrix>& scalar, const fem::DofDistribution<dim>& fine,
+                         const fem::DofDistribution<dim>& coarse) {
   const PetscInt k = static_cast<PetscInt>(scalar.size());
   std::vector<PetscInt> ia{0}, ja;
   std::vector<PetscScalar> va;
@@ -78,22 +82,24 @@ petsc::Matrix interleave(const std::vector<petsc::Matrix>& scalar, const fem::Do
 }
 
 /// The space of one level as the prolongation needs it.
+template <int dim>
 struct Level {
-  const fem::DofMap<2>* dofs = nullptr;
-  const fem::DofDistribution<2>* nodes = nullptr;
+  const fem::DofMap<dim>* dofs = nullptr;
+  const fem::DofDistribution<dim>* nodes = nullptr;
   ComponentMasks constrained;
 };
 
 /// Prolongations between consecutive levels (scalar: the scalar one itself).
-std::vector<petsc::Matrix> prolongations(const fem::MeshHierarchy<2>& hierarchy,
-                                         const std::vector<Level>& levels, int components) {
+template <int dim>
+std::vector<petsc::Matrix> prolongations(const fem::MeshHierarchy<dim>& hierarchy,
+                                         const std::vector<Level<dim>>& levels, int components) {
   std::vector<petsc::Matrix> out;
   for (std::size_t l = 1; l < levels.size(); ++l) {
-    const Level& coarse = levels[l - 1];
-    const Level& fine = levels[l];
+    const Level<dim>& coarse = levels[l - 1];
+    const Level<dim>& fine = levels[l];
     std::vector<petsc::Matrix> scalar;
     for (std::size_t c = 0; c < static_cast<std::size_t>(components); ++c)
-      scalar.push_back(assemble_prolongation(
+      scalar.push_back(assemble_prolongation<dim>(
           hierarchy, static_cast<int>(l),
           {.dofs = coarse.dofs, .distribution = coarse.nodes, .dirichlet = coarse.constrained[c]},
           {.dofs = fine.dofs, .distribution = fine.nodes, .dirichlet = fine.constrained[c]}));
@@ -126,27 +132,43 @@ MultigridSettings resolved(MultigridSettings s, int order) {
   return s;
 }
 
+/// Cell owners of every level for the Galerkin constructor: nested in 2D; in
+/// 3D (no nested partition yet) each level cut along its own Morton curve.
+template <int dim>
+std::vector<std::vector<int>> level_partitions(const fem::MeshHierarchy<dim>& hierarchy, int parts) {
+  if constexpr (dim == 2) {
+    return fem::nested_partitions(hierarchy, parts);
+  } else {
+    std::vector<std::vector<int>> owners;
+    for (const auto& mesh : hierarchy.levels) owners.push_back(fem::partition_cells(mesh, parts));
+    return owners;
+  }
+}
+
 }  // namespace
 
-GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy,
-                                       const std::vector<const fem::Problem<2>*>& levels,
-                                       const MultigridSettings& settings) {
+template <int dim>
+GeometricMultigrid<dim>::GeometricMultigrid(const fem::MeshHierarchy<dim>& hierarchy,
+                                            const std::vector<const fem::Problem<dim>*>& levels,
+                                            const MultigridSettings& settings) {
   require(!levels.empty() && static_cast<int>(levels.size()) == hierarchy.num_levels(),
           "GeometricMultigrid: " + std::to_string(levels.size()) + " level problems for a hierarchy of " +
               std::to_string(hierarchy.num_levels()) + " levels");
   components_ = levels.back()->components();
   settings_ = resolved(settings, levels.back()->dofs().element().order());
-  std::vector<Level> spaces;
-  for (const fem::Problem<2>* p : levels) {
+  std::vector<Level<dim>> spaces;
+  for (const fem::Problem<dim>* p : levels) {
     require(p->components() == components_, "GeometricMultigrid: the levels differ in components");
     spaces.push_back({.dofs = &p->dofs(), .nodes = &p->nodes(), .constrained = p->constrained()});
   }
   prolongations_ = prolongations(hierarchy, spaces, components_);
 }
 
-GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, const fem::Problem<2>& finest,
-                                       const MultigridSettings& settings,
-                                       const std::vector<std::vector<int>>& level_owners)
+template <int dim>
+GeometricMultigrid<dim>::GeometricMultigrid(const fem::MeshHierarchy<dim>& hierarchy,
+                                            const fem::Problem<dim>& finest,
+                                            const MultigridSettings& settings,
+                                            const std::vector<std::vector<int>>& level_owners)
     : components_(finest.components()) {
   if (&hierarchy.finest() != &finest.mesh())
     throw Error("GeometricMultigrid: the problem does not live on the hierarchy's finest mesh",
@@ -170,13 +192,13 @@ GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, c
   int size = 1;
   MPI_Comm_size(finest.comm(), &size);
   std::vector<std::vector<int>> computed;
-  if (level_owners.empty()) computed = fem::nested_partitions(hierarchy, size);
+  if (level_owners.empty()) computed = level_partitions(hierarchy, size);
   const std::vector<std::vector<int>>& owners = level_owners.empty() ? computed : level_owners;
   for (int l = 0; l + 1 < levels; ++l)
     coarse_.push_back(
         std::make_unique<CoarseLevel>(finest.comm(), hierarchy.levels[static_cast<std::size_t>(l)],
                                       finest.dofs().element(), owners[static_cast<std::size_t>(l)]));
-  std::vector<Level> spaces(static_cast<std::size_t>(levels));
+  std::vector<Level<dim>> spaces(static_cast<std::size_t>(levels));
   spaces.back() = {.dofs = &finest.dofs(), .nodes = &finest.nodes(), .constrained = finest.constrained()};
   for (int l = levels - 2; l >= 0; --l) {
     const std::size_t i = static_cast<std::size_t>(l);
@@ -188,16 +210,19 @@ GeometricMultigrid::GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, c
   prolongations_ = prolongations(hierarchy, spaces, components_);
 }
 
-GeometricMultigrid::~GeometricMultigrid() = default;
+template <int dim>
+GeometricMultigrid<dim>::~GeometricMultigrid() = default;
 
-const fem::DofDistribution<2>& GeometricMultigrid::coarse_distribution(int level) const {
+template <int dim>
+const fem::DofDistribution<dim>& GeometricMultigrid<dim>::coarse_distribution(int level) const {
   require(level >= 0 && level < static_cast<int>(coarse_.size()),
           "GeometricMultigrid::coarse_distribution: level " + std::to_string(level) +
               " is not a coarse level built here");
   return coarse_[static_cast<std::size_t>(level)]->distribution;
 }
 
-void GeometricMultigrid::smooth(Mat finest) {
+template <int dim>
+void GeometricMultigrid<dim>::smooth(Mat finest) {
   require(settings_.prolongation == MultigridSettings::Prolongation::smoothed,
           "GeometricMultigrid::smooth: the settings ask for geometric prolongations");
   std::vector<Mat> geometric;
@@ -205,7 +230,8 @@ void GeometricMultigrid::smooth(Mat finest) {
   smoothed_ = smooth_prolongations(finest, geometric);
 }
 
-void GeometricMultigrid::configure(KSP ksp, const std::vector<Mat>& operators) const {
+template <int dim>
+void GeometricMultigrid<dim>::configure(KSP ksp, const std::vector<Mat>& operators) const {
   std::vector<Mat> interpolations, ops;
   for (int l = 1; l < num_levels(); ++l) interpolations.push_back(interpolation(l));
   if (settings_.prolongation == MultigridSettings::Prolongation::smoothed) {
@@ -219,5 +245,8 @@ void GeometricMultigrid::configure(KSP ksp, const std::vector<Mat>& operators) c
   }
   configure_pcmg(ksp, interpolations, ops, settings_);
 }
+
+template class GeometricMultigrid<2>;
+template class GeometricMultigrid<3>;
 
 }  // namespace warpfem::multigrid

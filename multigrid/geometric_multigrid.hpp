@@ -30,21 +30,23 @@
 
 namespace warpfem::multigrid {
 
+template <int dim>
 class GeometricMultigrid {
  public:
   /// Rediscretized levels: `levels[l]` is the problem on hierarchy level l
   /// (coarse to fine), all with the same element and components. With smoothed
   /// prolongations call smooth() with the finest operator before configure().
-  GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy,
-                     const std::vector<const fem::Problem<2>*>& levels, const MultigridSettings& settings);
+  GeometricMultigrid(const fem::MeshHierarchy<dim>& hierarchy,
+                     const std::vector<const fem::Problem<dim>*>& levels, const MultigridSettings& settings);
   /// Galerkin levels below `finest`, which must live on hierarchy.finest(): the
   /// coarser DOF maps and distributions are built here, a coarse unknown is
   /// constrained where the finer level's at the same node is. `level_owners`:
   /// cell owners of every level as fem::nested_partitions() gives them (empty:
-  /// computed here); the finest problem should be built on the last entry.
+  /// computed here: nested in 2D, each level cut along its own Morton curve in
+  /// 3D); the finest problem should be built on the last entry.
   /// Throws warpfem::Error if the hierarchy does not match the problem or the
   /// settings ask for smoothed prolongations (they need the operator at set-up).
-  GeometricMultigrid(const fem::MeshHierarchy<2>& hierarchy, const fem::Problem<2>& finest,
+  GeometricMultigrid(const fem::MeshHierarchy<dim>& hierarchy, const fem::Problem<dim>& finest,
                      const MultigridSettings& settings = galerkin_defaults(),
                      const std::vector<std::vector<int>>& level_owners = {});
   ~GeometricMultigrid();
@@ -58,7 +60,7 @@ class GeometricMultigrid {
   /// estimates), smoothed levels handed over as given operators.
   const MultigridSettings& settings() const { return settings_; }
   /// Node distribution of a level below the finest built here (Galerkin constructor only).
-  const fem::DofDistribution<2>& coarse_distribution(int level) const;
+  const fem::DofDistribution<dim>& coarse_distribution(int level) const;
   /// The geometric prolongation from level fine_level − 1 to fine_level.
   Mat prolongation(int fine_level) const {
     return prolongations_.at(static_cast<std::size_t>(fine_level - 1)).get();
@@ -96,5 +98,8 @@ class GeometricMultigrid {
   MultigridSettings settings_;
   int components_ = 1;
 };
+
+extern template class GeometricMultigrid<2>;
+extern template class GeometricMultigrid<3>;
 
 }  // namespace warpfem::multigrid

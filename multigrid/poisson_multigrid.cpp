@@ -1,6 +1,7 @@
 #include "multigrid/poisson_multigrid.hpp"
 
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "core/petsc/check.hpp"
 #include "core/timer.hpp"
 
@@ -9,8 +10,10 @@ namespace {
 /// The hierarchy partitioned for `comm`'s ranks; with `partial_levels` the
 /// levels above the base are built only around this rank's cells
 /// (fem/partial_refinement.hpp; elements with edge DOFs need whole levels).
-fem::MeshHierarchy<2> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements,
-                                      bool partial_levels, double& seconds) {
+/// 3D hierarchies are whole on every rank (no partitioned 3D hierarchy yet).
+template <int dim>
+fem::MeshHierarchy<dim> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<dim> coarse, int refinements,
+                                        bool partial_levels, double& seconds) {
   if (refinements < 0)
     throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
                 {.file = "", .key_path = "mesh.refinements", .hint = "use 0 or more refinements"});
@@ -19,15 +22,25 @@ fem::MeshHierarchy<2> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<2> coarse, in
   MPI_Comm_size(comm, &partition.parts);
   MPI_Comm_rank(comm, &partition.rank);
   partition.partial_levels = partial_levels;
-  fem::MeshHierarchy<2> h(std::move(coarse), refinements, partition);
-  seconds = watch.seconds();
-  return h;
+  if constexpr (dim == 3) {
+    if (partition.parts > 1)
+      log::info("multigrid: 3D levels are built whole on every rank (partitioned hierarchies are 2D only)");
+    fem::MeshHierarchy<3> h(std::move(coarse), refinements);
+    seconds = watch.seconds();
+    return h;
+  } else {
+    fem::MeshHierarchy<2> h(std::move(coarse), refinements, partition);
+    seconds = watch.seconds();
+    return h;
+  }
 }
 }  // namespace
 
-PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements,
-                                               mapping::MapPtr<2> map, int order, int quadrature_degree,
-                                               fem::PoissonData data, const PoissonMultigridOptions& options)
+template <int dim>
+PoissonMultigridSolver<dim>::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<dim> coarse, int refinements,
+                                                    mapping::MapPtr<dim> map, int order,
+                                                    int quadrature_degree, fem::PoissonData<dim> data,
+                                                    const PoissonMultigridOptions& options)
     : hierarchy_(timed_hierarchy(comm, std::move(coarse), refinements, options.partial_levels && order == 1,
                                  timings_.hierarchy)) {
   Stopwatch watch;
@@ -47,13 +60,18 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> c
   for (int l = 0; l < levels; ++l) {
     const fem::GeometryStorage storage =
         l == levels - 1 ? options.finest_geometry : fem::GeometryStorage::streamed;
-    const fem::LevelPartition& part = partitions[static_cast<std::size_t>(l)];
-    const warpfem::Mesh<2>& mesh = hierarchy_.levels[static_cast<std::size_t>(l)];
-    problems_.push_back(part.blocks
-                            ? std::make_unique<fem::PoissonProblem>(comm, mesh, map, order, quadrature_degree,
-                                                                    data, storage, *part.blocks)
-                            : std::make_unique<fem::PoissonProblem>(comm, mesh, map, order, quadrature_degree,
-                                                                    data, storage, part.cell_owner));
+    const warpfem::Mesh<dim>& mesh = hierarchy_.levels[static_cast<std::size_t>(l)];
+    if (partitions.empty()) {  // whole 3D levels: each partitioned on its own
+      problems_.push_back(std::make_unique<fem::PoissonProblem<dim>>(comm, mesh, map, order,
+                                                                     quadrature_degree, data, storage));
+    } else {
+      const fem::LevelPartition& part = partitions[static_cast<std::size_t>(l)];
+      problems_.push_back(
+          part.blocks ? std::make_unique<fem::PoissonProblem<dim>>(comm, mesh, map, order, quadrature_degree,
+                                                                   data, storage, *part.blocks)
+                      : std::make_unique<fem::PoissonProblem<dim>>(comm, mesh, map, order, quadrature_degree,
+                                                                   data, storage, part.cell_owner));
+    }
     report_.level_dofs.push_back(problems_.back()->dofs().num_dofs());
     const fem::PoissonSetupTimings& p = problems_.back()->setup_timings();
     t.problem_parts.dof_map += p.dof_map;
@@ -76,9 +94,9 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> c
 
   // 3. Prolongations, consistent with the eliminated Dirichlet rows and columns.
   watch.reset();
-  std::vector<const fem::Problem<2>*> level_problems;
+  std::vector<const fem::Problem<dim>*> level_problems;
   for (const auto& p : problems_) level_problems.push_back(p.get());
-  multigrid_ = std::make_unique<GeometricMultigrid>(hierarchy_, level_problems, options.multigrid);
+  multigrid_ = std::make_unique<GeometricMultigrid<dim>>(hierarchy_, level_problems, options.multigrid);
   if (smoothed) multigrid_->smooth(problems_.back()->matrix());
   t.transfers = watch.seconds();
 
@@ -100,10 +118,12 @@ PoissonMultigridSolver::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> c
   t.pc_setup = watch.seconds();
 }
 
-PoissonMultigridSolver::~PoissonMultigridSolver() = default;
+template <int dim>
+PoissonMultigridSolver<dim>::~PoissonMultigridSolver() = default;
 
-MultigridSolveReport PoissonMultigridSolver::solve() {
-  fem::PoissonProblem& p = finest();
+template <int dim>
+MultigridSolveReport PoissonMultigridSolver<dim>::solve() {
+  fem::PoissonProblem<dim>& p = finest();
   Stopwatch watch;
   // A zero initial guess spares CG the product A·0 for its first residual.
   PetscReal largest = 0;
@@ -120,5 +140,8 @@ MultigridSolveReport PoissonMultigridSolver::solve() {
                            "-mg_levels_pc_type sor, or raise solver.max_iterations");
   return report_;
 }
+
+template class PoissonMultigridSolver<2>;
+template class PoissonMultigridSolver<3>;
 
 }  // namespace warpfem::multigrid

@@ -1,5 +1,5 @@
 #pragma once
-// Poisson's linear solve on a nested hierarchy: one fem::PoissonProblem per
+// Poisson's linear solve on a nested hierarchy (2D or 3D): one fem::PoissonProblem per
 // level (rediscretized operators, or the finest only with Galerkin ones), the
 // geometric multigrid of geometric_multigrid.hpp as the preconditioner of the
 // Krylov method (CG by default).
@@ -35,6 +35,7 @@ struct PoissonMultigridOptions {
   /// only around each rank's cells (fem/partial_refinement.hpp): no rank
   /// refines or stores the whole fine levels. False: every rank holds every
   /// level whole (the levels' numbering and the solution are the same).
+  /// 2D only: in 3D every rank holds every level whole.
   bool partial_levels = true;
 
   static petsc::LinearSolveOptions default_linear() {
@@ -64,6 +65,7 @@ struct MultigridSolveReport {
   std::vector<Index> level_dofs;  ///< coarse to fine
 };
 
+template <int dim>
 class PoissonMultigridSolver {
  public:
   /// Builds the hierarchy (`refinements` uniform refinements of `coarse`), assembles
@@ -71,8 +73,8 @@ class PoissonMultigridSolver {
   /// prolongations and the PCMG preconditioner (KSPSetFromOptions + KSPSetUp).
   /// `data` is shared by all levels: its Dirichlet list selects the eliminated
   /// DOFs of every level. Throws warpfem::Error on bad input or PETSc failure.
-  PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<2> coarse, int refinements, mapping::MapPtr<2> map,
-                         int order, int quadrature_degree, fem::PoissonData data,
+  PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh<dim> coarse, int refinements, mapping::MapPtr<dim> map,
+                         int order, int quadrature_degree, fem::PoissonData<dim> data,
                          const PoissonMultigridOptions& options = {});
   ~PoissonMultigridSolver();
   PoissonMultigridSolver(const PoissonMultigridSolver&) = delete;
@@ -82,27 +84,30 @@ class PoissonMultigridSolver {
   /// Throws warpfem::Error if the Krylov method diverges.
   MultigridSolveReport solve();
 
-  const fem::MeshHierarchy<2>& hierarchy() const { return hierarchy_; }
+  const fem::MeshHierarchy<dim>& hierarchy() const { return hierarchy_; }
   /// The finest level's problem: matrix, rhs, solution, errors, output.
-  fem::PoissonProblem& finest() { return *problems_.back(); }
-  const fem::PoissonProblem& finest() const { return *problems_.back(); }
+  fem::PoissonProblem<dim>& finest() { return *problems_.back(); }
+  const fem::PoissonProblem<dim>& finest() const { return *problems_.back(); }
   /// Problem of a level (only the finest is assembled with Galerkin coarse
   /// operators or smoothed prolongations).
-  const fem::PoissonProblem& level(int l) const { return *problems_.at(static_cast<std::size_t>(l)); }
+  const fem::PoissonProblem<dim>& level(int l) const { return *problems_.at(static_cast<std::size_t>(l)); }
   /// The geometric prolongation from level fine_level − 1 to fine_level.
   Mat prolongation(int fine_level) const { return multigrid_->prolongation(fine_level); }
   /// What PCMG interpolates with: prolongation(), or its smoothed version.
   Mat interpolation(int fine_level) const { return multigrid_->interpolation(fine_level); }
-  const GeometricMultigrid& multigrid() const { return *multigrid_; }
+  const GeometricMultigrid<dim>& multigrid() const { return *multigrid_; }
   KSP ksp() const { return ksp_.get(); }
 
  private:
   MultigridTimings timings_;  // declared first: the hierarchy's construction is timed into it
-  fem::MeshHierarchy<2> hierarchy_;
-  std::vector<std::unique_ptr<fem::PoissonProblem>> problems_;
-  std::unique_ptr<GeometricMultigrid> multigrid_;
+  fem::MeshHierarchy<dim> hierarchy_;
+  std::vector<std::unique_ptr<fem::PoissonProblem<dim>>> problems_;
+  std::unique_ptr<GeometricMultigrid<dim>> multigrid_;
   petsc::LinearSolver ksp_;
   MultigridSolveReport report_;
 };
+
+extern template class PoissonMultigridSolver<2>;
+extern template class PoissonMultigridSolver<3>;
 
 }  // namespace warpfem::multigrid

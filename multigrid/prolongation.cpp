@@ -65,8 +65,8 @@ template <int dim, class Space>
 petsc::Matrix assemble(const fem::MeshHierarchy<dim>& hierarchy, int fine_level, const Space& coarse,
                        const Space& fine) {
   check_spaces(hierarchy, fine_level, coarse, fine);
-  const fem::DofDistribution<2>& fdist = *fine.distribution;
-  const fem::DofDistribution<2>& cdist = *coarse.distribution;
+  const fem::DofDistribution<dim>& fdist = *fine.distribution;
+  const fem::DofDistribution<dim>& cdist = *coarse.distribution;
   const warpfem::IndexTable& fdofs = fine.dofs->cell_dofs();
   const warpfem::IndexTable& cdofs = coarse.dofs->cell_dofs();
   const int n = static_cast<int>(fdofs.cols());  // fine nodes = coarse DOFs per cell
@@ -161,9 +161,15 @@ petsc::Matrix assemble(const fem::MeshHierarchy<dim>& hierarchy, int fine_level,
 
 }  // namespace
 
-petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<2>& hierarchy, int fine_level,
-                                    const LevelSpace& coarse, const LevelSpace& fine) {
+template <int dim>
+petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<dim>& hierarchy, int fine_level,
+                                    const LevelSpace<dim>& coarse, const LevelSpace<dim>& fine) {
   return assemble(hierarchy, fine_level, coarse, fine);
 }
+
+template petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<2>&, int, const LevelSpace<2>&,
+                                             const LevelSpace<2>&);
+template petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<3>&, int, const LevelSpace<3>&,
+                                             const LevelSpace<3>&);
 
 }  // namespace warpfem::multigrid

@@ -23,9 +23,10 @@ template <int dim>
 std::vector<MatrixX> child_prolongation_tables(const fem::LagrangeElement<dim>& element);
 
 /// The Lagrange space of one level as the prolongation sees it.
+template <int dim>
 struct LevelSpace {
-  const fem::DofMap<2>* dofs = nullptr;
-  const fem::DofDistribution<2>* distribution = nullptr;
+  const fem::DofMap<dim>* dofs = nullptr;
+  const fem::DofDistribution<dim>* distribution = nullptr;
   /// Per mesh DOF: 1 if its row and column were eliminated (Dirichlet); empty = none.
   std::vector<char> dirichlet = {};
 };
@@ -42,7 +43,8 @@ struct LevelSpace {
 ///
 /// Throws warpfem::Error if the two spaces differ in element, or do not belong
 /// to the meshes of the two levels.
-petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<2>& hierarchy, int fine_level,
-                                    const LevelSpace& coarse, const LevelSpace& fine);
+template <int dim>
+petsc::Matrix assemble_prolongation(const fem::MeshHierarchy<dim>& hierarchy, int fine_level,
+                                    const LevelSpace<dim>& coarse, const LevelSpace<dim>& fine);
 
 }  // namespace warpfem::multigrid

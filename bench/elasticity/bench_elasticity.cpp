@@ -39,7 +39,7 @@ void cantilever(int cells) {
       warpfem::structured_mesh(source, 2 * cells, cells / 2, warpfem::CellType::quadrilateral);
   fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(fem::MaterialModel::neo_hookean, 1000.0, 0.3);
-  const fem::ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };
+  const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({{3}, {zero, zero}});
   data.neumann.push_back({{1}, [](const Point<2>&, double) { return Point<2>(0.0, -10.0); }});
   Stopwatch watch;

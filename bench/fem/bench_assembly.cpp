@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     std::printf("mesh: %lld triangles, %lld P1 DOFs, %d rank(s); map: %s (built in %.3f s)\n",
                 static_cast<long long>(mesh.num_cells()), static_cast<long long>(mesh.num_vertices()), size,
                 warped->describe().c_str(), map_build);
-  fem::PoissonData data;
+  fem::PoissonData<2> data;
   data.source = fem::ConstantFunction{1.0};
   data.dirichlet.push_back({{}, [](const Point<2>&, double) { return 0.0; }});
   // Both problems are built first; their assemblies then alternate (5 rounds,
@@ -63,15 +63,15 @@ int main(int argc, char** argv) {
   // charge the warped geometry for memory rather than for the map; the identity
   // problem built second shows that cost (BENCHMARKS.md).
   const std::pair<std::string, mapping::MapPtr<2>> cases[2] = {{"warped", warped}, {"identity", identity}};
-  std::vector<std::unique_ptr<fem::PoissonProblem>> problems;
+  std::vector<std::unique_ptr<fem::PoissonProblem<2>>> problems;
   for (const auto& [name, map] : cases) {
     MPI_Barrier(MPI_COMM_WORLD);
     w.reset();
-    problems.push_back(std::make_unique<fem::PoissonProblem>(MPI_COMM_WORLD, mesh, map, 1,
-                                                             warpfem::default_quadrature_degree(1), data));
+    problems.push_back(std::make_unique<fem::PoissonProblem<2>>(MPI_COMM_WORLD, mesh, map, 1,
+                                                                warpfem::default_quadrature_degree(1), data));
     MPI_Barrier(MPI_COMM_WORLD);
     const double setup = w.seconds();
-    const fem::PoissonProblem& problem = *problems.back();
+    const fem::PoissonProblem<2>& problem = *problems.back();
     const Index qp = problem.geometry().num_cells() * problem.geometry().points_per_cell();
     const fem::PoissonSetupTimings& st = problem.setup_timings();
     if (rank == 0)

@@ -169,7 +169,7 @@ int run(int argc, char** argv) {
   for (PetscInt k = int_option("-prerefine", 0); k > 0; --k) coarse = warpfem::refine_uniformly(coarse).mesh;
 
   // 2. Problem: −Δu = 1 on f(Ω0), u = 0 on the whole boundary.
-  fem::PoissonData data;
+  fem::PoissonData<2> data;
   data.source = fem::ConstantFunction{1.0};
   data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>&, double) { return 0.0; }});
 
@@ -199,8 +199,8 @@ int run(int argc, char** argv) {
     options.multigrid.chebyshev_kernel = kernel == "petsc"          ? Kernel::petsc
                                          : kernel == "fused_double" ? Kernel::fused_double
                                                                     : Kernel::fused_single;
-    multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, r, map, order, qdeg, data, options);
-    fem::PoissonProblem& fine = mg.finest();
+    multigrid::PoissonMultigridSolver<2> mg(PETSC_COMM_WORLD, coarse, r, map, order, qdeg, data, options);
+    fem::PoissonProblem<2>& fine = mg.finest();
     petsc::Vector u0;
     WARPFEM_PETSC_CHECK(VecDuplicate(fine.solution(), u0.out()));
     WARPFEM_PETSC_CHECK(VecCopy(fine.solution(), u0.get()));

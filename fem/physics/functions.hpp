@@ -9,22 +9,29 @@
 
 namespace warpfem::fem {
 
-using ScalarFunction = std::function<double(const Point<2>& x, double t)>;
-using GradientFunction = std::function<Point<2>(const Point<2>& x, double t)>;
+template <int dim>
+using ScalarFunction = std::function<double(const Point<dim>& x, double t)>;
+template <int dim>
+using GradientFunction = std::function<Point<dim>(const Point<dim>& x, double t)>;
 
 /// A ScalarFunction that is one number everywhere and at all times. Stored in a
 /// ScalarFunction it stays recognisable (`f.target<ConstantFunction>()`), so
 /// passes over many points (assembly of a source) can skip the per-point call.
 struct ConstantFunction {
   double value = 0;
-  double operator()(const Point<2>&, double) const { return value; }
+  template <class AnyPoint>
+  double operator()(const AnyPoint&, double) const {
+    return value;
+  }
 };
 
-/// A boundary condition on a set of boundary parts: the polygon edges listed
-/// (indices of the target polygon's edges; edge i joins vertex i and i + 1).
+/// A boundary condition on a set of boundary parts: in 2D the polygon edges
+/// listed (edge i joins vertex i and i + 1), in 3D the facet tags listed
+/// (Mesh::facet_tags: polyhedron face groups, box faces).
+template <int dim>
 struct BoundaryCondition {
-  std::vector<int> edges;  ///< empty: every boundary edge
-  ScalarFunction value;
+  std::vector<int> edges;  ///< the parts; empty: every part
+  ScalarFunction<dim> value;
 };
 
 }  // namespace warpfem::fem

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/mesh/reference_cell.hpp"
 #include "core/petsc/check.hpp"
 #include "core/petsc/csr_matrix.hpp"
 #include "core/petsc/matrix_assembler.hpp"
@@ -13,6 +14,26 @@
 
 namespace warpfem::fem {
 namespace {
+/// The metric entries (i, j), i <= j, in the order of gradient_products_.
+template <int dim>
+constexpr auto kMetricEntries = [] {
+  std::array<std::array<int, 2>, dim*(dim + 1) / 2> e{};
+  std::size_t t = 0;
+  for (int i = 0; i < dim; ++i)
+    for (int j = i; j < dim; ++j) e[t++] = {i, j};
+  return e;
+}();
+
+/// The rule of the Neumann integrals on a boundary facet (order + 3 Gauss
+/// points on edges, the same degree on faces).
+template <int dim>
+QuadratureRule<dim - 1> facet_rule(CellType cell, int order) {
+  if constexpr (dim == 2)
+    return gauss_legendre(order + 3);
+  else
+    return cell_quadrature<2>(facet_type(cell), 2 * order + 5);
+}
+
 /// Runs make() and adds its wall time to `seconds` (for timing member initializers).
 template <class Make>
 auto timed(double& seconds, Make&& make) {
@@ -23,37 +44,40 @@ auto timed(double& seconds, Make&& make) {
 }
 }  // namespace
 
-PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
-                               int quadrature_degree, PoissonData data, GeometryStorage storage,
-                               const std::vector<int>& cell_owner)
+template <int dim>
+PoissonProblem<dim>::PoissonProblem(MPI_Comm comm, const Mesh<dim>& mesh, mapping::MapPtr<dim> map, int order,
+                                    int quadrature_degree, PoissonData<dim> data, GeometryStorage storage,
+                                    const std::vector<int>& cell_owner)
     : PoissonProblem(comm, mesh, std::move(map), order, quadrature_degree, std::move(data), storage,
-                     DistributionMaker([&](const DofMap<2>& dofs) {
-                       return cell_owner.empty() ? DofDistribution<2>(comm, mesh, dofs)
-                                                 : DofDistribution<2>(comm, mesh, dofs, cell_owner);
+                     DistributionMaker([&](const DofMap<dim>& dofs) {
+                       return cell_owner.empty() ? DofDistribution<dim>(comm, mesh, dofs)
+                                                 : DofDistribution<dim>(comm, mesh, dofs, cell_owner);
                      })) {}
 
-PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
-                               int quadrature_degree, PoissonData data, GeometryStorage storage,
-                               const NestedBlocks& blocks)
+template <int dim>
+PoissonProblem<dim>::PoissonProblem(MPI_Comm comm, const Mesh<dim>& mesh, mapping::MapPtr<dim> map, int order,
+                                    int quadrature_degree, PoissonData<dim> data, GeometryStorage storage,
+                                    const NestedBlocks& blocks)
     : PoissonProblem(comm, mesh, std::move(map), order, quadrature_degree, std::move(data), storage,
-                     DistributionMaker([&](const DofMap<2>& dofs) {
-                       return DofDistribution<2>(comm, mesh, dofs, blocks);
+                     DistributionMaker([&](const DofMap<dim>& dofs) {
+                       return DofDistribution<dim>(comm, mesh, dofs, blocks);
                      })) {}
 
-PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order,
-                               int quadrature_degree, PoissonData data, GeometryStorage storage,
-                               const DistributionMaker& distribute)
+template <int dim>
+PoissonProblem<dim>::PoissonProblem(MPI_Comm comm, const Mesh<dim>& mesh, mapping::MapPtr<dim> map, int order,
+                                    int quadrature_degree, PoissonData<dim> data, GeometryStorage storage,
+                                    const DistributionMaker& distribute)
     : comm_(comm),
       mesh_(mesh),
       map_(std::move(map)),
       data_(std::move(data)),
       parts_(mesh, data_.boundary_polygon),
       dofs_(timed(setup_timings_.dof_map,
-                  [&] { return DofMap<2>(mesh, LagrangeElement<2>(mesh.cell_type, order)); })),
+                  [&] { return DofMap<dim>(mesh, LagrangeElement<dim>(mesh.cell_type, order)); })),
       dist_(timed(setup_timings_.distribution, [&] { return distribute(dofs_); })),
       geometry_(timed(setup_timings_.geometry, [&] {
-        return WarpedGeometry<2>(mesh, dist_.local_cells(), WarpedGeometry<2>::BorrowCells{},
-                                 cell_quadrature<2>(mesh.cell_type, quadrature_degree), *map_, storage);
+        return WarpedGeometry<dim>(mesh, dist_.local_cells(), typename WarpedGeometry<dim>::BorrowCells{},
+                                   cell_quadrature<dim>(mesh.cell_type, quadrature_degree), *map_, storage);
       })) {
   Stopwatch watch;
   const auto shape_grads = dofs_.element().gradients(geometry_.rule().points);
@@ -75,18 +99,19 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
   for (Index q = 0; q < nq; ++q) {
     for (Index p = 0; p < np; ++p) {
       const auto [a, b] = pairs[static_cast<std::size_t>(p)];
-      const double ua = shape_grads[0](q, a), va = shape_grads[1](q, a);
-      const double ub = shape_grads[0](q, b), vb = shape_grads[1](q, b);
-      gradient_products_[0](p, q) = ua * ub;
-      gradient_products_[1](p, q) = ua * vb + va * ub;
-      gradient_products_[2](p, q) = va * vb;
+      for (int t = 0; t < kMetric; ++t) {
+        const auto [i, j] = kMetricEntries<dim>[static_cast<std::size_t>(t)];
+        const double ia = shape_grads[i](q, a), ib = shape_grads[i](q, b);
+        const double ja = shape_grads[j](q, a), jb = shape_grads[j](q, b);
+        gradient_products_[static_cast<std::size_t>(t)](p, q) = i == j ? ia * ib : ia * jb + ja * ib;
+      }
     }
-    for (int d = 0; d < 2; ++d)
+    for (int d = 0; d < dim; ++d)
       constant_gradients_ = constant_gradients_ &&
                             (shape_grads[d].row(q) - shape_grads[d].row(0)).cwiseAbs().maxCoeff() < 1e-13;
   }
-  if (constant_gradients_)  // the full table at any point, for P1 cells (cheaper than unpacking 6 pairs)
-    for (int t = 0; t < 3; ++t) {
+  if (constant_gradients_)  // the full table at any point, for P1 cells (cheaper than unpacking the pairs)
+    for (int t = 0; t < kMetric; ++t) {
       constant_products_[static_cast<std::size_t>(t)].resize(static_cast<std::size_t>(n * n));
       for (int k = 0; k < n * n; ++k)
         constant_products_[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)] =
@@ -99,7 +124,8 @@ PoissonProblem::PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapP
   setup_timings_.matrix = watch.seconds();
 }
 
-void PoissonProblem::create_matrix() {
+template <int dim>
+void PoissonProblem<dim>::create_matrix() {
   // PETSc adopts the pattern without copying it (under MPI built already split
   // into the diagonal and off-diagonal blocks); assembly then writes into the
   // matrix's own arrays. The values start as zeros.
@@ -122,7 +148,8 @@ void PoissonProblem::create_matrix() {
   u_ = dist_.create_vector();
 }
 
-void PoissonProblem::assemble() {
+template <int dim>
+void PoissonProblem<dim>::assemble() {
   ScopedTimer timer("Poisson assembly");
   const int n = dofs_.element().num_dofs();
   const Index np = gradient_products_[0].rows();
@@ -130,58 +157,99 @@ void PoissonProblem::assemble() {
   petsc::MatrixAssembler assembler(A_.get(), b_.get());
   // Local arrays, not heap vectors: the compiler then knows that they alias
   // nothing else and keeps the cell loop as tight as a hand-written one.
-  constexpr int kMaxDofs = 10;  // kMaxPairs bounds n (n (n + 1) / 2 <= 64)
   double ke[kMaxDofs * kMaxDofs], fe[kMaxDofs];
   PetscInt idx[kMaxDofs];
   double packed[kMaxPairs];  // stiffness entries (a, b), a <= b, in gradient_products_' row order
-  double s0 = 0, s1 = 0, s2 = 0;
+  // Constant gradients: the metric summed over the cell. In 2D three scalars
+  // the compiler keeps in registers (measurably faster than the array).
+  [[maybe_unused]] double s0 = 0, s1 = 0, s2 = 0;
+  [[maybe_unused]] double sum_metric[kMetric];
   // w det J g(x) per point: the load vector is summed from it once per cell.
   std::vector<double> weighted_source(static_cast<std::size_t>(geometry_.points_per_cell()));
   double* wg = weighted_source.data();
-  const ConstantFunction* constant_source = data_.source.target<ConstantFunction>();
+  const ConstantFunction* constant_source = data_.source.template target<ConstantFunction>();
   const double source_value = constant_source ? constant_source->value : 0.0;
   const bool constant_gradients = constant_gradients_;
   const IndexTable& cell_dofs = dofs_.cell_dofs();
   const std::vector<char>& fixed = fixed_;
-  // ∇φa·∇φb = ĝa^T M ĝb with the metric M = w det J J⁻¹J⁻ᵀ (3 numbers): the
-  // push-forward of the gradients is folded into it, so the values object
-  // computes none (P1 on triangles: the metric summed over the cell times the
+  // ∇φa·∇φb = ĝa^T M ĝb with the metric M = w det J J⁻¹J⁻ᵀ (kMetric numbers):
+  // the push-forward of the gradients is folded into it, so the values object
+  // computes none (P1 on simplices: the metric summed over the cell times the
   // constant table).
-  CellValues<2> values(dofs_.element(), geometry_, 0);
+  CellValues<dim> values(dofs_.element(), geometry_, 0);
   integrate_cells(
       geometry_, values,
       make_kernel(
-          [&](const CellValues<2>&) {
-            s0 = s1 = s2 = 0;
+          [&](const CellValues<dim>&) {
+            if constexpr (dim == 2)
+              s0 = s1 = s2 = 0;
+            else
+              std::fill(sum_metric, sum_metric + kMetric, 0.0);
             if (!constant_gradients) std::fill(packed, packed + np, 0.0);
             return true;
           },
-          [&](const CellValues<2>& v, Index q) {
-            const double j00 = v.inverse_transpose(q, 0), j01 = v.inverse_transpose(q, 1),
-                         j10 = v.inverse_transpose(q, 2), j11 = v.inverse_transpose(q, 3), wp = v.JxW(q);
-            const double m0 = wp * (j00 * j00 + j10 * j10), m1 = wp * (j00 * j01 + j10 * j11),
-                         m2 = wp * (j01 * j01 + j11 * j11);
-            if (constant_gradients) {
-              s0 += m0, s1 += m1, s2 += m2;
+          [&](const CellValues<dim>& v, Index q) {
+            const double wp = v.JxW(q);
+            if constexpr (dim == 2) {
+              const double j00 = v.inverse_transpose(q, 0), j01 = v.inverse_transpose(q, 1),
+                           j10 = v.inverse_transpose(q, 2), j11 = v.inverse_transpose(q, 3);
+              const double m0 = wp * (j00 * j00 + j10 * j10), m1 = wp * (j00 * j01 + j10 * j11),
+                           m2 = wp * (j01 * j01 + j11 * j11);
+              if (constant_gradients) {
+                s0 += m0, s1 += m1, s2 += m2;
+              } else {
+                const double *t0 = gradient_products_[0].col(q).data(),
+                             *t1 = gradient_products_[1].col(q).data(),
+                             *t2 = gradient_products_[2].col(q).data();
+                for (Index p = 0; p < np; ++p) packed[p] += m0 * t0[p] + m1 * t1[p] + m2 * t2[p];
+              }
             } else {
-              const double *t0 = gradient_products_[0].col(q).data(),
-                           *t1 = gradient_products_[1].col(q).data(),
-                           *t2 = gradient_products_[2].col(q).data();
-              for (Index p = 0; p < np; ++p) packed[p] += m0 * t0[p] + m1 * t1[p] + m2 * t2[p];
+              double G[dim * dim];  // J⁻ᵀ, row-major
+              for (int k = 0; k < dim * dim; ++k) G[k] = v.inverse_transpose(q, k);
+              double m[kMetric];  // M(i, j) = w (column i of J⁻ᵀ) · (column j)
+              for (int t = 0; t < kMetric; ++t) {
+                const auto [i, j] = kMetricEntries<dim>[static_cast<std::size_t>(t)];
+                double dot = 0;
+                for (int r = 0; r < dim; ++r) dot += G[r * dim + i] * G[r * dim + j];
+                m[t] = wp * dot;
+              }
+              if (constant_gradients) {
+                for (int t = 0; t < kMetric; ++t) sum_metric[t] += m[t];
+              } else {
+                const double* tp[kMetric];
+                for (int t = 0; t < kMetric; ++t)
+                  tp[t] = gradient_products_[static_cast<std::size_t>(t)].col(q).data();
+                for (Index p = 0; p < np; ++p) {
+                  double sum = 0;
+                  for (int t = 0; t < kMetric; ++t) sum += m[t] * tp[t][p];
+                  packed[p] += sum;
+                }
+              }
             }
             const double g = wp * (constant_source ? source_value : data_.source(v.point(q), 0.0));
             wg[q] = g;
           },
-          [&](const CellValues<2>& v) __attribute__((always_inline)) {
+          [&](const CellValues<dim>& v) __attribute__((always_inline)) {
             for (int k = 0; k < n; ++k) {
               double sum = 0;
               for (Index q = 0; q < v.num_points(); ++q) sum += wg[q] * v.shape_value(q, k);
               fe[k] = sum;
             }
             if (constant_gradients) {
-              const double *t0 = constant_products_[0].data(), *t1 = constant_products_[1].data(),
-                           *t2 = constant_products_[2].data();
-              for (int k = 0; k < n * n; ++k) ke[k] = s0 * t0[k] + s1 * t1[k] + s2 * t2[k];
+              if constexpr (dim == 2) {
+                const double *t0 = constant_products_[0].data(), *t1 = constant_products_[1].data(),
+                             *t2 = constant_products_[2].data();
+                for (int k = 0; k < n * n; ++k) ke[k] = s0 * t0[k] + s1 * t1[k] + s2 * t2[k];
+              } else {
+                const double* tp[kMetric];
+                for (int t = 0; t < kMetric; ++t)
+                  tp[t] = constant_products_[static_cast<std::size_t>(t)].data();
+                for (int k = 0; k < n * n; ++k) {
+                  double sum = 0;
+                  for (int t = 0; t < kMetric; ++t) sum += sum_metric[t] * tp[t][k];
+                  ke[k] = sum;
+                }
+              }
             } else {
               const int* entry = packed_entry_.data();
               for (int k = 0; k < n * n; ++k) ke[k] = packed[entry[k]];
@@ -202,26 +270,28 @@ void PoissonProblem::assemble() {
   apply_dirichlet();
 }
 
-void PoissonProblem::assemble_neumann(petsc::MatrixAssembler& assembler) const {
+template <int dim>
+void PoissonProblem<dim>::assemble_neumann(petsc::MatrixAssembler& assembler) const {
   if (data_.neumann.empty()) return;
   // Boundary facets of local cells: a facet belongs to the rank owning its first DOF.
   std::vector<Index> facets;
   for (Index f = 0; f < mesh_.num_boundary_facets(); ++f)
     if (mesh_.has_facet(f) && dist_.owns(mesh_.boundary_facets(f, 0))) facets.push_back(f);
-  const WarpedFacets<2> warped(mesh_, std::move(facets), gauss_legendre(dofs_.element().order() + 3), *map_);
-  FacetValues<2> values(dofs_.element(), warped);
+  const WarpedFacets<dim> warped(mesh_, std::move(facets),
+                                 facet_rule<dim>(mesh_.cell_type, dofs_.element().order()), *map_);
+  FacetValues<dim> values(dofs_.element(), warped);
   std::vector<Index> fd;
   std::vector<double> fe;
   std::vector<PetscInt> rows;
   std::vector<int> parts;
   integrate_facets(warped, values,
                    make_kernel(
-                       [&](const FacetValues<2>& v) {
+                       [&](const FacetValues<dim>& v) {
                          fd = dofs_.facet_dofs(mesh_, v.facet());
                          fe.assign(fd.size(), 0.0);
                          return true;
                        },
-                       [&](const FacetValues<2>& v, Index q) {
+                       [&](const FacetValues<dim>& v, Index q) {
                          parts_.at(v.facet(), v.reference_point(q), parts);
                          const int k = select_condition(data_.neumann, parts);
                          if (k < 0) return;
@@ -229,14 +299,15 @@ void PoissonProblem::assemble_neumann(petsc::MatrixAssembler& assembler) const {
                          for (std::size_t a = 0; a < fd.size(); ++a)
                            fe[a] += v.JxW(q) * h * v.shape_value(q, static_cast<int>(a));
                        },
-                       [&](const FacetValues<2>&) {
+                       [&](const FacetValues<dim>&) {
                          rows.resize(fd.size());
                          for (std::size_t a = 0; a < fd.size(); ++a) rows[a] = dist_.global(fd[a]);
                          assembler.add_vector(static_cast<int>(fd.size()), rows.data(), fe.data());
                        }));
 }
 
-void PoissonProblem::find_dirichlet_dofs() {
+template <int dim>
+void PoissonProblem<dim>::find_dirichlet_dofs() {
   if (data_.dirichlet.empty()) return;
   // Every DOF on a stored boundary facet with a Dirichlet condition, owned or
   // not: a rank eliminates them from all its cells' element matrices, and
@@ -254,10 +325,10 @@ void PoissonProblem::find_dirichlet_dofs() {
       condition.push_back(selected[d]);
     }
   // The map only at these boundary nodes (one batch), not at every DOF.
-  Points<2> x0(static_cast<Index>(nodes.size()), 2);
+  Points<dim> x0(static_cast<Index>(nodes.size()), dim);
   for (std::size_t i = 0; i < nodes.size(); ++i)
     x0.row(static_cast<Index>(i)) = dofs_.dof_points().row(nodes[i]);
-  const Points<2> x = warp_nodes(*map_, x0);
+  const Points<dim> x = warp_nodes(*map_, x0);
   fixed_values_.resize(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i)
     fixed_values_[i] = {nodes[i], data_.dirichlet[static_cast<std::size_t>(condition[i])].value(
@@ -270,13 +341,16 @@ void PoissonProblem::find_dirichlet_dofs() {
     }
 }
 
-double PoissonProblem::fixed_value(Index d) const {
+template <int dim>
+double PoissonProblem<dim>::fixed_value(Index d) const {
   const auto it =
       std::lower_bound(fixed_values_.begin(), fixed_values_.end(), std::pair<Index, double>(d, -INFINITY));
   return it->second;
 }
 
-void PoissonProblem::eliminate_fixed(const TableIndex* dofs, unsigned mask, double* ke, double* fe) const {
+template <int dim>
+void PoissonProblem<dim>::eliminate_fixed(const TableIndex* dofs, unsigned mask, double* ke,
+                                          double* fe) const {
   const int n = dofs_.element().num_dofs();
   for (int k = 0; k < n; ++k) {
     if (!(mask & (1u << k))) continue;
@@ -289,7 +363,8 @@ void PoissonProblem::eliminate_fixed(const TableIndex* dofs, unsigned mask, doub
   }
 }
 
-void PoissonProblem::apply_dirichlet() {
+template <int dim>
+void PoissonProblem<dim>::apply_dirichlet() {
   // Assembly eliminated the Dirichlet DOFs symmetrically (rows and columns of
   // the identity, b −= A_{:,D} u_D); b and u take the data on their rows.
   const std::vector<PetscInt>& rows = dirichlet_rows_;
@@ -307,77 +382,90 @@ void PoissonProblem::apply_dirichlet() {
     log::warning("no Dirichlet boundary condition: the Poisson problem is singular");
 }
 
-std::vector<std::vector<char>> PoissonProblem::constrained() const {
+template <int dim>
+std::vector<std::vector<char>> PoissonProblem<dim>::constrained() const {
   const std::vector<int> selected = boundary_dof_conditions(mesh_, dofs_, parts_, data_.dirichlet);
   std::vector<char> mask(selected.size(), 0);
   for (std::size_t d = 0; d < selected.size(); ++d) mask[d] = selected[d] >= 0;
   return {std::move(mask)};
 }
 
-petsc::Vector PoissonProblem::create_vector() const {
+template <int dim>
+petsc::Vector PoissonProblem<dim>::create_vector() const {
   petsc::Vector v;
   WARPFEM_PETSC_CHECK(VecDuplicate(u_.get(), v.out()));
   return v;
 }
 
-petsc::Matrix PoissonProblem::create_matrix() const {
+template <int dim>
+petsc::Matrix PoissonProblem<dim>::create_matrix() const {
   petsc::Matrix J;
   WARPFEM_PETSC_CHECK(MatDuplicate(A_.get(), MAT_DO_NOT_COPY_VALUES, J.out()));
   return J;
 }
 
-bool PoissonProblem::residual(Vec u, const LoadState&, Vec r) const {
+template <int dim>
+bool PoissonProblem<dim>::residual(Vec u, const LoadState&, Vec r) const {
   WARPFEM_PETSC_CHECK(MatMult(A_.get(), u, r));
   WARPFEM_PETSC_CHECK(VecAXPY(r, -1.0, b_.get()));
   return true;
 }
 
-void PoissonProblem::jacobian(Vec, const LoadState&, Mat J) const {
+template <int dim>
+void PoissonProblem<dim>::jacobian(Vec, const LoadState&, Mat J) const {
   WARPFEM_PETSC_CHECK(MatCopy(A_.get(), J, SAME_NONZERO_PATTERN));
 }
 
-petsc::LinearSolveReport PoissonProblem::solve(const petsc::LinearSolveOptions& options) {
+template <int dim>
+petsc::LinearSolveReport PoissonProblem<dim>::solve(const petsc::LinearSolveOptions& options) {
   return petsc::solve_linear_system(A_.get(), b_.get(), u_.get(), options);
 }
 
-ErrorNorms PoissonProblem::errors(const ScalarFunction& exact, const GradientFunction& exact_gradient) const {
+template <int dim>
+ErrorNorms PoissonProblem<dim>::errors(const ScalarFunction<dim>& exact,
+                                       const GradientFunction<dim>& exact_gradient) const {
   const VectorX u = dist_.gather_relevant(u_.get());
   const int n = dofs_.element().num_dofs();
   std::vector<double> ue(static_cast<std::size_t>(n));
   double local[2] = {0, 0};
-  CellValues<2> values(dofs_.element(), geometry_, CellValues<2>::update_gradients);
+  CellValues<dim> values(dofs_.element(), geometry_, CellValues<dim>::update_gradients);
   integrate_cells(
       geometry_, values,
       make_kernel(
-          [&](const CellValues<2>& v) {
+          [&](const CellValues<dim>& v) {
             for (int k = 0; k < n; ++k)
               ue[static_cast<std::size_t>(k)] = u(dist_.relevant_index(dofs_.cell_dofs()(v.cell(), k)));
             return true;
           },
-          [&](const CellValues<2>& v, Index q) {
-            const Point<2> x = v.point(q);
+          [&](const CellValues<dim>& v, Index q) {
+            const Point<dim> x = v.point(q);
             local[0] += v.JxW(q) * std::pow(exact(x, 0.0) - v.value(q, ue.data()), 2);
             local[1] += v.JxW(q) * (exact_gradient(x, 0.0) - v.gradient(q, ue.data())).squaredNorm();
           },
-          [](const CellValues<2>&) {}));
+          [](const CellValues<dim>&) {}));
   double global[2];
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, comm_);
   return {std::sqrt(global[0]), std::sqrt(global[1])};
 }
 
-double PoissonProblem::area() const {
+template <int dim>
+double PoissonProblem<dim>::area() const {
   double local = 0, global = 0;
-  CellValues<2> values(dofs_.element(), geometry_, 0);
+  CellValues<dim> values(dofs_.element(), geometry_, 0);
   integrate_cells(geometry_, values,
-                  point_kernel([&](const CellValues<2>& v, Index q) { local += v.JxW(q); }));
+                  point_kernel([&](const CellValues<dim>& v, Index q) { local += v.JxW(q); }));
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, comm_);
   return global;
 }
 
-double PoissonProblem::solution_l2_norm() const {
-  const ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };
-  const GradientFunction zero_grad = [](const Point<2>&, double) { return Point<2>::Zero().eval(); };
+template <int dim>
+double PoissonProblem<dim>::solution_l2_norm() const {
+  const ScalarFunction<dim> zero = [](const Point<dim>&, double) { return 0.0; };
+  const GradientFunction<dim> zero_grad = [](const Point<dim>&, double) { return Point<dim>::Zero().eval(); };
   return errors(zero, zero_grad).l2;
 }
+
+template class PoissonProblem<2>;
+template class PoissonProblem<3>;
 
 }  // namespace warpfem::fem

@@ -1,8 +1,9 @@
 #pragma once
 // Poisson's equation −Δu = g on the warped domain f(Ω0), with Dirichlet data
 // imposed strongly and Neumann data ∂u/∂n = h naturally (thesis §9.1).
-// Lagrange P1/P2 (triangles) or Q1/Q2 (quadrilaterals) on the simple mesh;
-// geometry from WarpedGeometry; matrices and vectors are distributed PETSc objects.
+// Lagrange P1/P2 (triangles, tetrahedra) or Q1/Q2 (quadrilaterals,
+// hexahedra) on the simple mesh; geometry from WarpedGeometry; matrices and
+// vectors are distributed PETSc objects. Instantiated for dim = 2 and 3.
 
 #include <functional>
 #include <memory>
@@ -23,13 +24,15 @@
 
 namespace warpfem::fem {
 
+template <int dim>
 struct PoissonData {
-  ScalarFunction source = ConstantFunction{0.0};
-  std::vector<BoundaryCondition> dirichlet;
-  std::vector<BoundaryCondition> neumann;
-  /// The source polygon: boundary conditions then select polygon edges per
-  /// point (DOF node, boundary quadrature point), which is exact also when a
-  /// mesh facet spans several polygon edges. Without it, the facet tags are used.
+  ScalarFunction<dim> source = ConstantFunction{0.0};
+  std::vector<BoundaryCondition<dim>> dirichlet;
+  std::vector<BoundaryCondition<dim>> neumann;
+  /// 2D only: the source polygon. Boundary conditions then select polygon
+  /// edges per point (DOF node, boundary quadrature point), which is exact also
+  /// when a mesh facet spans several polygon edges. Without it (always in 3D),
+  /// the facet tags are the parts.
   std::optional<Polygon> boundary_polygon;
 };
 
@@ -48,18 +51,20 @@ struct PoissonSetupTimings {
   double total() const { return dof_map + distribution + geometry + matrix + other; }
 };
 
-class PoissonProblem final : public LinearProblem<2> {
+template <int dim>
+class PoissonProblem final : public LinearProblem<dim> {
  public:
   /// `storage`: keep the warped geometry (cached, the default: assembly and error
   /// passes reuse it) or evaluate the map again in every pass (streamed: no
   /// geometry arrays, for operators assembled once; see warped_geometry.hpp).
   /// `cell_owner`: the rank of every cell (empty: partition_cells()).
-  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
-                 PoissonData data, GeometryStorage storage = GeometryStorage::cached,
-                 const std::vector<int>& cell_owner = {});
+  PoissonProblem(MPI_Comm comm, const Mesh<dim>& mesh, mapping::MapPtr<dim> map, int order,
+                 int quadrature_degree, PoissonData<dim> data,
+                 GeometryStorage storage = GeometryStorage::cached, const std::vector<int>& cell_owner = {});
   /// A level of a hierarchy above its partitioned base (nested_level_partitions()).
-  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
-                 PoissonData data, GeometryStorage storage, const NestedBlocks& blocks);
+  PoissonProblem(MPI_Comm comm, const Mesh<dim>& mesh, mapping::MapPtr<dim> map, int order,
+                 int quadrature_degree, PoissonData<dim> data, GeometryStorage storage,
+                 const NestedBlocks& blocks);
 
   /// Assembles the stiffness matrix and load vector and applies the boundary conditions.
   /// The sparsity pattern and the matrix itself are created once by the constructor;
@@ -72,10 +77,10 @@ class PoissonProblem final : public LinearProblem<2> {
   Vec rhs() const override { return b_.get(); }
   Vec solution() const override { return u_.get(); }
   MPI_Comm comm() const override { return comm_; }
-  const Mesh<2>& mesh() const override { return mesh_; }
-  const DofMap<2>& dofs() const override { return dofs_; }
-  const DofDistribution<2>& nodes() const override { return dist_; }
-  const DofDistribution<2>& distribution() const { return dist_; }
+  const Mesh<dim>& mesh() const override { return mesh_; }
+  const DofMap<dim>& dofs() const override { return dofs_; }
+  const DofDistribution<dim>& nodes() const override { return dist_; }
+  const DofDistribution<dim>& distribution() const { return dist_; }
   int components() const override { return 1; }
   /// The Dirichlet DOFs (eliminated rows and columns), selected per DOF node
   /// through the boundary polygon if PoissonData has one, else by facet tag.
@@ -87,12 +92,12 @@ class PoissonProblem final : public LinearProblem<2> {
   bool residual(Vec u, const LoadState& load, Vec r) const override;
   /// Copies the assembled matrix into J (of create_matrix()'s pattern).
   void jacobian(Vec u, const LoadState& load, Mat J) const override;
-  const WarpedGeometry<2>& geometry() const { return geometry_; }
+  const WarpedGeometry<dim>& geometry() const { return geometry_; }
   const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
-  const mapping::Map<2>& map() const { return *map_; }
+  const mapping::Map<dim>& map() const { return *map_; }
 
   /// L2 and H1-seminorm errors against an exact solution (global over ranks).
-  ErrorNorms errors(const ScalarFunction& exact, const GradientFunction& exact_gradient) const;
+  ErrorNorms errors(const ScalarFunction<dim>& exact, const GradientFunction<dim>& exact_gradient) const;
   /// ∫ 1 over the warped domain (the thesis' s(T)).
   double area() const;
   /// ‖u_h‖_L2 over the warped domain.
@@ -110,28 +115,32 @@ class PoissonProblem final : public LinearProblem<2> {
   void assemble_neumann(petsc::MatrixAssembler& assembler) const;
   void create_matrix();
 
-  using DistributionMaker = std::function<DofDistribution<2>(const DofMap<2>&)>;
-  PoissonProblem(MPI_Comm comm, const Mesh<2>& mesh, mapping::MapPtr<2> map, int order, int quadrature_degree,
-                 PoissonData data, GeometryStorage storage, const DistributionMaker& distribute);
+  using DistributionMaker = std::function<DofDistribution<dim>(const DofMap<dim>&)>;
+  PoissonProblem(MPI_Comm comm, const Mesh<dim>& mesh, mapping::MapPtr<dim> map, int order,
+                 int quadrature_degree, PoissonData<dim> data, GeometryStorage storage,
+                 const DistributionMaker& distribute);
 
   PoissonSetupTimings setup_timings_;  // first: the members below are timed into it
   MPI_Comm comm_;
-  const Mesh<2>& mesh_;
-  mapping::MapPtr<2> map_;
-  PoissonData data_;
-  BoundaryParts<2> parts_;
-  DofMap<2> dofs_;
-  DofDistribution<2> dist_;
-  WarpedGeometry<2> geometry_;
+  const Mesh<dim>& mesh_;
+  mapping::MapPtr<dim> map_;
+  PoissonData<dim> data_;
+  BoundaryParts<dim> parts_;
+  DofMap<dim> dofs_;
+  DofDistribution<dim> dist_;
+  WarpedGeometry<dim> geometry_;
   // Products of reference gradients per DOF pair (a, b), a <= b (rows in the
-  // order a = 0, b = 0..n-1, then a = 1, ...) and quadrature point:
-  // [0] ∂ξa ∂ξb, [1] ∂ξa ∂ηb + ∂ηa ∂ξb, [2] ∂ηa ∂ηb. The element stiffness is
-  // their sum weighted by the metric w det J J⁻¹J⁻ᵀ (3 numbers per point).
-  static constexpr int kMaxPairs = 64;  // Q2: 45
-  std::vector<int> packed_entry_;       // entry a n + b of the element matrix -> its pair (row)
-  std::array<MatrixX, 3> gradient_products_;
-  std::array<std::vector<double>, 3> constant_products_;  // constant gradients: full n x n, any point
-  bool constant_gradients_ = false;  // P1 on triangles: sum the metric over the cell first
+  // order a = 0, b = 0..n-1, then a = 1, ...) and quadrature point, one table
+  // per metric entry (i, j), i <= j (kMetric of them: 3 in 2D, 6 in 3D):
+  // ∂i a ∂i b on the diagonal, ∂i a ∂j b + ∂j a ∂i b off it. The element
+  // stiffness is their sum weighted by the metric w det J J⁻¹J⁻ᵀ.
+  static constexpr int kMetric = dim * (dim + 1) / 2;
+  static constexpr int kMaxDofs = dim == 2 ? 10 : 27;  // P2 tetrahedron: 10, Q2 hexahedron: 27
+  static constexpr int kMaxPairs = kMaxDofs * (kMaxDofs + 1) / 2;
+  std::vector<int> packed_entry_;  // entry a n + b of the element matrix -> its pair (row)
+  std::array<MatrixX, kMetric> gradient_products_;
+  std::array<std::vector<double>, kMetric> constant_products_;  // constant gradients: full n x n, any point
+  bool constant_gradients_ = false;  // P1 on simplices: sum the metric over the cell first
   bool serial_ = true;
   // Dirichlet DOFs on the rank's stored boundary facets, owned or not: a flag
   // per DOF (empty without Dirichlet conditions) and the data at each flagged
@@ -144,5 +153,8 @@ class PoissonProblem final : public LinearProblem<2> {
   petsc::Matrix A_;
   petsc::Vector b_, u_;
 };
+
+extern template class PoissonProblem<2>;
+extern template class PoissonProblem<3>;
 
 }  // namespace warpfem::fem

@@ -8,7 +8,7 @@
 
 namespace warpfem::fem {
 
-ErrorNorms error_against_reference(const PoissonProblem& coarse, const PoissonProblem& reference) {
+ErrorNorms error_against_reference(const PoissonProblem<2>& coarse, const PoissonProblem<2>& reference) {
   const VectorX uc = coarse.distribution().gather_relevant(coarse.solution());
   const VectorX ur = reference.distribution().gather_all(reference.solution());
   const Mesh<2>& rmesh = reference.mesh();

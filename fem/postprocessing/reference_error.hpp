@@ -9,6 +9,6 @@
 namespace warpfem::fem {
 
 /// L2 and H1-seminorm of u_h − u_ref over the warped domain (collective).
-ErrorNorms error_against_reference(const PoissonProblem& coarse, const PoissonProblem& reference);
+ErrorNorms error_against_reference(const PoissonProblem<2>& coarse, const PoissonProblem<2>& reference);
 
 }  // namespace warpfem::fem

@@ -16,7 +16,7 @@ namespace {
 fem::ElasticityData<2> clamped_left(MaterialModel model) {
   fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(model, 10.0, 0.3, 1.0);
-  const fem::ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };
+  const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({{3}, {zero, zero}});
   return data;
 }
@@ -222,8 +222,8 @@ double convergence_error(const warpfem::Mesh<2>& mesh, int order, bool warped,
     }
     return b;
   };
-  const fem::ScalarFunction ux = [](const Point<2>& x, double) { return u_exact(x).x(); };
-  const fem::ScalarFunction uy = [](const Point<2>& x, double) { return u_exact(x).y(); };
+  const fem::ScalarFunction<2> ux = [](const Point<2>& x, double) { return u_exact(x).x(); };
+  const fem::ScalarFunction<2> uy = [](const Point<2>& x, double) { return u_exact(x).y(); };
   data.dirichlet.push_back({{}, {ux, uy}});
   const fem::HyperelasticOperator op(
       MPI_COMM_SELF, mesh, warped ? test::warped_square_map() : test::identity_map(), order, 0, data);

@@ -20,7 +20,7 @@ EnergyRun swinging_beam(MaterialModel model, double rho_infinity, int steps) {
   const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 2, 2, CellType::triangle, 1);
   fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(model, 10.0, 0.3, 1.0);
-  const fem::ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };
+  const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({{3}, {zero, zero}});
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::warped_square_map(), 2, 0, data);
   petsc::Vector u = op.space().create_vector(), v = op.space().create_vector();

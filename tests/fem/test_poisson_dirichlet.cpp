@@ -22,16 +22,16 @@ TEST(PoissonDirichlet, AssemblyEliminatesAsZeroRowsColumnsDoes) {
   const warpfem::Mesh<2> mesh = warpfem::mesh_polygon(l_shape, {.max_edge_length = 0.3});
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   const std::vector<int> fixed_edges = {1, 2, 3};
-  fem::PoissonData free;
+  fem::PoissonData<2> free;
   free.source = [](const Point<2>& x, double) { return 1 + x.x() * x.y(); };
   free.neumann.push_back({.edges = {0}, .value = [](const Point<2>& x, double) { return x.x(); }});
-  fem::PoissonData constrained = free;
+  fem::PoissonData<2> constrained = free;
   constrained.dirichlet.push_back(
       {.edges = fixed_edges, .value = [](const Point<2>& x, double) { return std::sin(x.x()) + x.y(); }});
 
   for (int order : {1, 2}) {
-    fem::PoissonProblem with(MPI_COMM_SELF, mesh, map, order, 2 * order, constrained);
-    fem::PoissonProblem without(MPI_COMM_SELF, mesh, map, order, 2 * order, free);
+    fem::PoissonProblem<2> with(MPI_COMM_SELF, mesh, map, order, 2 * order, constrained);
+    fem::PoissonProblem<2> without(MPI_COMM_SELF, mesh, map, order, 2 * order, free);
     with.assemble();
     without.assemble();
 

@@ -111,13 +111,13 @@ TEST(WarpedGeometryStorage, FoldingMapIsReportedByTheFirstStreamedPass) {
 TEST(WarpedGeometryStorage, PoissonDoesNotDependOnTheStorage) {
   const warpfem::Mesh<2> mesh = warpfem::structured_mesh(pentagon(), 12, 12, warpfem::CellType::triangle);
   const auto map = concave_composite();
-  fem::PoissonData data;
+  fem::PoissonData<2> data;
   data.source = [](const Point<2>& x, double) { return 1 + x.x() * x.y(); };
   data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>& x, double) { return x.x(); }});
   for (int order : {1, 2}) {
-    fem::PoissonProblem cached(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, data);
-    fem::PoissonProblem streamed(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, data,
-                                 fem::GeometryStorage::streamed);
+    fem::PoissonProblem<2> cached(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, data);
+    fem::PoissonProblem<2> streamed(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, data,
+                                    fem::GeometryStorage::streamed);
     cached.assemble();
     streamed.assemble();
     PetscReal a_norm = 0, diff = 0, b_norm = 0;
@@ -135,8 +135,8 @@ TEST(WarpedGeometryStorage, PoissonDoesNotDependOnTheStorage) {
     lu.direct_below = 1 << 20;  // LU for these few DOFs
     cached.solve(lu);
     streamed.solve(lu);
-    const fem::ScalarFunction u = [](const Point<2>& x, double) { return x.x(); };
-    const fem::GradientFunction du = [](const Point<2>&, double) { return Point<2>(1, 0); };
+    const fem::ScalarFunction<2> u = [](const Point<2>& x, double) { return x.x(); };
+    const fem::GradientFunction<2> du = [](const Point<2>&, double) { return Point<2>(1, 0); };
     const fem::ErrorNorms ec = cached.errors(u, du), es = streamed.errors(u, du);
     EXPECT_GT(ec.l2, 1e-3);
     EXPECT_NEAR(es.l2, ec.l2, 1e-12 * ec.l2);
@@ -151,16 +151,16 @@ TEST(WarpedGeometryStorage, ConstantSourceAssemblesLikeAPointwiseOne) {
   const warpfem::Mesh<2> mesh = warpfem::structured_mesh(pentagon(), 10, 10, warpfem::CellType::triangle);
   const auto map = concave_composite();
   for (int order : {1, 2}) {
-    fem::PoissonData pointwise, constant;
+    fem::PoissonData<2> pointwise, constant;
     pointwise.source = [](const Point<2>&, double) { return 2.5; };
     constant.source = fem::ConstantFunction{2.5};
     ASSERT_NE(constant.source.target<fem::ConstantFunction>(), nullptr);
     for (auto* d : {&pointwise, &constant})
       d->dirichlet.push_back({.edges = {0}, .value = [](const Point<2>& x, double) { return x.y(); }});
-    fem::PoissonProblem a(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, pointwise,
-                          fem::GeometryStorage::streamed);
-    fem::PoissonProblem b(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, constant,
-                          fem::GeometryStorage::streamed);
+    fem::PoissonProblem<2> a(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, pointwise,
+                             fem::GeometryStorage::streamed);
+    fem::PoissonProblem<2> b(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, constant,
+                             fem::GeometryStorage::streamed);
     a.assemble();
     b.assemble();
     PetscReal norm = 0, diff = 0;

@@ -54,10 +54,10 @@ namespace {
 /// at DOF node d. Assembled twice: the second pass must give the same values.
 std::pair<VectorX, VectorX> operator_and_load(MPI_Comm comm, const warpfem::Mesh<2>& mesh,
                                               const mapping::MapPtr<2>& map, int order) {
-  fem::PoissonData data;
+  fem::PoissonData<2> data;
   data.source = [](const Point<2>& x, double) { return 1 + x.x() * x.y(); };
   data.dirichlet.push_back({.edges = {0, 1}, .value = [](const Point<2>& x, double) { return x.x(); }});
-  fem::PoissonProblem problem(comm, mesh, map, order, 2 * order + 2, data);
+  fem::PoissonProblem<2> problem(comm, mesh, map, order, 2 * order + 2, data);
   problem.assemble();
   problem.assemble();
   const fem::DofDistribution<2>& dist = problem.distribution();

@@ -32,7 +32,7 @@ inline mapping::MapPtr<2> warped_square() {
 inline fem::ElasticityData<2> clamped_block() {
   fem::ElasticityData<2> data;
   data.material = fem::Material::from_young_poisson(fem::MaterialModel::neo_hookean, 1000.0, 0.3, 1.0);
-  const fem::ScalarFunction zero = [](const Point<2>&, double) { return 0.0; };
+  const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
   data.dirichlet.push_back({.edges = {0}, .value = {zero, zero}});
   data.dirichlet.push_back({.edges = {3}, .value = {zero, nullptr}});
   return data;

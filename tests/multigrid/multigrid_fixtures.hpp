@@ -25,8 +25,8 @@ inline warpfem::Mesh<2> coarse_l_shape(warpfem::CellType type, double h) {
 
 /// −Δu = 1 + xy, u = x on edges 0, 1, 2 (re-entrant corner included), natural Neumann elsewhere.
 /// Boundary parts are selected per node on `polygon` (as apps/ does), by facet tag if it is empty.
-inline fem::PoissonData mixed_problem(std::optional<Polygon> polygon = l_shape()) {
-  fem::PoissonData data;
+inline fem::PoissonData<2> mixed_problem(std::optional<Polygon> polygon = l_shape()) {
+  fem::PoissonData<2> data;
   data.boundary_polygon = std::move(polygon);
   data.source = [](const Point<2>& x, double) { return 1.0 + x.x() * x.y(); };
   data.dirichlet.push_back({.edges = {0, 1, 2}, .value = [](const Point<2>& x, double) { return x.x(); }});
@@ -34,8 +34,8 @@ inline fem::PoissonData mixed_problem(std::optional<Polygon> polygon = l_shape()
 }
 
 /// −Δu = 1, u = 0 on the whole boundary (the gear studies).
-inline fem::PoissonData unit_source_zero_dirichlet() {
-  fem::PoissonData data;
+inline fem::PoissonData<2> unit_source_zero_dirichlet() {
+  fem::PoissonData<2> data;
   data.source = fem::ConstantFunction{1.0};
   data.dirichlet.push_back({.edges = {}, .value = [](const Point<2>&, double) { return 0.0; }});
   return data;

@@ -47,8 +47,8 @@ TEST(ChebyshevBounds, GershgorinBoundsTheJacobiSpectrumTightlyForFirstOrder) {
       warpfem::Mesh<2> mesh = multigrid::test::coarse_l_shape(type, 0.5);
       const int refinements = order == 2 ? 0 : type == warpfem::CellType::triangle ? 2 : 1;
       for (int r = 0; r < refinements; ++r) mesh = warpfem::refine_uniformly(mesh).mesh;
-      fem::PoissonProblem p(MPI_COMM_SELF, mesh, std::make_shared<mapping::IdentityMap<2>>(), order,
-                            2 * order + 1, multigrid::test::mixed_problem());
+      fem::PoissonProblem<2> p(MPI_COMM_SELF, mesh, std::make_shared<mapping::IdentityMap<2>>(), order,
+                               2 * order + 1, multigrid::test::mixed_problem());
       p.assemble();
       const double bound = multigrid::jacobi_gershgorin_bound(p.matrix());
       const double lambda = jacobi_lambda_max(p.matrix());
@@ -79,7 +79,7 @@ TEST(ChebyshevBounds, ANonPositiveDiagonalIsAnError) {
 TEST(ChebyshevBounds, AutomaticChoiceReachesTheSmoothers) {
   using S = multigrid::MultigridSettings;
   for (const int order : {1, 2}) {
-    multigrid::PoissonMultigridSolver mg(
+    multigrid::PoissonMultigridSolver<2> mg(
         MPI_COMM_SELF, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
         std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1, multigrid::test::mixed_problem());
     PC pc = nullptr;
@@ -105,7 +105,7 @@ TEST(ChebyshevBounds, AutomaticChoiceReachesTheSmoothers) {
   multigrid::PoissonMultigridOptions o;
   o.multigrid = S{.smoother = S::Smoother::chebyshev_sor, .chebyshev_bounds = S::ChebyshevBounds::gershgorin};
   try {
-    multigrid::PoissonMultigridSolver mg(
+    multigrid::PoissonMultigridSolver<2> mg(
         MPI_COMM_SELF, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 1,
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
     ADD_FAILURE() << "Gershgorin bounds with SSOR-preconditioned Chebyshev were accepted";
@@ -120,7 +120,7 @@ TEST(ChebyshevBounds, ASmootherPreconditionerFromTheOptionsGetsTheEstimateBack) 
   multigrid::PoissonMultigridOptions o;
   o.linear.prefix = "cheby_bounds_test_";
   WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, "-cheby_bounds_test_mg_levels_pc_type", "sor"));
-  multigrid::PoissonMultigridSolver mg(
+  multigrid::PoissonMultigridSolver<2> mg(
       MPI_COMM_SELF, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
       std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
   WARPFEM_PETSC_CHECK(PetscOptionsClearValue(nullptr, "-cheby_bounds_test_mg_levels_pc_type"));

@@ -42,14 +42,14 @@ CurvedGear load_curved_gear() {
 }
 
 std::vector<int> iteration_counts(const CurvedGear& g, int order, int min_refinements, int max_refinements) {
-  const fem::PoissonData data = multigrid::test::unit_source_zero_dirichlet();
+  const fem::PoissonData<2> data = multigrid::test::unit_source_zero_dirichlet();
   std::vector<int> counts;
   for (int r = min_refinements; r <= max_refinements; ++r) {
     multigrid::PoissonMultigridOptions o;
     o.multigrid.smoother = S::Smoother::chebyshev_sor;
     o.finest_geometry = fem::GeometryStorage::streamed;
-    multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, g.coarse, r, g.map, order,
-                                         warpfem::default_quadrature_degree(order), data, o);
+    multigrid::PoissonMultigridSolver<2> mg(PETSC_COMM_WORLD, g.coarse, r, g.map, order,
+                                            warpfem::default_quadrature_degree(order), data, o);
     const auto report = mg.solve();
     EXPECT_TRUE(report.linear.converged);
     counts.push_back(report.linear.iterations);

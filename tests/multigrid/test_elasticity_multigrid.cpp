@@ -54,9 +54,9 @@ TEST(ElasticityMultigrid, TakesCellOwnersForEveryLevelOrNone) {
   const auto owners = fem::nested_partitions(hierarchy, 1);
   const fem::HyperelasticOperator op(PETSC_COMM_WORLD, hierarchy.finest(), warped_square(), 1, 0,
                                      clamped_block(), owners.back());
-  EXPECT_NO_THROW(GeometricMultigrid(hierarchy, op, GeometricMultigrid::galerkin_defaults(), owners));
+  EXPECT_NO_THROW(GeometricMultigrid(hierarchy, op, GeometricMultigrid<2>::galerkin_defaults(), owners));
   const std::vector<std::vector<int>> too_few(owners.begin(), owners.end() - 1);
-  EXPECT_THROW(GeometricMultigrid(hierarchy, op, GeometricMultigrid::galerkin_defaults(), too_few), Error);
+  EXPECT_THROW(GeometricMultigrid(hierarchy, op, GeometricMultigrid<2>::galerkin_defaults(), too_few), Error);
 }
 
 }  // namespace

@@ -42,13 +42,13 @@ mapping::MapPtr<2> bent_pentagon_map() {
 }
 
 /// A warped P1 stiffness matrix (variable coefficients, Dirichlet rows) on `comm`.
-std::unique_ptr<fem::PoissonProblem> warped_problem(MPI_Comm comm) {
+std::unique_ptr<fem::PoissonProblem<2>> warped_problem(MPI_Comm comm) {
   const mapping::MapPtr<2> map = bent_pentagon_map();
   const Polygon pentagon = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0.5, 1}, {0, 1}}, "pentagon");
   const warpfem::Mesh<2> mesh =
       warpfem::refine_uniformly(warpfem::structured_mesh(pentagon, 8, 8, warpfem::CellType::triangle)).mesh;
-  auto p =
-      std::make_unique<fem::PoissonProblem>(comm, mesh, map, 1, 4, multigrid::test::mixed_problem(pentagon));
+  auto p = std::make_unique<fem::PoissonProblem<2>>(comm, mesh, map, 1, 4,
+                                                    multigrid::test::mixed_problem(pentagon));
   p->assemble();
   return p;
 }
@@ -242,7 +242,7 @@ TEST(FusedChebyshev, HoldsItsMatrixWhileItReadsItsRows) {
 TEST(FusedChebyshev, NewMatrixValuesReachTheSmoothers) {
   multigrid::PoissonMultigridOptions o;
   o.linear.rtol = 1e-10;
-  multigrid::PoissonMultigridSolver mg(
+  multigrid::PoissonMultigridSolver<2> mg(
       PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 3,
       std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
   petsc::Vector start;
@@ -297,8 +297,9 @@ TEST(FusedChebyshev, RefusesBadIntervalsAndNonPositiveDiagonals) {
 // The CG estimate of λmax(D⁻¹A) (P2/Q2 levels) is a Ritz value: at most λmax,
 // and close to it after 10 steps.
 TEST(FusedChebyshev, CgEstimateApproachesTheJacobiSpectrumFromBelow) {
-  fem::PoissonProblem p(PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5),
-                        std::make_shared<mapping::IdentityMap<2>>(), 2, 6, multigrid::test::mixed_problem());
+  fem::PoissonProblem<2> p(
+      PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5),
+      std::make_shared<mapping::IdentityMap<2>>(), 2, 6, multigrid::test::mixed_problem());
   p.assemble();
   // λmax(D^{-1/2} A D^{-1/2}) densely, from the whole matrix on every rank.
   const PetscInt n = p.distribution().num_global();
@@ -349,10 +350,10 @@ TEST(FusedChebyshev, MultigridLevelsAreFusedWithPetscsIterations) {
       multigrid::PoissonMultigridOptions o;
       o.multigrid.chebyshev_kernel = kernel;
       o.linear.rtol = 1e-10;
-      multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD,
-                                           multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5),
-                                           refinements, std::make_shared<mapping::IdentityMap<2>>(), order,
-                                           2 * order + 1, multigrid::test::mixed_problem(), o);
+      multigrid::PoissonMultigridSolver<2> mg(
+          PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), refinements,
+          std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1, multigrid::test::mixed_problem(),
+          o);
       PC pc = nullptr;
       WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
       for (PetscInt l = 1; l <= refinements; ++l) {
@@ -390,7 +391,7 @@ TEST(FusedChebyshev, MultigridLevelsAreFusedWithPetscsIterations) {
     multigrid::PoissonMultigridOptions o;
     o.linear.prefix = "fused_option_test_";
     WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, name, value));
-    multigrid::PoissonMultigridSolver mg(
+    multigrid::PoissonMultigridSolver<2> mg(
         PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 1,
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
     WARPFEM_PETSC_CHECK(PetscOptionsClearValue(nullptr, name));

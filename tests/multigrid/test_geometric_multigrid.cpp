@@ -77,8 +77,8 @@ double jacobian_mismatch(const fem::Problem<2>& problem, double u_scale) {
 
 TEST(Problem, PoissonJacobianIsTheDerivativeOfItsResidual) {
   const warpfem::Mesh<2> mesh = test::coarse_l_shape(warpfem::CellType::triangle, 0.25);
-  fem::PoissonProblem poisson(PETSC_COMM_WORLD, mesh, std::make_shared<mapping::IdentityMap<2>>(), 2, 6,
-                              test::mixed_problem());
+  fem::PoissonProblem<2> poisson(PETSC_COMM_WORLD, mesh, std::make_shared<mapping::IdentityMap<2>>(), 2, 6,
+                                 test::mixed_problem());
   poisson.assemble();
   const fem::Problem<2>& problem = poisson;
   EXPECT_EQ(problem.components(), 1);
@@ -111,18 +111,19 @@ TEST(GeometricMultigrid, GalerkinLevelsConstrainWhatRediscretizedLevelsDo) {
     SCOPED_TRACE("P" + std::to_string(order));
     const fem::MeshHierarchy<2> h(test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 2);
     const auto map = std::make_shared<mapping::IdentityMap<2>>();
-    const fem::PoissonData data = test::mixed_problem();
+    const fem::PoissonData<2> data = test::mixed_problem();
     const auto owners = fem::nested_partitions(h, 1);
-    std::vector<std::unique_ptr<fem::PoissonProblem>> problems;
+    std::vector<std::unique_ptr<fem::PoissonProblem<2>>> problems;
     std::vector<const fem::Problem<2>*> levels;
     for (int l = 0; l < h.num_levels(); ++l) {
-      problems.push_back(std::make_unique<fem::PoissonProblem>(
+      problems.push_back(std::make_unique<fem::PoissonProblem<2>>(
           MPI_COMM_SELF, h.levels[static_cast<std::size_t>(l)], map, order, 2 * order + 2, data,
           fem::GeometryStorage::cached, owners[static_cast<std::size_t>(l)]));
       levels.push_back(problems.back().get());
     }
     const GeometricMultigrid rediscretized(h, levels, MultigridSettings{});
-    const GeometricMultigrid galerkin(h, *problems.back(), GeometricMultigrid::galerkin_defaults(), owners);
+    const GeometricMultigrid galerkin(h, *problems.back(), GeometricMultigrid<2>::galerkin_defaults(),
+                                      owners);
     ASSERT_EQ(galerkin.num_levels(), 3);
     ASSERT_EQ(galerkin.components(), 1);
     for (int l = 1; l < 3; ++l) {

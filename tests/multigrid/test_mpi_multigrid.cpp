@@ -22,7 +22,7 @@ Result run(MPI_Comm comm, int order, multigrid::MultigridSettings settings = {})
   multigrid::PoissonMultigridOptions o;
   o.multigrid = settings;
   o.linear.rtol = 1e-11;
-  multigrid::PoissonMultigridSolver mg(
+  multigrid::PoissonMultigridSolver<2> mg(
       comm, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 3,
       std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1, multigrid::test::mixed_problem(), o);
   const auto report = mg.solve();
@@ -73,7 +73,7 @@ TEST(MpiMultigrid, FineLevelsAreDistributedInsideTheirParentsRanks) {
   const auto solver = [](MPI_Comm comm) {
     multigrid::PoissonMultigridOptions o;
     o.linear.rtol = 1e-11;
-    return std::make_unique<multigrid::PoissonMultigridSolver>(
+    return std::make_unique<multigrid::PoissonMultigridSolver<2>>(
         comm, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), 5,
         std::make_shared<mapping::IdentityMap<2>>(), 1, 3, multigrid::test::mixed_problem(), o);
   };

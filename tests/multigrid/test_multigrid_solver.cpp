@@ -26,7 +26,7 @@ std::string name(const ::testing::TestParamInfo<Case>& info) {
 }
 
 /// ‖b − A u‖ / ‖b‖ of the finest level, computed independently of the KSP.
-double relative_residual(const fem::PoissonProblem& p) {
+double relative_residual(const fem::PoissonProblem<2>& p) {
   petsc::Vector r;
   WARPFEM_PETSC_CHECK(VecDuplicate(p.rhs(), r.out()));
   WARPFEM_PETSC_CHECK(MatMult(p.matrix(), p.solution(), r.get()));
@@ -61,8 +61,8 @@ multigrid::MultigridSolveReport solve(const Case& c, int refinements, multigrid:
                                       double* residual = nullptr, mapping::MapPtr<2> map = nullptr) {
   o.linear.max_iterations = 100;  // a broken preconditioner fails fast
   if (!map) map = std::make_shared<mapping::IdentityMap<2>>();
-  multigrid::PoissonMultigridSolver mg(MPI_COMM_SELF, coarse_l_shape(c.type, 0.5), refinements, map, c.order,
-                                       2 * c.order + 1, multigrid::test::mixed_problem(), o);
+  multigrid::PoissonMultigridSolver<2> mg(MPI_COMM_SELF, coarse_l_shape(c.type, 0.5), refinements, map,
+                                          c.order, 2 * c.order + 1, multigrid::test::mixed_problem(), o);
   auto report = mg.solve();
   if (residual) *residual = relative_residual(mg.finest());
   return report;
@@ -135,9 +135,9 @@ TEST(MultigridVariants, ChebyshevSorSettingConfiguresEveryLevel) {
   using S = multigrid::MultigridSettings;
   multigrid::PoissonMultigridOptions o;
   o.multigrid = S{.smoother = S::Smoother::chebyshev_sor};
-  multigrid::PoissonMultigridSolver mg(MPI_COMM_SELF, coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
-                                       std::make_shared<mapping::IdentityMap<2>>(), 1, 3,
-                                       multigrid::test::mixed_problem(), o);
+  multigrid::PoissonMultigridSolver<2> mg(MPI_COMM_SELF, coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
+                                          std::make_shared<mapping::IdentityMap<2>>(), 1, 3,
+                                          multigrid::test::mixed_problem(), o);
   PC pc = nullptr;
   WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
   for (PetscInt l = 1; l <= 2; ++l) {
@@ -166,8 +166,8 @@ TEST(MultigridGeometryStorage, StreamedFinestLevelGivesTheCachedSolution) {
   auto run = [&](fem::GeometryStorage storage, petsc::Vector& u) {
     multigrid::PoissonMultigridOptions o;
     o.finest_geometry = storage;
-    multigrid::PoissonMultigridSolver mg(MPI_COMM_SELF, coarse_l_shape(p2.type, 0.5), 2, warp, p2.order,
-                                         2 * p2.order + 1, multigrid::test::mixed_problem(), o);
+    multigrid::PoissonMultigridSolver<2> mg(MPI_COMM_SELF, coarse_l_shape(p2.type, 0.5), 2, warp, p2.order,
+                                            2 * p2.order + 1, multigrid::test::mixed_problem(), o);
     EXPECT_EQ(mg.finest().geometry().storage(), storage);
     const auto report = mg.solve();
     WARPFEM_PETSC_CHECK(VecDuplicate(mg.finest().solution(), u.out()));

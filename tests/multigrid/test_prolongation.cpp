@@ -115,10 +115,10 @@ TEST_P(GalerkinConsistency, GalerkinCoarseOperatorEqualsRediscretization) {
   const fem::MeshHierarchy<2> h(mesh, 1);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   // Triangles: boundary parts selected by facet tag; rectangles: per node on the polygon (as apps/ does).
-  const fem::PoissonData data =
+  const fem::PoissonData<2> data =
       multigrid::test::mixed_problem(triangles ? std::nullopt : std::optional(rectangle));
-  fem::PoissonProblem coarse(MPI_COMM_SELF, h.levels[0], map, c.order, 2 * c.order + 2, data);
-  fem::PoissonProblem fine(MPI_COMM_SELF, h.levels[1], map, c.order, 2 * c.order + 2, data);
+  fem::PoissonProblem<2> coarse(MPI_COMM_SELF, h.levels[0], map, c.order, 2 * c.order + 2, data);
+  fem::PoissonProblem<2> fine(MPI_COMM_SELF, h.levels[1], map, c.order, 2 * c.order + 2, data);
   coarse.assemble();
   fine.assemble();
   const std::vector<char> cmask = coarse.constrained().front();

@@ -28,16 +28,16 @@ using S = multigrid::MultigridSettings;
 
 namespace {
 
-std::unique_ptr<multigrid::PoissonMultigridSolver> smoothed_l_shape(int order, int refinements) {
+std::unique_ptr<multigrid::PoissonMultigridSolver<2>> smoothed_l_shape(int order, int refinements) {
   multigrid::PoissonMultigridOptions o;
   o.multigrid.prolongation = S::Prolongation::smoothed;
-  return std::make_unique<multigrid::PoissonMultigridSolver>(
+  return std::make_unique<multigrid::PoissonMultigridSolver<2>>(
       PETSC_COMM_WORLD, multigrid::test::coarse_l_shape(warpfem::CellType::triangle, 0.5), refinements,
       std::make_shared<mapping::IdentityMap<2>>(), order, 2 * order + 1, multigrid::test::mixed_problem(), o);
 }
 
 /// The operator PCMG uses on `level` (0 = coarsest).
-Mat level_operator(const multigrid::PoissonMultigridSolver& mg, int level) {
+Mat level_operator(const multigrid::PoissonMultigridSolver<2>& mg, int level) {
   PC pc = nullptr;
   KSP k = nullptr;
   WARPFEM_PETSC_CHECK(KSPGetPC(mg.ksp(), &pc));
@@ -96,7 +96,7 @@ TEST_P(SmoothedProlongation, IsOneDampedJacobiStepOnTheGeometricInterpolation) {
     WARPFEM_PETSC_CHECK(MatMult(smoothed, x.get(), got.get()));
     WARPFEM_PETSC_CHECK(MatGetDiagonal(A, diagonal.get()));
 
-    const fem::PoissonProblem& level = mg->level(l);
+    const fem::PoissonProblem<2>& level = mg->level(l);
     const std::vector<char> fixed = level.constrained().front();
     const fem::DofDistribution<2>& dist = level.distribution();
     std::vector<char> fixed_row(static_cast<std::size_t>(dist.num_owned()), 0);
@@ -182,14 +182,14 @@ TEST(SmoothedProlongationOnTheGear, KeepsTheIterationCountFlat) {
   const mapping::MapPtr<2> map = mapping::make_map(spec);
   const warpfem::Mesh<2> coarse =
       fem::pull_back_target_mesh(*spec.source, *spec.target, *map, {.max_edge_length = 0.15});
-  const fem::PoissonData data = multigrid::test::unit_source_zero_dirichlet();
+  const fem::PoissonData<2> data = multigrid::test::unit_source_zero_dirichlet();
   const auto iterations = [&](int refinements, S::Prolongation prolongation) {
     multigrid::PoissonMultigridOptions o;
     o.multigrid.smoother = S::Smoother::chebyshev_sor;
     o.multigrid.prolongation = prolongation;
     o.finest_geometry = fem::GeometryStorage::streamed;
-    multigrid::PoissonMultigridSolver mg(PETSC_COMM_WORLD, coarse, refinements, map, 1,
-                                         warpfem::default_quadrature_degree(1), data, o);
+    multigrid::PoissonMultigridSolver<2> mg(PETSC_COMM_WORLD, coarse, refinements, map, 1,
+                                            warpfem::default_quadrature_degree(1), data, o);
     const auto report = mg.solve();
     EXPECT_TRUE(report.linear.converged);
     return report.linear.iterations;
