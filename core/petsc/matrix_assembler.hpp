@@ -25,7 +25,7 @@ class MatrixAssembler {
   MatrixAssembler& operator=(const MatrixAssembler&) = delete;
 
   /// Adds the n x n row-major `ke` at rows/columns `dofs` (global) and `fe` (may be null) at rows `dofs`.
-  void add(int n, const PetscInt* dofs, const double* ke, const double* fe) {
+  [[gnu::always_inline]] void add(int n, const PetscInt* dofs, const double* ke, const double* fe) {
     // The members in locals: the compiler then need not reload them after each store.
     const PetscInt begin = begin_, owned = owned_;
     const PetscInt *ia = ia_, *ja = ja_;

@@ -180,7 +180,7 @@ void PoissonProblem<dim>::assemble() {
   integrate_cells(
       geometry_, values,
       make_kernel(
-          [&](const CellValues<dim>&) {
+          [&](const CellValues<dim>&) __attribute__((always_inline)) {
             if constexpr (dim == 2)
               s0 = s1 = s2 = 0;
             else
@@ -188,7 +188,7 @@ void PoissonProblem<dim>::assemble() {
             if (!constant_gradients) std::fill(packed, packed + np, 0.0);
             return true;
           },
-          [&](const CellValues<dim>& v, Index q) {
+          [&](const CellValues<dim>& v, Index q) __attribute__((always_inline)) {
             const double wp = v.JxW(q);
             if constexpr (dim == 2) {
               const double j00 = v.inverse_transpose(q, 0), j01 = v.inverse_transpose(q, 1),
