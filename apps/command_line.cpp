@@ -19,4 +19,22 @@ void check_flag(const std::string& arg, const std::vector<std::string>& flags, c
                        "; PETSc options start with a single dash. " + usage});
 }
 
+ConfigArguments parse_config_arguments(const std::vector<std::string>& args, const std::string& what,
+                                       const std::string& usage) {
+  if (args.empty() || args[0].rfind("-", 0) == 0)
+    throw Error("missing " + what + " (it must be the first argument)",
+                {.file = "", .key_path = "", .hint = usage});
+  ConfigArguments parsed{.config = args[0], .output_dir = ""};
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    if (args[i] == "--output-dir") {
+      if (i + 1 >= args.size())
+        throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
+      parsed.output_dir = args[++i];
+    } else {
+      check_flag(args[i], {"--output-dir"}, usage);
+    }
+  }
+  return parsed;
+}
+
 }  // namespace warpfem::apps

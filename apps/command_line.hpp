@@ -13,4 +13,14 @@ namespace warpfem::apps {
 /// (with a "did you mean" suggestion and `usage`).
 void check_flag(const std::string& arg, const std::vector<std::string>& flags, const std::string& usage);
 
+/// The arguments of `run` and `study`: a config file first, then an optional
+/// `--output-dir DIR`; everything else must be a PETSc option (already read
+/// by PetscInitialize). `what` names the config in the error for a missing one.
+struct ConfigArguments {
+  std::string config;
+  std::string output_dir;  ///< "" if not given
+};
+ConfigArguments parse_config_arguments(const std::vector<std::string>& args, const std::string& what,
+                                       const std::string& usage);
+
 }  // namespace warpfem::apps

@@ -79,22 +79,10 @@ RunResult run(const io::Config& config, MPI_Comm comm, const RunOptions& options
 }
 
 int run_command(const std::vector<std::string>& args) {
-  const char* usage = "usage: warpfem run <config.json> [--output-dir DIR] [PETSc options]";
-  if (args.empty() || args[0].rfind("-", 0) == 0)
-    throw Error("missing config file (it must be the first argument)",
-                {.file = "", .key_path = "", .hint = usage});
-  const std::string config_path = args[0];
-  std::string output_dir;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    if (args[i] == "--output-dir") {
-      if (i + 1 >= args.size())
-        throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
-      output_dir = args[++i];
-    } else {
-      // Everything else is a PETSc option, already read by PetscInitialize.
-      check_flag(args[i], {"--output-dir"}, usage);
-    }
-  }
+  const ConfigArguments arguments = parse_config_arguments(
+      args, "config file", "usage: warpfem run <config.json> [--output-dir DIR] [PETSc options]");
+  const std::string& config_path = arguments.config;
+  const std::string& output_dir = arguments.output_dir;
   io::Config config = io::load_config(config_path);
   std::visit(
       [&](auto& cfg) {

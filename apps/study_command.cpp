@@ -13,21 +13,10 @@
 namespace warpfem::apps {
 
 int study_command(const std::vector<std::string>& args) {
-  const char* usage = "usage: warpfem study <study.json> [--output-dir DIR] [PETSc options]";
-  if (args.empty() || args[0].rfind("-", 0) == 0)
-    throw Error("missing study config (it must be the first argument)",
-                {.file = "", .key_path = "", .hint = usage});
-  const std::string path = args[0];
-  std::string output_dir;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    if (args[i] == "--output-dir") {
-      if (i + 1 >= args.size())
-        throw Error("--output-dir needs a directory", {.file = "", .key_path = "", .hint = usage});
-      output_dir = args[++i];
-    } else {
-      check_flag(args[i], {"--output-dir"}, usage);
-    }
-  }
+  const ConfigArguments arguments = parse_config_arguments(
+      args, "study config", "usage: warpfem study <study.json> [--output-dir DIR] [PETSc options]");
+  const std::string& path = arguments.config;
+  const std::string& output_dir = arguments.output_dir;
   nlohmann::json json = io::ConfigNode::parse_file(path);
   if (!json.is_object()) throw Error("expected a JSON object", {.file = path, .key_path = "/", .hint = ""});
   const nlohmann::json study_json = json.contains("study") ? json["study"] : nlohmann::json::object();
