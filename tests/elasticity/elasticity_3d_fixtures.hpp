@@ -7,6 +7,7 @@
 
 #include "core/mesh/structured_mesher.hpp"
 #include "fem/physics/elasticity/hyperelastic_operator.hpp"
+#include "fem/physics/elasticity/newton.hpp"
 #include "mapping/map.hpp"
 
 namespace warpfem::test {
@@ -48,6 +49,15 @@ inline fem::ElasticityData<3> clamped_at_x0(fem::MaterialModel model, double E =
   const fem::ComponentFunction<3> zero = [](const Point<3>&, double) { return 0.0; };
   data.dirichlet.push_back({{0}, {zero, zero, zero}});
   return data;
+}
+
+/// Newton to tight tolerances without per-iteration log lines.
+inline fem::NewtonOptions quiet_newton() {
+  fem::NewtonOptions o;
+  o.log_iterations = false;
+  o.rtol = 1e-12;
+  o.atol = 1e-13;
+  return o;
 }
 
 }  // namespace warpfem::test

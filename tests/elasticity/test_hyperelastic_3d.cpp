@@ -23,14 +23,6 @@ using warpfem::CellType;
 
 namespace {
 
-fem::NewtonOptions quiet_newton() {
-  fem::NewtonOptions o;
-  o.log_iterations = false;
-  o.rtol = 1e-12;
-  o.atol = 1e-13;
-  return o;
-}
-
 /// A number for RecordProperty (visible with --gtest_output=xml).
 std::string sci(double x) {
   std::ostringstream os;
@@ -132,7 +124,7 @@ TEST(QuasiStatic3d, PatchTestReproducesAHomogeneousDeformation) {
     data.dirichlet.push_back(all);
     const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map_3d(), order, 0, data);
     petsc::Vector u = op.space().create_vector();
-    fem::QuasiStaticSolver solver(op, quiet_newton(), {.steps = 2});
+    fem::QuasiStaticSolver solver(op, test::quiet_newton(), {.steps = 2});
     solver.solve(u.get());
     const VectorX uh = op.space().gather_all(u.get());
     const Points<3>& x = op.space().dofs().dof_points();
@@ -158,7 +150,7 @@ TEST(QuasiStatic3d, SmallLoadCantileverMatchesBeamTheory) {
     data.neumann.push_back({{1}, [&](const Point<3>&, double) { return Point<3>(0, 0, -P); }});
     const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map_3d(), 2, 0, data);
     petsc::Vector u = op.space().create_vector();
-    fem::QuasiStaticSolver solver(op, quiet_newton());
+    fem::QuasiStaticSolver solver(op, test::quiet_newton());
     solver.solve(u.get());
     // Mean vertical displacement of the end face's nodes.
     const VectorX uh = op.space().gather_all(u.get());
@@ -188,7 +180,7 @@ TEST(QuasiStatic3d, NewtonConvergesQuadraticallyUnderAModerateLoad) {
   data.neumann.push_back({{1}, [](const Point<3>&, double) { return Point<3>(0, 0.1, -0.3); }});
   const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, std::make_shared<test::WarpedBoxMap>(), 2, 0, data);
   petsc::Vector u = op.space().create_vector();
-  fem::QuasiStaticSolver solver(op, quiet_newton(), {.steps = 1});
+  fem::QuasiStaticSolver solver(op, test::quiet_newton(), {.steps = 1});
   const auto report = solver.solve(u.get());
   ASSERT_EQ(report.steps.size(), 1u);
   const auto& r = report.steps[0].residuals;
@@ -237,7 +229,7 @@ EnergyRun swinging_box(MaterialModel model, double rho_infinity, int steps) {
   options.end_time = steps * options.time_step;
   options.rho_infinity = rho_infinity;
   options.compute_energy = true;
-  fem::NewtonOptions newton = quiet_newton();
+  fem::NewtonOptions newton = test::quiet_newton();
   newton.rtol = 1e-13;
   newton.atol = 1e-14;
   fem::TransientSolver solver(op, options, newton);

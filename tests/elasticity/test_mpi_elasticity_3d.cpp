@@ -28,20 +28,12 @@ fem::ElasticityData<3> loaded_bar() {
   return data;
 }
 
-fem::NewtonOptions quiet_newton() {
-  fem::NewtonOptions o;
-  o.log_iterations = false;
-  o.rtol = 1e-12;
-  o.atol = 1e-13;
-  return o;
-}
-
 Solution quasi_static(MPI_Comm comm, CellType type, int order) {
   const Mesh<3> mesh = test::box_mesh(Point<3>(2, 1, 1), {4, 2, 2}, type);
   const fem::HyperelasticOperator op(comm, mesh, std::make_shared<test::WarpedBoxMap>(), order, 0,
                                      loaded_bar());
   petsc::Vector u = op.space().create_vector();
-  fem::QuasiStaticSolver solver(op, quiet_newton(), {.steps = 2});
+  fem::QuasiStaticSolver solver(op, test::quiet_newton(), {.steps = 2});
   const auto report = solver.solve(u.get());
   return {op.space().gather_all(u.get()), op.min_det_F(u.get()), op.strain_energy(u.get()),
           report.newton_iterations()};
@@ -55,7 +47,7 @@ Solution transient(MPI_Comm comm) {
   options.time_step = 0.05;
   options.end_time = 0.2;
   options.rho_infinity = 0.8;
-  fem::TransientSolver solver(op, options, quiet_newton());
+  fem::TransientSolver solver(op, options, test::quiet_newton());
   const auto report = solver.solve(u.get(), v.get());
   return {op.space().gather_all(u.get()), op.min_det_F(u.get()), op.strain_energy(u.get()),
           report.newton_iterations};

@@ -88,4 +88,17 @@ inline Mesh<3> unit_cube(int n, CellType type) {
   return structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 1, 1), {n, n, n}, type);
 }
 
+/// −Δu = u, u = smooth_u, on the bent cube: u on five faces as Dirichlet
+/// data, the exact flux ∂u/∂n on the curved image of x0 = 1.
+inline fem::PoissonData<3> mixed_problem() {
+  fem::PoissonData<3> data;
+  data.source = [](const Point<3>& x, double) { return smooth_u(x); };
+  data.dirichlet.push_back(
+      {.edges = {0, 2, 3, 4, 5}, .value = [](const Point<3>& x, double) { return smooth_u(x); }});
+  data.neumann.push_back({.edges = {kFaceX1}, .value = [](const Point<3>& x, double) {
+                            return smooth_grad(x).dot(BentCube::normal_of_face_x1(x));
+                          }});
+  return data;
+}
+
 }  // namespace warpfem::testing3d

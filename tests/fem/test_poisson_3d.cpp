@@ -110,13 +110,7 @@ class WarpedPoisson3d : public ::testing::TestWithParam<Case> {};
 // measure or normal would stall the rates.
 TEST_P(WarpedPoisson3d, RatesWithNeumannOnACurvedFace) {
   const Case& p = GetParam();
-  fem::PoissonData<3> data;
-  data.source = [](const Point<3>& x, double) { return smooth_u(x); };
-  data.dirichlet.push_back(
-      {.edges = {0, 2, 3, 4, 5}, .value = [](const Point<3>& x, double) { return smooth_u(x); }});
-  data.neumann.push_back({.edges = {kFaceX1}, .value = [](const Point<3>& x, double) {
-                            return smooth_grad(x).dot(BentCube::normal_of_face_x1(x));
-                          }});
+  const fem::PoissonData<3> data = mixed_problem();
   std::vector<Result> results;
   for (int k = 0; k < p.levels; ++k)
     results.push_back(solve(

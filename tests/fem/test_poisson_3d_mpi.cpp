@@ -14,17 +14,6 @@ using namespace warpfem::testing3d;
 
 namespace {
 
-fem::PoissonData<3> mixed_problem() {
-  fem::PoissonData<3> data;
-  data.source = [](const Point<3>& x, double) { return smooth_u(x); };
-  data.dirichlet.push_back(
-      {.edges = {0, 2, 3, 4, 5}, .value = [](const Point<3>& x, double) { return smooth_u(x); }});
-  data.neumann.push_back({.edges = {kFaceX1}, .value = [](const Point<3>& x, double) {
-                            return smooth_grad(x).dot(BentCube::normal_of_face_x1(x));
-                          }});
-  return data;
-}
-
 struct Solved {
   VectorX u;  ///< at every mesh DOF
   double area = 0, l2 = 0;
