@@ -2,16 +2,16 @@
 // build unless WARPFEM_BENCH_DEALII=ON): Q1 Poisson −Δu = 1, u = 0 on the
 // boundary of a 3D ball, CG to 1e-8 relative preconditioned by deal.II's
 // matrix-based geometric multigrid as in step-16 (level matrices assembled on
-// every level, MGTransferPrebuilt, a Householder coarse solve), with the
-// smoother warpfem uses by default: Chebyshev degree 2 on Jacobi, two
-// eigenvalue-estimating CG steps... (see smoother_data below). One process,
-// one thread. Every phase is reported in wall and process CPU seconds; peak
-// resident memory per DOF at the end.
+// every level, MGTransferPrebuilt, a Householder coarse solve) with the
+// smoother warpfem uses by default: Chebyshev of degree 2 on Jacobi over
+// [λmax/11, λmax] (λmax from 10 CG steps), one V-cycle per CG step. One
+// process, one thread. Every phase is reported in wall and process CPU
+// seconds, and the peak resident memory per DOF at the end.
 //
 //   dealii_poisson_ball [refinements = 5] [ball = balanced|plain]
 //
 // balanced: GridGenerator::hyper_ball_balanced (32 coarse cells; 5 refinements
-// give about 1.07 M DOFs); plain: GridGenerator::hyper_ball (7 cells; 5: 0.24 M,
+// give 1.06 M DOFs); plain: GridGenerator::hyper_ball (7 cells; 5: 0.24 M,
 // 6: 1.9 M).
 
 #include <deal.II/base/function.h>
