@@ -102,21 +102,17 @@ std::vector<Region> split(const Region& r, CellType type) {
 // folds. Shared nodes move for every cell that holds them, so no crack opens;
 // the field values stay those at x0.
 template <int dim, class Tangled>
-void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int nvert,
-                             const Tangled& tangled) {
+void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int nvert, const Tangled& tangled,
+                             std::vector<Index> folded) {
   const Index ncells = out.cells.rows(), nloc = out.cells.cols(), npoints = out.points.rows();
   const auto row = [&](Index c) {
     std::vector<Index> nodes(static_cast<std::size_t>(nloc));
     for (Index k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(c, k);
     return nodes;
   };
-  std::vector<Index> work;
+  std::vector<Index> work = std::move(folded);
   std::vector<char> folded_before(static_cast<std::size_t>(ncells), 0);
-  for (Index c = 0; c < ncells; ++c)
-    if (tangled(row(c))) {
-      work.push_back(c);
-      folded_before[static_cast<std::size_t>(c)] = 1;
-    }
+  for (const Index c : work) folded_before[static_cast<std::size_t>(c)] = 1;
   out.num_tangled_cells = static_cast<Index>(work.size());
   if (work.empty()) return;
   // The cells of every node (compressed rows).
@@ -324,7 +320,14 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     return folds(
         [&](int k) -> Point<dim> { return out.points.row(nodes[static_cast<std::size_t>(k)]).transpose(); });
   };
-  if constexpr (dim == 2) {
+  std::vector<Index> folded;  // output cells still folded
+  if constexpr (dim == 3) {
+    for (Index c = 0; c < out.cells.rows(); ++c) {
+      std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(c, k);
+      if (tangled(nodes)) folded.push_back(c);
+    }
+  } else {
     std::vector<std::vector<Index>> kept;
     std::vector<Index> kept_ids, kept_sources;
     std::vector<Region> pending;
@@ -429,7 +432,10 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
         }
       }
     }
-    for (std::size_t r = 0; r < pending.size(); ++r) keep(pending[r], std::move(pending_nodes[r]));
+    for (std::size_t r = 0; r < pending.size(); ++r) {
+      folded.push_back(static_cast<Index>(kept.size()));
+      keep(pending[r], std::move(pending_nodes[r]));
+    }
     out.num_subdivided_cells = static_cast<Index>(std::count(subdivided.begin(), subdivided.end(), 1));
     if (out.num_subdivided_cells > 0) {
       out.cells.resize(static_cast<Index>(kept.size()), nloc);
@@ -440,7 +446,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       out.source_cells = std::move(kept_sources);
     }
   }
-  straighten_folded_cells(out, geometry, nvert, tangled);
+  straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded));
   return out;
 }
 
