@@ -236,7 +236,7 @@ int main(int argc, char** argv) {
   // Points handed to the robust path by the kernel's flags.
   {
     wm::detail::PolyhedronScratch s;
-    s.resize(static_cast<int>(A.size()));
+    s.resize(static_cast<int>(A.size()), static_cast<int>(A.edge_a.size()));
     Index flagged = 0;
     for (const auto& x : chunks)
       for (Index p0 = 0; p0 < x.rows(); p0 += wm::detail::kPolyhedronBlock) {
@@ -246,9 +246,7 @@ int main(int argc, char** argv) {
           s.py[p] = (x(p0 + p, 1) - A.center.y()) / A.scale;
           s.pz[p] = (x(p0 + p, 2) - A.center.z()) / A.scale;
         }
-        wm::detail::polyhedron_block<false>(A.x.data(), A.y.data(), A.z.data(), static_cast<int>(A.size()),
-                                            A.a.data(), A.b.data(), A.c.data(),
-                                            static_cast<int>(A.triangle_count()), cnt, s);
+        wm::detail::polyhedron_block<false>(A, cnt, s);
         for (int p = 0; p < cnt; ++p) flagged += s.flag[p] != 0;
       }
     std::printf("robust path: %lld of %lld points (%.3f %%)\n", static_cast<long long>(flagged),
