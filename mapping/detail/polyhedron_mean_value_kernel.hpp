@@ -10,8 +10,8 @@
 // N_1 = s_2 × s_3, ...) and point:
 //   m = Σ k_e N_e,  D = s_1 · N_1,  w_i = m · N_i / D.
 // Since w = S⁻¹ m with S = (s_1 s_2 s_3), the gradient is
-//   ∇w_i = (Σ_e (N_e · N_i) ∇k_e + K × N_i + W N_i) / D,
-//   K = Σ_e k_e (s_a − s_b),  W = Σ_i w_i,
+//   ∂_j w_i = N_i · (∂_j m + W e_j) / D,  W = Σ_i w_i,
+//   ∂_j m = Σ_e ∂_j k_e N_e + e_j × K,  K = Σ_e k_e (s_a − s_b),
 //   ∇k_e = N_e × (s_a / r_a² − s_b / r_b² + 2 k_e (s_a − s_b)) / (2 L_e²).
 // The loops over points are branch-free (selects), so the compiler vectorizes
 // them; atan is Cephes' rational approximation (relative error ~1e-17 on
@@ -62,10 +62,10 @@ WARPFEM_KERNEL_INLINE void atan_fraction(double n, double d, double& numer, doub
 }
 
 /// Per-thread scratch: per vertex and point s, r, 1/r² and the accumulated
-/// weights and gradients, per edge and point k_e, 1/L_e and c_e (rows of
+/// weights and gradients, per edge and point k_e and ∇k_e (rows of
 /// kPolyhedronBlock).
 struct PolyhedronScratch {
-  std::vector<double> sx, sy, sz, r, ir2, w, wx, wy, wz, ek, eil, ec;
+  std::vector<double> sx, sy, sz, r, ir2, w, wx, wy, wz, ek, ekx, eky, ekz;
   alignas(64) double px[kPolyhedronBlock], py[kPolyhedronBlock], pz[kPolyhedronBlock];
   alignas(64) double flag[kPolyhedronBlock];
   /// Faces whose plane passes near the point, left out: how many, and the sum of their indices.
@@ -74,7 +74,7 @@ struct PolyhedronScratch {
     const std::size_t m = static_cast<std::size_t>(n) * kPolyhedronBlock;
     for (auto* v : {&sx, &sy, &sz, &r, &ir2, &w, &wx, &wy, &wz}) v->assign(m, 0.0);
     const std::size_t me = static_cast<std::size_t>(edges) * kPolyhedronBlock;
-    for (auto* v : {&ek, &eil, &ec}) v->assign(me, 0.0);
+    for (auto* v : {&ek, &ekx, &eky, &ekz}) v->assign(me, 0.0);
   }
 };
 
@@ -108,7 +108,10 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
   const int n = static_cast<int>(P.size()), m = static_cast<int>(P.triangle_count()),
             ne = static_cast<int>(P.edge_a.size());
   constexpr int B = kPolyhedronBlock;
-  for (int p = 0; p < cnt; ++p) s.flag[p] = s.plane[p] = s.plane_face[p] = 0.0;
+  // The block is padded with copies of its first point, so that every loop runs
+  // over all B points: a fixed trip count, no remainder loops.
+  for (int p = cnt; p < B; ++p) s.px[p] = s.px[0], s.py[p] = s.py[0], s.pz[p] = s.pz[0];
+  for (int p = 0; p < B; ++p) s.flag[p] = s.plane[p] = s.plane_face[p] = 0.0;
   for (int v = 0; v < n; ++v) {
     double* __restrict sx = s.sx.data() + v * B;
     double* __restrict sy = s.sy.data() + v * B;
@@ -118,7 +121,7 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     double* __restrict w = s.w.data() + v * B;
     const double ax = vx[v], ay = vy[v], az = vz[v];
     WARPFEM_IVDEP
-    for (int p = 0; p < cnt; ++p) {
+    for (int p = 0; p < B; ++p) {
       const double x = ax - s.px[p], y = ay - s.py[p], z = az - s.pz[p];
       const double r2 = x * x + y * y + z * z;
       sx[p] = x;
@@ -130,11 +133,11 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
       s.flag[p] = r[p] < kPolyhedronNearVertex ? 1.0 : s.flag[p];
     }
     if constexpr (kGrad) {
-      for (int p = 0; p < cnt; ++p) s.wx[v * B + p] = s.wy[v * B + p] = s.wz[v * B + p] = 0.0;
+      for (int p = 0; p < B; ++p) s.wx[v * B + p] = s.wy[v * B + p] = s.wz[v * B + p] = 0.0;
     }
   }
   // Per edge (shared by two triangles, the same in both up to the sign of N):
-  // k = β / (2L), 1/L and c = s_a · s_b.
+  // k = β / (2L) and ∇k.
   for (int e = 0; e < ne; ++e) {
     const double* __restrict sax = s.sx.data() + ea[e] * B;
     const double* __restrict say = s.sy.data() + ea[e] * B;
@@ -144,11 +147,14 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     const double* __restrict sbz = s.sz.data() + eb[e] * B;
     const double* __restrict ra = s.r.data() + ea[e] * B;
     const double* __restrict rb = s.r.data() + eb[e] * B;
+    const double* __restrict qa = s.ir2.data() + ea[e] * B;
+    const double* __restrict qb = s.ir2.data() + eb[e] * B;
     double* __restrict ek = s.ek.data() + e * B;
-    double* __restrict eil = s.eil.data() + e * B;
-    double* __restrict ec = s.ec.data() + e * B;
+    double* __restrict ekx = s.ekx.data() + e * B;
+    double* __restrict eky = s.eky.data() + e * B;
+    double* __restrict ekz = s.ekz.data() + e * B;
     WARPFEM_IVDEP
-    for (int p = 0; p < cnt; ++p) {
+    for (int p = 0; p < B; ++p) {
       const double ax = sax[p], ay = say[p], az = saz[p];
       const double bx = sbx[p], by = sby[p], bz = sbz[p];
       const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
@@ -156,9 +162,19 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
       const double c = ax * bx + ay * by + az * bz;
       const double rr = ra[p] * rb[p];
       double iL;
-      ek[p] = half_angle(L, c, rr, iL);
-      eil[p] = iL;
-      ec[p] = c;
+      const double k = half_angle(L, c, rr, iL);
+      ek[p] = k;
+      if constexpr (kGrad) {
+        // ∇k = N × (q_a − q_b + 2 k (s_a − s_b)) / (2 L²), q = s / r², expanded with
+        // (s_a × s_b) × v = (s_a · v) s_b − (s_b · v) s_a into α s_a + γ s_b:
+        //   α = 1 − c / r_a² + 2 k (r_b² − c),  γ = 1 − c / r_b² + 2 k (r_a² − c).
+        const double h = 0.5 * iL * iL, k2 = k + k;
+        const double al = (1.0 - c * qa[p] + k2 * (rb[p] * rb[p] - c)) * h;
+        const double ga = (1.0 - c * qb[p] + k2 * (ra[p] * ra[p] - c)) * h;
+        ekx[p] = al * ax + ga * bx;
+        eky[p] = al * ay + ga * by;
+        ekz[p] = al * az + ga * bz;
+      }
       // Flags summed as numbers: boolean logic here makes GCC branch and not vectorize.
       s.flag[p] += L < kNearLine * rr ? 1.0 : 0.0;
     }
@@ -179,18 +195,18 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     const double* __restrict r1 = s.r.data() + i1 * B;
     const double* __restrict r2 = s.r.data() + i2 * B;
     const double* __restrict r3 = s.r.data() + i3 * B;
-    const double* __restrict q1 = s.ir2.data() + i1 * B;
-    const double* __restrict q2 = s.ir2.data() + i2 * B;
-    const double* __restrict q3 = s.ir2.data() + i3 * B;
     const double* __restrict ek1 = s.ek.data() + e1 * B;
     const double* __restrict ek2 = s.ek.data() + e2 * B;
     const double* __restrict ek3 = s.ek.data() + e3 * B;
-    const double* __restrict il1 = s.eil.data() + e1 * B;
-    const double* __restrict il2 = s.eil.data() + e2 * B;
-    const double* __restrict il3 = s.eil.data() + e3 * B;
-    const double* __restrict ec1 = s.ec.data() + e1 * B;
-    const double* __restrict ec2 = s.ec.data() + e2 * B;
-    const double* __restrict ec3 = s.ec.data() + e3 * B;
+    const double* __restrict gk1x = s.ekx.data() + e1 * B;
+    const double* __restrict gk1y = s.eky.data() + e1 * B;
+    const double* __restrict gk1z = s.ekz.data() + e1 * B;
+    const double* __restrict gk2x = s.ekx.data() + e2 * B;
+    const double* __restrict gk2y = s.eky.data() + e2 * B;
+    const double* __restrict gk2z = s.ekz.data() + e2 * B;
+    const double* __restrict gk3x = s.ekx.data() + e3 * B;
+    const double* __restrict gk3y = s.eky.data() + e3 * B;
+    const double* __restrict gk3z = s.ekz.data() + e3 * B;
     double* __restrict w1 = s.w.data() + i1 * B;
     double* __restrict w2 = s.w.data() + i2 * B;
     double* __restrict w3 = s.w.data() + i3 * B;
@@ -204,7 +220,7 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     double* __restrict g3y = s.wy.data() + i3 * B;
     double* __restrict g3z = s.wz.data() + i3 * B;
     WARPFEM_IVDEP
-    for (int p = 0; p < cnt; ++p) {
+    for (int p = 0; p < B; ++p) {
       const double ax = s1x[p], ay = s1y[p], az = s1z[p];
       const double bx = s2x[p], by = s2y[p], bz = s2z[p];
       const double cx = s3x[p], cy = s3y[p], cz = s3z[p];
@@ -234,47 +250,35 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
       w3[p] += o3;
       if constexpr (kGrad) {
         // w = S⁻¹ m with S = (s_1 s_2 s_3) (rows of S⁻¹: N_i / D), and ∂S/∂x_j = −e_j 1ᵀ, so
-        // ∇w_i = (N_i · ∇m + W N_i) / D with W = Σ_i w_i; ∇m = Σ_e N_e ⊗ ∇k_e − [K]×,
-        // K = Σ_e k_e d_e, d_e = s_a − s_b, gives
-        //   ∇w_i = (Σ_e G_ie ∇k_e + K × N_i + W N_i) / D,   G_ie = N_i · N_e.
-        const double G11 = n1x * n1x + n1y * n1y + n1z * n1z;
-        const double G22 = n2x * n2x + n2y * n2y + n2z * n2z;
-        const double G33 = n3x * n3x + n3y * n3y + n3z * n3z;
-        const double G12 = n1x * n2x + n1y * n2y + n1z * n2z;
-        const double G13 = n1x * n3x + n1y * n3y + n1z * n3z;
-        const double G23 = n2x * n3x + n2y * n3y + n2z * n3z;
-        // ∇k_e = N_e × (q_a − q_b + 2 k_e d_e) / (2 L_e²), q = s / r², expanded with
-        // (s_a × s_b) × v = (s_a · v) s_b − (s_b · v) s_a into α s_a + γ s_b:
-        //   α = 1 − c / r_a² + 2 k (r_b² − c),  γ = 1 − c / r_b² + 2 k (r_a² − c).
-        const double rs1 = r1[p] * r1[p], rs2 = r2[p] * r2[p], rs3 = r3[p] * r3[p];
-        const auto grad_k = [](double k, double c, double il, double qa, double qb, double rsa, double rsb,
-                               double& al, double& ga) {
-          const double h = 0.5 * il * il, k2 = k + k;
-          al = (1.0 - c * qa + k2 * (rsb - c)) * h;
-          ga = (1.0 - c * qb + k2 * (rsa - c)) * h;
-        };
-        double a1, c1, a2, c2, a3, c3;
-        grad_k(k1, ec1[p], il1[p], q2[p], q3[p], rs2, rs3, a1, c1);  // edge 1: (a, b) = (2, 3)
-        grad_k(k2, ec2[p], il2[p], q3[p], q1[p], rs3, rs1, a2, c2);  // edge 2: (3, 1)
-        grad_k(k3, ec3[p], il3[p], q1[p], q2[p], rs1, rs2, a3, c3);  // edge 3: (1, 2)
-        const double k1x = a1 * bx + c1 * cx, k1y = a1 * by + c1 * cy, k1z = a1 * bz + c1 * cz;
-        const double k2x = a2 * cx + c2 * ax, k2y = a2 * cy + c2 * ay, k2z = a2 * cz + c2 * az;
-        const double k3x = a3 * ax + c3 * bx, k3y = a3 * ay + c3 * by, k3z = a3 * az + c3 * bz;
-        // K = Σ k_e d_e = (k_3 − k_2) s_1 + (k_1 − k_3) s_2 + (k_2 − k_1) s_3.
+        // ∂_j w_i = N_i · C_j / D with C_j = ∂_j m + W e_j, W = Σ_i w_i, and
+        // ∂_j m = Σ_e ∇k_e[j] N_e + e_j × K, K = Σ_e k_e (s_a − s_b).
+        const double k1x = gk1x[p], k1y = gk1y[p], k1z = gk1z[p];
+        const double k2x = gk2x[p], k2y = gk2y[p], k2z = gk2z[p];
+        const double k3x = gk3x[p], k3y = gk3y[p], k3z = gk3z[p];
+        // K = (k_3 − k_2) s_1 + (k_1 − k_3) s_2 + (k_2 − k_1) s_3.
         const double f1 = k3 - k2, f2 = k1 - k3, f3 = k2 - k1;
         const double Kx = f1 * ax + f2 * bx + f3 * cx;
         const double Ky = f1 * ay + f2 * by + f3 * cy;
         const double Kz = f1 * az + f2 * bz + f3 * cz;
         const double W = o1 + o2 + o3;
-        const auto grad = [&](double Ga, double Gb, double Gc, double nx, double ny, double nz, double* gx,
-                              double* gy, double* gz) {
-          gx[p] += (Ga * k1x + Gb * k2x + Gc * k3x + Ky * nz - Kz * ny + W * nx) * iD;
-          gy[p] += (Ga * k1y + Gb * k2y + Gc * k3y + Kz * nx - Kx * nz + W * ny) * iD;
-          gz[p] += (Ga * k1z + Gb * k2z + Gc * k3z + Kx * ny - Ky * nx + W * nz) * iD;
+        // C_j / D, component by component (e_x × K = (0, −K_z, K_y), ...).
+        const double cxx = (k1x * n1x + k2x * n2x + k3x * n3x + W) * iD;
+        const double cxy = (k1x * n1y + k2x * n2y + k3x * n3y - Kz) * iD;
+        const double cxz = (k1x * n1z + k2x * n2z + k3x * n3z + Ky) * iD;
+        const double cyx = (k1y * n1x + k2y * n2x + k3y * n3x + Kz) * iD;
+        const double cyy = (k1y * n1y + k2y * n2y + k3y * n3y + W) * iD;
+        const double cyz = (k1y * n1z + k2y * n2z + k3y * n3z - Kx) * iD;
+        const double czx = (k1z * n1x + k2z * n2x + k3z * n3x - Ky) * iD;
+        const double czy = (k1z * n1y + k2z * n2y + k3z * n3y + Kx) * iD;
+        const double czz = (k1z * n1z + k2z * n2z + k3z * n3z + W) * iD;
+        const auto grad = [&](double nx, double ny, double nz, double* gx, double* gy, double* gz) {
+          gx[p] += nx * cxx + ny * cxy + nz * cxz;
+          gy[p] += nx * cyx + ny * cyy + nz * cyz;
+          gz[p] += nx * czx + ny * czy + nz * czz;
         };
-        grad(G11, G12, G13, n1x, n1y, n1z, g1x, g1y, g1z);
-        grad(G12, G22, G23, n2x, n2y, n2z, g2x, g2y, g2z);
-        grad(G13, G23, G33, n3x, n3y, n3z, g3x, g3y, g3z);
+        grad(n1x, n1y, n1z, g1x, g1y, g1z);
+        grad(n2x, n2y, n2z, g2x, g2y, g2z);
+        grad(n3x, n3y, n3z, g3x, g3y, g3z);
       }
     }
   }
