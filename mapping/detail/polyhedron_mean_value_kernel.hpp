@@ -85,14 +85,15 @@ struct PolyhedronScratch {
 /// argument and 1/L.
 WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& iL) {
   const double den = rr + std::abs(c);
-  const bool big = L > 0.66 * den;
-  const double num_y = big ? L - den : L;
-  const double den_y = big ? L + den : den;
+  // 1 or 0 as a number: a boolean used three times makes GCC branch and not vectorize.
+  const double big = L > 0.66 * den ? 1.0 : 0.0;
+  const double num_y = L - big * den;
+  const double den_y = den + big * L;
   double R, Q;
   atan_fraction(num_y, den_y, R, Q);
   const double f = 1.0 / (L * den_y * Q);
   iL = den_y * Q * f;
-  const double a = (big ? 0.78539816339744830962 : 0.0) + num_y * R * L * f;
+  const double a = big * 0.78539816339744830962 + num_y * R * L * f;
   return (c >= 0.0 ? a : 1.57079632679489661923 - a) * iL;
 }
 
@@ -108,8 +109,10 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
   const int n = static_cast<int>(P.size()), m = static_cast<int>(P.triangle_count()),
             ne = static_cast<int>(P.edge_a.size());
   constexpr int B = kPolyhedronBlock;
-  // The block is padded with copies of its first point, so that every loop runs
-  // over all B points: a fixed trip count, no remainder loops.
+  // The block is padded with copies of its first point, so that the loops over
+  // vertices and triangles run over all B points: a fixed trip count, no
+  // remainder loops. (Not the edge loop: with a fixed count GCC 12 does not
+  // vectorize it for AVX2.)
   for (int p = cnt; p < B; ++p) s.px[p] = s.px[0], s.py[p] = s.py[0], s.pz[p] = s.pz[0];
   for (int p = 0; p < B; ++p) s.flag[p] = s.plane[p] = s.plane_face[p] = 0.0;
   for (int v = 0; v < n; ++v) {
@@ -154,7 +157,7 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     double* __restrict eky = s.eky.data() + e * B;
     double* __restrict ekz = s.ekz.data() + e * B;
     WARPFEM_IVDEP
-    for (int p = 0; p < B; ++p) {
+    for (int p = 0; p < cnt; ++p) {
       const double ax = sax[p], ay = say[p], az = saz[p];
       const double bx = sbx[p], by = sby[p], bz = sbz[p];
       const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
