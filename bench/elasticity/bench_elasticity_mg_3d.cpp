@@ -7,6 +7,8 @@
 //   gmg          GeometricMultigrid<3> (Galerkin coarse operators, the Newton default),
 //   gamg         PETSc GAMG with the rigid-body near-null space about f(x0),
 //   hypre        hypre BoomerAMG, PETSc's defaults (block size 3 passed on),
+//   hypre-3d     BoomerAMG with the usual 3D settings: HMIS coarsening, ext+i interpolation
+//                with at most 4 entries per row, strength threshold 0.5,
 //   hypre-nodal  BoomerAMG with nodal coarsening (-pc_hypre_boomeramg_nodal_coarsen 6; the
 //                rigid-body modes are attached, so ..._vec_interp_variant 1-3 can be tried),
 // and with -lu also by MUMPS LU, in rounds whose order alternates; per method
@@ -17,7 +19,7 @@
 //   [-lu]
 //
 // -n: level 0 has 2n x n x n cells; the finest 2^refinements times as many per side.
-// Every method's KSP has its own prefix (gmg_, gamg_, hypre_, hypre_nodal_, lu_) for options.
+// Every method's KSP has its own prefix (gmg_, gamg_, hypre_, hypre_3d_, hypre_nodal_, lu_) for options.
 
 #include <petscksp.h>
 
@@ -28,6 +30,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/environment.hpp"
@@ -126,7 +129,8 @@ Timing run_method(const std::string& method, const std::vector<System>& systems,
   for (const System& s : systems) {
     petsc::LinearSolver ksp;
     WARPFEM_PETSC_CHECK(KSPCreate(space.comm(), ksp.out()));
-    std::string prefix = method == "hypre-nodal" ? "hypre_nodal_" : method + "_";
+    std::string prefix = method + "_";
+    std::replace(prefix.begin(), prefix.end(), '-', '_');
     WARPFEM_PETSC_CHECK(KSPSetOptionsPrefix(ksp.get(), prefix.c_str()));
     WARPFEM_PETSC_CHECK(KSPSetType(ksp.get(), method == "lu" ? KSPPREONLY : KSPGMRES));
     WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp.get(), 1e-8, 1e-50, PETSC_DEFAULT, 500));
@@ -140,7 +144,7 @@ Timing run_method(const std::string& method, const std::vector<System>& systems,
       if (method == "gamg" || method == "hypre-nodal")
         fem::set_rigid_body_near_null_space(s.J.get(), space, map);
       if (method == "gamg") WARPFEM_PETSC_CHECK(PCSetType(pc, PCGAMG));
-      if (method == "hypre" || method == "hypre-nodal") {
+      if (method.starts_with("hypre")) {
         WARPFEM_PETSC_CHECK(PCSetType(pc, PCHYPRE));
         WARPFEM_PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
       }
@@ -178,13 +182,20 @@ double median(std::vector<double> v) {
 int run(int argc, char** argv) {
   Environment env(argc, argv);
   log::set_level(log::Level::warning);
-  // hypre's nodal variant unless the command line says otherwise. (Interpolation refined
-  // with the rigid-body modes, ..._vec_interp_variant 1 or 2, saves an iteration or two and
-  // costs about 8x in set-up and solve on these problems.)
-  const char* nodal = "-hypre_nodal_pc_hypre_boomeramg_nodal_coarsen";
-  PetscBool nodal_set = PETSC_FALSE;
-  WARPFEM_PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, nodal, &nodal_set));
-  if (!nodal_set) WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, nodal, "6"));
+  // Defaults of the hypre variants, unless the command line says otherwise. (Interpolation
+  // refined with the rigid-body modes, ..._vec_interp_variant 1 or 2, saves an iteration or
+  // two and costs about 8x in set-up and solve on these problems.)
+  const std::pair<const char*, const char*> defaults[] = {
+      {"-hypre_3d_pc_hypre_boomeramg_coarsen_type", "HMIS"},
+      {"-hypre_3d_pc_hypre_boomeramg_interp_type", "ext+i"},
+      {"-hypre_3d_pc_hypre_boomeramg_P_max", "4"},
+      {"-hypre_3d_pc_hypre_boomeramg_strong_threshold", "0.5"},
+      {"-hypre_nodal_pc_hypre_boomeramg_nodal_coarsen", "6"}};
+  for (const auto& [name, value] : defaults) {
+    PetscBool set = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, name, &set));
+    if (!set) WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, name, value));
+  }
   const CellType type =
       string_option("-type", "hexahedron") == "tetrahedron" ? CellType::tetrahedron : CellType::hexahedron;
   const int order = static_cast<int>(int_option("-order", 1));
@@ -193,7 +204,7 @@ int run(int argc, char** argv) {
   const int rounds = static_cast<int>(int_option("-rounds", 3));
   PetscBool with_lu = PETSC_FALSE;
   WARPFEM_PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, "-lu", &with_lu));
-  std::vector<std::string> methods = {"gmg", "gamg", "hypre", "hypre-nodal"};
+  std::vector<std::string> methods = {"gmg", "gamg", "hypre", "hypre-3d", "hypre-nodal"};
   if (with_lu) methods.push_back("lu");
 
   Stopwatch watch;
