@@ -8,6 +8,7 @@
 #include "fem/assembly/boundary_parts.hpp"
 #include "fem/assembly/integrate.hpp"
 #include "fem/geometry/warped_facets.hpp"
+#include "fem/physics/elasticity/near_null_space.hpp"
 
 namespace warpfem::fem {
 
@@ -347,25 +348,7 @@ void HyperelasticOperator<dim>::jacobian(Vec u, double mass_shift, Mat J, bool c
 
 template <int dim>
 void HyperelasticOperator<dim>::set_near_null_space(Mat J) const {
-  const DofDistribution<dim>& dist = space_.nodes();
-  std::vector<Index> owned;
-  for (Index d : dist.relevant_dofs())
-    if (dist.owns(d)) owned.push_back(d);
-  std::sort(owned.begin(), owned.end(), [&](Index a, Index b) { return dist.global(a) < dist.global(b); });
-  Points<dim> x0(static_cast<Index>(owned.size()), dim);
-  for (std::size_t i = 0; i < owned.size(); ++i)
-    x0.row(static_cast<Index>(i)) = space_.dofs().dof_points().row(owned[i]);
-  const Points<dim> x = warp_nodes(*map_, x0);  // once per matrix, at set-up
-  petsc::Vector coords = space_.create_vector();
-  PetscScalar* a = nullptr;
-  WARPFEM_PETSC_CHECK(VecGetArray(coords.get(), &a));
-  for (std::size_t i = 0; i < owned.size(); ++i)
-    for (int c = 0; c < dim; ++c) a[dim * i + static_cast<std::size_t>(c)] = x(static_cast<Index>(i), c);
-  WARPFEM_PETSC_CHECK(VecRestoreArray(coords.get(), &a));
-  MatNullSpace modes = nullptr;
-  WARPFEM_PETSC_CHECK(MatNullSpaceCreateRigidBody(coords.get(), &modes));
-  WARPFEM_PETSC_CHECK(MatSetNearNullSpace(J, modes));
-  WARPFEM_PETSC_CHECK(MatNullSpaceDestroy(&modes));
+  set_rigid_body_near_null_space(J, space_, *map_);
 }
 
 template <int dim>

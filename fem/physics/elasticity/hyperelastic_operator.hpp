@@ -69,8 +69,9 @@ class HyperelasticOperator final : public Problem<dim> {
   /// +∞ is not returned: an inadmissible u gives std::nullopt.
   std::optional<double> potential_energy(Vec u, double scale, double t) const;
 
-  /// Attaches the rigid body modes (translations, rotations about the physical node positions)
-  /// as near null space, which algebraic multigrid (-elasticity_pc_type gamg) needs.
+  /// Attaches the rigid body modes (translations, rotations about the physical node positions
+  /// f(x0); near_null_space.hpp) as near null space, which algebraic multigrid
+  /// (-elasticity_pc_type gamg) needs.
   void set_near_null_space(Mat J) const;
 
   /// min det F over all quadrature points of all ranks.

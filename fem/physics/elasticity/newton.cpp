@@ -9,10 +9,14 @@
 namespace warpfem::fem {
 namespace {
 
-PetscErrorCode monitor(SNES, PetscInt it, PetscReal norm, void* ctx) {
+PetscErrorCode monitor(SNES snes, PetscInt it, PetscReal norm, void* ctx) {
   auto* c = static_cast<NewtonContext*>(ctx);
   return c->guard.run([&] {
     c->residuals.push_back(norm);
+    PetscInt total = 0;
+    WARPFEM_PETSC_CHECK(SNESGetLinearSolveIterations(snes, &total));
+    if (it > 0) c->linear_iterations.push_back(static_cast<int>(total - c->linear_total));
+    c->linear_total = total;
     if (c->log_iterations) {
       std::ostringstream os;
       os << std::scientific << std::setprecision(3) << norm;

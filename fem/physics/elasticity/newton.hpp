@@ -44,9 +44,11 @@ struct NewtonOptions {
 struct NewtonContext {
   CallbackGuard guard;
   petsc::Vector work;
-  std::vector<double> residuals;  ///< |R| per iteration of the current solve
-  int domain_rejections = 0;      ///< residual evaluations rejected for det F <= 0
-  int step_halvings = 0;          ///< line-search halvings of Newton steps
+  std::vector<double> residuals;       ///< |R| per iteration of the current solve
+  std::vector<int> linear_iterations;  ///< Krylov iterations of each Newton step of the current solve
+  PetscInt linear_total = 0;           ///< SNES's running count when the last step was recorded
+  int domain_rejections = 0;           ///< residual evaluations rejected for det F <= 0
+  int step_halvings = 0;               ///< line-search halvings of Newton steps
   bool log_iterations = true;
   int max_halvings = 20;
   /// Potential energy whose gradient is the residual (nullopt: inadmissible); may be empty.

@@ -91,6 +91,7 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
     Stopwatch watch;
     predict(u, load_, trial.get());
     context_.residuals.clear();
+    context_.linear_iterations.clear();
     log::info("  load step s = ", std::setprecision(6), load_, " (Δs = ", ds, ")");
     const PetscErrorCode ierr = SNESSolve(snes_.get(), nullptr, trial.get());
     context_.guard.rethrow_if_failed();
@@ -104,6 +105,7 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
       step.increment = ds;
       WARPFEM_PETSC_CHECK(SNESGetIterationNumber(snes_.get(), &step.iterations));
       step.residuals = context_.residuals;
+      step.linear_iterations = context_.linear_iterations;
       step.seconds = watch.seconds();
       report.steps.push_back(step);
       s = load_;

@@ -20,10 +20,11 @@ struct LoadSteppingOptions {
 };
 
 struct LoadStep {
-  double load = 0;                ///< s after the step
-  double increment = 0;           ///< Δs of the step
-  int iterations = 0;             ///< Newton iterations
-  std::vector<double> residuals;  ///< |R| per Newton iteration (iteration 0 first)
+  double load = 0;                     ///< s after the step
+  double increment = 0;                ///< Δs of the step
+  int iterations = 0;                  ///< Newton iterations
+  std::vector<double> residuals;       ///< |R| per Newton iteration (iteration 0 first)
+  std::vector<int> linear_iterations;  ///< Krylov iterations of each Newton step (1 each with LU)
   double seconds = 0;
 };
 
