@@ -126,6 +126,8 @@ mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node) {
       static_cast<int>(node.get_int("sample_per_feature", spec.sample_per_feature, 1, 4));
   spec.fem_max_volume = node.get_double("fem_max_volume", spec.fem_max_volume, 0.0);
   spec.fem_quality_ratio = node.get_double("fem_quality_ratio", spec.fem_quality_ratio, 1.2, 100.0);
+  spec.harmonic_intermediate =
+      node.get_choice("intermediate", spec.harmonic_intermediate, {"auto", "sphere"});
   if (spec.partition == "explicit" && spec.times.empty())
     throw node.error("times", "the explicit partition needs \"times\"", "give 0 = t0 < t1 < ... < tm = 1");
   node.finish();

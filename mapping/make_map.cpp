@@ -157,6 +157,7 @@ std::shared_ptr<const PolyhedronHarmonicMap> build_polyhedron_harmonic_map(const
   o.max_volume = spec.fem_max_volume;
   o.quality_ratio = spec.fem_quality_ratio;
   o.min_det = spec.min_det;
+  o.spherical = spec.harmonic_intermediate == "sphere";
   return with_spec_context(spec, "map.fem_max_volume",
                            [&] { return build_polyhedron_harmonic(*spec.source, *spec.target, o); });
 }

@@ -59,7 +59,8 @@ struct PolyhedronMapSpec {
   // det J_φ.
   double fem_max_volume = 0;       ///< TetGen volume bound in Ω0 (Ω1's scaled); 0 = |Ω0| / 20000
   double fem_quality_ratio = 2.0;  ///< TetGen radius-edge bound of both meshes
-  std::string origin = "map";      ///< where this spec came from (file name) for messages
+  std::string harmonic_intermediate = "auto";  ///< auto (the source if convex, else the sphere) | sphere
+  std::string origin = "map";                  ///< where this spec came from (file name) for messages
 };
 
 }  // namespace warpfem::mapping
