@@ -175,11 +175,15 @@ MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check) {
   MapPtr<3> map;
   PolyhedronMapCheck c;
   if (harmonic) {
+    Stopwatch watch;
     const auto h = build_polyhedron_harmonic_map(spec);
+    const double built = watch.seconds();
     map = h;
     c = check_polyhedron_map(
         *h, [&](const Points<3>& y, Points<3>& x, VectorX& residual) { h->inverse(y, x, residual); },
         *spec.source, *spec.target, spec.sample_per_feature);
+    log::info("harmonic maps built in ", format_seconds(built), ", checked in ",
+              format_seconds(watch.seconds() - built));
   } else {
     const auto composite = build_polyhedron_map(spec);
     map = composite;
