@@ -100,7 +100,7 @@ Polyhedron parse_polyhedron(const ConfigNode& parent, const std::string& key, co
 mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node) {
   mapping::PolyhedronMapSpec spec;
   spec.origin = node.file();
-  spec.type = node.get_choice("type", "identity", {"identity", "composite_mean_value"});
+  spec.type = node.get_choice("type", "identity", {"identity", "composite_mean_value", "composite_harmonic"});
   spec.source = parse_polyhedron(node, "source", "source polyhedron");
   if (spec.type != "identity") {
     if (!node.has("target"))
@@ -124,6 +124,10 @@ mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node) {
   spec.max_halvings = static_cast<int>(node.get_int("max_halvings", spec.max_halvings, 0, 30));
   spec.sample_per_feature =
       static_cast<int>(node.get_int("sample_per_feature", spec.sample_per_feature, 1, 4));
+  spec.fem_max_volume = node.get_double("fem_max_volume", spec.fem_max_volume, 0.0);
+  spec.fem_quality_ratio = node.get_double("fem_quality_ratio", spec.fem_quality_ratio, 1.2, 100.0);
+  spec.harmonic_intermediate =
+      node.get_choice("intermediate", spec.harmonic_intermediate, {"auto", "sphere"});
   if (spec.partition == "explicit" && spec.times.empty())
     throw node.error("times", "the explicit partition needs \"times\"", "give 0 = t0 < t1 < ... < tm = 1");
   node.finish();

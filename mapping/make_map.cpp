@@ -11,6 +11,7 @@
 #include "mapping/barycentric_map.hpp"
 #include "mapping/composite_mean_value_map.hpp"
 #include "mapping/harmonic/make_harmonic_map.hpp"
+#include "mapping/harmonic/polyhedron_harmonic_map.hpp"
 #include "mapping/map_check.hpp"
 #include "mapping/mean_value_certificate.hpp"
 #include "mapping/polyhedron_composite_map.hpp"
@@ -94,7 +95,7 @@ std::string point_text(const Point<3>& p) {
   return os.str();
 }
 
-std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const PolyhedronMapSpec& spec) {
+void require_polyhedra(const PolyhedronMapSpec& spec) {
   if (!spec.source || !spec.target)
     throw Error(
         "map type \"" + spec.type + "\" needs a source and a target polyhedron",
@@ -102,6 +103,10 @@ std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const Polyhed
          .key_path = spec.source ? "map.target" : "map.source",
          .hint =
              "give {\"vertices\": [[x, y, z], ...], \"triangles\": [[i, j, k], ...]} or {\"file\": ...}"});
+}
+
+std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const PolyhedronMapSpec& spec) {
+  require_polyhedra(spec);
   const Polyhedron& source = *spec.source;
   const Polyhedron& target = *spec.target;
   with_spec_context(spec, "map.target", [&] { require_same_triangulation(source, target); });
@@ -145,18 +150,45 @@ void certify_into(const Map<2>& map, const MapSpec& spec, MapCheck& c) {
             " to build and check");
 }
 
+std::shared_ptr<const PolyhedronHarmonicMap> build_polyhedron_harmonic_map(const PolyhedronMapSpec& spec) {
+  require_polyhedra(spec);
+  with_spec_context(spec, "map.target", [&] { require_same_triangulation(*spec.source, *spec.target); });
+  PolyhedronHarmonicOptions o;
+  o.max_volume = spec.fem_max_volume;
+  o.quality_ratio = spec.fem_quality_ratio;
+  o.min_det = spec.min_det;
+  o.spherical = spec.harmonic_intermediate == "sphere";
+  return with_spec_context(spec, "map.fem_max_volume",
+                           [&] { return build_polyhedron_harmonic(*spec.source, *spec.target, o); });
+}
+
 }  // namespace
 
 MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check) {
   if (spec.type == "identity") return std::make_shared<IdentityMap<3>>();
-  if (spec.type != "composite_mean_value")
+  if (spec.type != "composite_mean_value" && spec.type != "composite_harmonic")
     throw Error("unknown map type \"" + spec.type + "\" for polyhedra",
                 {.file = spec.origin,
                  .key_path = "map.type",
-                 .hint = "use \"identity\" or \"composite_mean_value\""});
-  const auto map = build_polyhedron_map(spec);
-  const PolyhedronMapCheck c =
-      check_polyhedron_map(*map, *spec.source, *spec.target, spec.sample_per_feature);
+                 .hint = "use \"identity\", \"composite_mean_value\" or \"composite_harmonic\""});
+  const bool harmonic = spec.type == "composite_harmonic";
+  MapPtr<3> map;
+  PolyhedronMapCheck c;
+  if (harmonic) {
+    Stopwatch watch;
+    const auto h = build_polyhedron_harmonic_map(spec);
+    const double built = watch.seconds();
+    map = h;
+    c = check_polyhedron_map(
+        *h, [&](const Points<3>& y, Points<3>& x, VectorX& residual) { h->inverse(y, x, residual); },
+        *spec.source, *spec.target, spec.sample_per_feature);
+    log::info("harmonic maps built in ", format_seconds(built), ", checked in ",
+              format_seconds(watch.seconds() - built));
+  } else {
+    const auto composite = build_polyhedron_map(spec);
+    map = composite;
+    c = check_polyhedron_map(*composite, *spec.source, *spec.target, spec.sample_per_feature);
+  }
   if (!c.passed()) {
     std::ostringstream why;
     why << std::setprecision(4) << "the map is not bijective on its check sample (" << c.samples
@@ -169,11 +201,14 @@ MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check) {
     else
       why << c.failed_inverse << " samples whose inverse misses them, by up to " << c.max_round_trip
           << " of the source's size, at " << point_text(c.worst_inverse_at);
-    throw Error(why.str(),
-                {.file = spec.origin,
-                 .key_path = "/map",
-                 .hint = "use a finer partition (more steps, or \"partition\": \"adaptive\" with more "
-                         "max_halvings), or deform the target less"});
+    throw Error(
+        why.str(),
+        {.file = spec.origin,
+         .key_path = "/map",
+         .hint = harmonic ? "refine the harmonic maps' meshes (smaller fem_max_volume), or use "
+                            "\"type\": \"composite_mean_value\""
+                          : "use a finer partition (more steps, or \"partition\": \"adaptive\" with more "
+                            "max_halvings), or deform the target less"});
   }
   if (check) *check = c;
   return map;

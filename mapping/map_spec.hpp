@@ -46,7 +46,7 @@ struct MapSpec {
 
 /// The same for maps between polyhedra (mapping/polyhedron_composite_map.hpp).
 struct PolyhedronMapSpec {
-  std::string type = "identity";  ///< identity | composite_mean_value
+  std::string type = "identity";  ///< identity | composite_mean_value | composite_harmonic
   std::optional<Polyhedron> source;
   std::optional<Polyhedron> target;    ///< same triangulation as the source
   std::string partition = "adaptive";  ///< adaptive | uniform | explicit
@@ -55,7 +55,12 @@ struct PolyhedronMapSpec {
   double min_det = 1e-8;               ///< adaptive: det J_k every step must exceed
   int max_halvings = 8;                ///< adaptive: halvings of an interval before refusal
   int sample_per_feature = 3;          ///< check sample: offsets per vertex, edge and face
-  std::string origin = "map";          ///< where this spec came from (file name) for messages
+  // Composite harmonic options (mapping/harmonic/polyhedron_harmonic_map.hpp); min_det bounds every cell's
+  // det J_φ.
+  double fem_max_volume = 0;       ///< TetGen volume bound in Ω0 (Ω1's scaled); 0 = |Ω0| / 20000
+  double fem_quality_ratio = 2.0;  ///< TetGen radius-edge bound of both meshes
+  std::string harmonic_intermediate = "auto";  ///< auto (the source if convex, else the sphere) | sphere
+  std::string origin = "map";                  ///< where this spec came from (file name) for messages
 };
 
 }  // namespace warpfem::mapping

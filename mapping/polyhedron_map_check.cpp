@@ -23,6 +23,13 @@ std::string PolyhedronMapCheck::summary() const {
 
 PolyhedronMapCheck check_polyhedron_map(const PolyhedronCompositeMap& f, const Polyhedron& source,
                                         const Polyhedron& target, int per_feature) {
+  return check_polyhedron_map(
+      f, [&](const Points<3>& y, Points<3>& x, VectorX& residual) { f.inverse(y, x, residual); }, source,
+      target, per_feature);
+}
+
+PolyhedronMapCheck check_polyhedron_map(const Map<3>& f, const PolyhedronMapInverse& inverse,
+                                        const Polyhedron& source, const Polyhedron& target, int per_feature) {
   PolyhedronMapCheck c;
   const Points<3> x0 = polyhedron_check_sample(source, per_feature);
   c.samples = x0.rows();
@@ -39,7 +46,7 @@ PolyhedronMapCheck check_polyhedron_map(const PolyhedronCompositeMap& f, const P
   if (c.nonpositive > 0) return c;
   Points<3> back;
   VectorX residual;
-  f.inverse(x, back, residual);
+  inverse(x, back, residual);
   const Real size = (source.bbox_max() - source.bbox_min()).norm();
   for (Index p = 0; p < c.samples; ++p) {
     const Real e = (back.row(p) - x0.row(p)).norm() / size;

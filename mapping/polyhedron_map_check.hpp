@@ -5,6 +5,7 @@
 // target polyhedron, and the Newton inverse returning each sample point.
 // Like the 2D check it is sampled, not a proof.
 
+#include <functional>
 #include <string>
 
 #include "core/polyhedron.hpp"
@@ -31,5 +32,13 @@ struct PolyhedronMapCheck {
 /// Runs the check of `f` between `source` and `target`.
 PolyhedronMapCheck check_polyhedron_map(const PolyhedronCompositeMap& f, const Polyhedron& source,
                                         const Polyhedron& target, int per_feature = 3);
+
+/// x = f⁻¹(y) with a residual per point (the maps' own inverse).
+using PolyhedronMapInverse = std::function<void(const Points<3>& y, Points<3>& x, VectorX& residual)>;
+
+/// The same check for any map between polyhedra with its inverse.
+PolyhedronMapCheck check_polyhedron_map(const Map<3>& f, const PolyhedronMapInverse& inverse,
+                                        const Polyhedron& source, const Polyhedron& target,
+                                        int per_feature = 3);
 
 }  // namespace warpfem::mapping

@@ -68,6 +68,11 @@ Mesh<3> mesh_polyhedron(const Polyhedron& polyhedron, const TetrahedralMeshOptio
     throw Error(
         polyhedron.name() + ": quality ratio " + number_text(q) + " cannot be used",
         {.file = "", .key_path = "", .hint = "use 0 (no quality bound) or a ratio of at least 1.2, e.g. 2"});
+  if (!(options.min_dihedral_angle >= 0 && options.min_dihedral_angle < 30))
+    throw Error(
+        polyhedron.name() + ": minimum dihedral angle " + number_text(options.min_dihedral_angle) +
+            " degrees cannot be used",
+        {.file = "", .key_path = "", .hint = "use 0 (no bound) or an angle below 30 degrees, e.g. 15"});
   if (!std::isfinite(a))
     throw Error(polyhedron.name() + ": the volume bound is not finite",
                 {.file = "", .key_path = "", .hint = "use a positive volume, or 0 for none"});
@@ -102,6 +107,7 @@ Mesh<3> mesh_polyhedron(const Polyhedron& polyhedron, const TetrahedralMeshOptio
   // p: piecewise linear complex; Y: keep the input surface; z: zero-based; Q: quiet.
   std::string switches = options.keep_surface ? "pYzQ" : "pzQ";
   if (q != 0) switches += "q" + number_text(q);
+  if (q != 0 && options.min_dihedral_angle > 0) switches += "/" + number_text(options.min_dihedral_angle);
   if (a > 0) {
     char text[40];
     std::snprintf(text, sizeof text, "a%.17g", a);

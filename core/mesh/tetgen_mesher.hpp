@@ -18,6 +18,10 @@ struct TetrahedralMeshOptions {
   /// TetGen's radius-edge ratio bound (-q); 0 means no quality refinement.
   /// Values below 1.2 may keep TetGen from terminating and are refused.
   double quality_ratio = 2.0;
+  /// Lower bound on dihedral angles in degrees (-q ratio/angle), against
+  /// slivers; 0 means none. Only with quality_ratio > 0; TetGen may not reach
+  /// bounds above ~18°.
+  double min_dihedral_angle = 0.0;
   /// Upper bound on the tetrahedron volume (-a); <= 0 means none. With
   /// keep_surface, cells near the surface may exceed it.
   double max_volume = 0.0;

@@ -2,9 +2,7 @@
 // The P1 (cotangent) Laplace solve of thesis §5.1.1 on an auxiliary mesh:
 // for each of the n harmonic-coordinate boundary conditions (boundary_data.hpp),
 // the discrete harmonic function with those values at the boundary vertices.
-// Assembled into a PETSc sequential AIJ matrix of the interior unknowns and
-// solved with one KSP (options prefix "harmonic_", default: Cholesky with
-// nested-dissection ordering) for all n right-hand sides.
+// Solved for all n right-hand sides with one factorisation (p1_dirichlet.hpp).
 
 #include <vector>
 
