@@ -46,10 +46,11 @@ struct RunResult {
   double min_det_F = 0;                     ///< at the end
 
   // Output ("" and empty if disabled).
-  std::string output_file;             ///< what ParaView opens: VTU/PVTU, or the PVD of a time series
-  std::vector<std::string> vtk_files;  ///< every VTU/PVTU written
-  Index output_subdivided_cells = 0;   ///< this rank's mesh cells written subdivided
-  Index output_folded_cells = 0;       ///< written cells still folded
+  std::string output_file;              ///< what ParaView opens: VTU/PVTU, or the PVD of a time series
+  std::vector<std::string> vtk_files;   ///< every VTU/PVTU written
+  Index output_subdivided_cells = 0;    ///< this rank's mesh cells written subdivided
+  Index output_straightened_cells = 0;  ///< written cells drawn less curved to keep them untangled
+  Index output_folded_cells = 0;        ///< written cells still folded
 };
 
 /// Runs a validated config on `comm`. Throws warpfem::Error if the map, mesh or a

@@ -55,6 +55,7 @@ void RunOutput<dim>::finish(Vec state, RunResult& result) {
   }
   result.vtk_files = files_;
   result.output_subdivided_cells = mesh_ ? mesh_->num_subdivided_cells : 0;
+  result.output_straightened_cells = mesh_ ? mesh_->num_straightened_cells : 0;
   result.output_folded_cells = mesh_ ? mesh_->num_tangled_cells : 0;
 }
 

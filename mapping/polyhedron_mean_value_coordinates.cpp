@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <utility>
 
 #include "core/threads.hpp"
 #include "mapping/detail/polyhedron_mean_value_kernel.hpp"
@@ -25,10 +27,23 @@ PolyhedronArrays::PolyhedronArrays(const std::vector<Point<3>>& vertices,
     y.push_back((v.y() - center.y()) / scale);
     z.push_back((v.z() - center.z()) / scale);
   }
+  std::map<std::pair<int, int>, int> edge_index;
+  const auto edge = [&](int u, int v) {
+    const auto key = std::minmax(u, v);
+    const auto [it, inserted] = edge_index.try_emplace(key, static_cast<int>(edge_a.size()));
+    if (inserted) edge_a.push_back(key.first), edge_b.push_back(key.second);
+    return it->second;
+  };
   for (const auto& t : triangles) {
-    a.push_back(static_cast<int>(t[0]));
-    b.push_back(static_cast<int>(t[1]));
-    c.push_back(static_cast<int>(t[2]));
+    const int u = static_cast<int>(t[0]), v = static_cast<int>(t[1]), w = static_cast<int>(t[2]);
+    a.push_back(u);
+    b.push_back(v);
+    c.push_back(w);
+    const Point<3> pu(x[u], y[u], z[u]), pv(x[v], y[v], z[v]), pw(x[w], y[w], z[w]);
+    two_area.push_back((pv - pu).cross(pw - pu).norm());
+    triangle_edges.push_back(edge(v, w));
+    triangle_edges.push_back(edge(w, u));
+    triangle_edges.push_back(edge(u, v));
   }
 }
 
@@ -139,16 +154,120 @@ void normalize(const std::vector<Dual>& w, Real* phi, Real* dx, Real* dy, Real* 
   for (int c = 0; c < 3; ++c) g[c][d] = (S.v * w[d].d[c] - w[d].v * S.d[c]) / (W.v * W.v);
 }
 
-/// The robust formula at a point (normalized coordinates) that is not on a
-/// vertex or an edge; gradients with respect to normalized coordinates.
-void robust_coordinates(const PolyhedronArrays& P, const Point<3>& x, Real* phi, Real* dx, Real* dy,
-                        Real* dz) {
-  const Index n = P.size(), m = P.triangle_count();
+/// A triangle seen from x: its vertices, unit normal ν, 2A = |M|, the signed
+/// distance h of x below its plane (h > 0 inside), and whether x projects into it.
+struct Face {
+  int v[3];
+  Point<3> nu;
+  Real two_area;
+  Dual h;
+  bool over;
+};
+
+/// Face t seen from x, with s0 = p_{v[0]} − x.
+Face make_face(const PolyhedronArrays& P, Index t, const DVec& s0, const Point<3>& x) {
+  Face f;
+  f.v[0] = P.a[t], f.v[1] = P.b[t], f.v[2] = P.c[t];
+  const Point<3> p0 = vertex(P, f.v[0]), p1 = vertex(P, f.v[1]), p2 = vertex(P, f.v[2]);
+  const Point<3> M = (p1 - p0).cross(p2 - p0);
+  f.two_area = M.norm();
+  f.nu = M / f.two_area;
+  f.h = dot(s0, f.nu);
+  f.over = true;
+  for (int e = 0; e < 3; ++e) {
+    const Point<3> a = vertex(P, f.v[(e + 1) % 3]) - x, b = vertex(P, f.v[(e + 2) % 3]) - x;
+    if (f.nu.dot(a.cross(b)) < 0) f.over = false;
+  }
+  return f;
+}
+
+/// The contribution of face f to the weights of its vertices, scaled by eta
+/// (s[i] = p_{v[i]} − x, r[i] = |s[i]|). `eta_face`: f is the face x is
+/// nearest to, with eta = sigma h.
+void face_weights(const PolyhedronArrays& P, const Face& f, const DVec* s, const Dual* r, const Dual& eta,
+                  bool eta_face, double sigma, Dual* w) {
+  // Edge e is opposite vertex e: (a, b) = (v[e+1], v[e+2]), N_e = s_a × s_b.
+  DVec N[3];
+  Dual L[3], k[3];  // k_e = β_e / L_e
+  Real rho = std::numeric_limits<Real>::infinity();
+  for (int e = 0; e < 3; ++e) {
+    const int a = (e + 1) % 3, b = (e + 2) % 3;
+    N[e] = cross(s[a], s[b]);
+    L[e] = sqrt(dot(N[e], N[e]));
+    const Dual c = dot(s[a], s[b]);
+    const Dual den = r[a] * r[b] + abs(c);
+    const Dual z = L[e] / den;  // tan(β/2) if c >= 0, cot(β/2) otherwise
+    k[e] = c.v >= 0 ? 2.0 * atanc(z) / den : (std::numbers::pi - 2.0 * atan(z)) / L[e];
+    rho = std::min(rho, r[e].v);
+  }
+  if (!f.over && std::abs(f.h.v) < kFactoredPlane * rho) {
+    // x near the plane, projecting outside: w_i = h (c_i G + P_i) / (2|M|) with
+    // c_e = ν·N_e, g_e = ν × (p_b − p_a), P_i = Σ_e k_e g_e·g_i and
+    // G = Q / h², Q = Σ_e β_e c_e / L_e, whose O(1) part (the winding angle
+    // of the projected triangle) is exactly 0 outside; what remains is written
+    // with the h² factored out of every term.
+    const Dual h = f.h, h2 = h * h;
+    Point<3> g[3];
+    Dual c[3];
+    DVec A[3];
+    for (int e = 0; e < 3; ++e) {
+      const Index a = f.v[(e + 1) % 3], b = f.v[(e + 2) % 3];
+      g[e] = f.nu.cross(vertex(P, b) - vertex(P, a));
+      c[e] = dot(N[e], f.nu);
+      A[e] = {s[e].x - h * f.nu.x(), s[e].y - h * f.nu.y(), s[e].z - h * f.nu.z()};
+    }
+    Dual G;
+    for (int e = 0; e < 3; ++e) {
+      if (c[e].v == 0) continue;  // x on this edge's line in the plane: the term vanishes
+      const int a = (e + 1) % 3, b = (e + 2) % 3;
+      const Dual aa = dot(A[a], A[b]);  // projected s_a · s_b
+      const Dual ss = aa + h2;          // s_a · s_b
+      const Dual ac = abs(c[e]);
+      const Real g2 = g[e].squaredNorm();
+      const Dual X = aa * g2 / (L[e] + ac) - ac;  // (β − β⁰) = atan(h² X / Y)
+      const Dual Y = ss * aa + L[e] * ac;
+      const Dual dbeta = X / Y * atanc(h2 * X / Y);
+      const Dual qq = h2 * g2 / (c[e] * c[e]);
+      const Dual sq = sqrt(1.0 + qq);
+      const Dual delta = g2 / (c[e] * c[e]) / (sq * (sq + 1.0));  // (1 − c/L) / h²
+      const Dual term = dbeta - k[e] * L[e] * delta;
+      G += c[e].v > 0 ? term : -term;
+    }
+    for (int i = 0; i < 3; ++i) {
+      Dual Pi;
+      for (int e = 0; e < 3; ++e) Pi += k[e] * g[e].dot(g[i]);
+      w[i] = eta * h * (c[i] * G + Pi) / (2 * f.two_area);
+    }
+    return;
+  }
+  // Direct form: w_i = m · N_i / D, m = ½ Σ k_e N_e, D = h |M|.
+  DVec mv{Dual(), Dual(), Dual()};
+  for (int e = 0; e < 3; ++e) {
+    const Dual ke = 0.5 * k[e];
+    mv.x += ke * N[e].x;
+    mv.y += ke * N[e].y;
+    mv.z += ke * N[e].z;
+  }
+  const Dual factor = eta_face ? Dual(sigma / f.two_area) : eta / (f.h * f.two_area);
+  for (int i = 0; i < 3; ++i) w[i] = factor * dot(mv, N[i]);
+}
+
+/// x as a dual number (derivatives with respect to x).
+DVec dual_point(const Point<3>& x) {
   DVec X;
   X.x = Dual(x.x());
   X.y = Dual(x.y());
   X.z = Dual(x.z());
   X.x.d[0] = X.y.d[1] = X.z.d[2] = 1;
+  return X;
+}
+
+/// The robust formula at a point (normalized coordinates) that is not on a
+/// vertex or an edge; gradients with respect to normalized coordinates.
+void robust_coordinates(const PolyhedronArrays& P, const Point<3>& x, Real* phi, Real* dx, Real* dy,
+                        Real* dz) {
+  const Index n = P.size(), m = P.triangle_count();
+  const DVec X = dual_point(x);
   std::vector<DVec> s(static_cast<std::size_t>(n));
   std::vector<Dual> r(static_cast<std::size_t>(n));
   Index j = 0;
@@ -157,32 +276,12 @@ void robust_coordinates(const PolyhedronArrays& P, const Point<3>& x, Real* phi,
     r[v] = sqrt(dot(s[v], s[v]));
     if (r[v].v < r[j].v) j = v;
   }
-  // Per triangle: unit normal ν, 2A = |M|, signed distance h of x below the
-  // plane (h > 0 inside), and whether x projects into the triangle.
-  struct Face {
-    int v[3];
-    Point<3> nu;
-    Real two_area;
-    Dual h;
-    bool over;
-  };
   std::vector<Face> face(static_cast<std::size_t>(m));
   Dual eta = r[j];  // weights are scaled by the distance to the surface (≤ nearest vertex)
   Index eta_face = -1;
   double sigma = 1;
   for (Index t = 0; t < m; ++t) {
-    Face& f = face[t];
-    f.v[0] = P.a[t], f.v[1] = P.b[t], f.v[2] = P.c[t];
-    const Point<3> p0 = vertex(P, f.v[0]), p1 = vertex(P, f.v[1]), p2 = vertex(P, f.v[2]);
-    const Point<3> M = (p1 - p0).cross(p2 - p0);
-    f.two_area = M.norm();
-    f.nu = M / f.two_area;
-    f.h = dot(s[f.v[0]], f.nu);
-    f.over = true;
-    for (int e = 0; e < 3; ++e) {
-      const Point<3> a = vertex(P, f.v[(e + 1) % 3]) - x, b = vertex(P, f.v[(e + 2) % 3]) - x;
-      if (f.nu.dot(a.cross(b)) < 0) f.over = false;
-    }
+    const Face& f = face[t] = make_face(P, t, s[P.a[t]], x);
     if (f.over && std::abs(f.h.v) < eta.v) {
       sigma = f.h.v < 0 ? -1 : 1;
       eta = sigma * f.h;
@@ -192,73 +291,31 @@ void robust_coordinates(const PolyhedronArrays& P, const Point<3>& x, Real* phi,
   std::vector<Dual> w(static_cast<std::size_t>(n));
   for (Index t = 0; t < m; ++t) {
     const Face& f = face[t];
-    // Edge e is opposite vertex e: (a, b) = (v[e+1], v[e+2]), N_e = s_a × s_b.
-    DVec N[3];
-    Dual L[3], k[3];  // k_e = β_e / L_e
-    Real rho = std::numeric_limits<Real>::infinity();
-    for (int e = 0; e < 3; ++e) {
-      const Index a = f.v[(e + 1) % 3], b = f.v[(e + 2) % 3];
-      N[e] = cross(s[a], s[b]);
-      L[e] = sqrt(dot(N[e], N[e]));
-      const Dual c = dot(s[a], s[b]);
-      const Dual den = r[a] * r[b] + abs(c);
-      const Dual z = L[e] / den;  // tan(β/2) if c >= 0, cot(β/2) otherwise
-      k[e] = c.v >= 0 ? 2.0 * atanc(z) / den : (std::numbers::pi - 2.0 * atan(z)) / L[e];
-      rho = std::min(rho, r[f.v[e]].v);
-    }
-    if (!f.over && std::abs(f.h.v) < kFactoredPlane * rho) {
-      // x near the plane, projecting outside: w_i = h (c_i G + P_i) / (2|M|) with
-      // c_e = ν·N_e, g_e = ν × (p_b − p_a), P_i = Σ_e k_e g_e·g_i and
-      // G = Q / h², Q = Σ_e β_e c_e / L_e, whose O(1) part (the winding angle
-      // of the projected triangle) is exactly 0 outside; what remains is written
-      // with the h² factored out of every term.
-      const Dual h = f.h, h2 = h * h;
-      Point<3> g[3];
-      Dual c[3];
-      DVec A[3];
-      for (int e = 0; e < 3; ++e) {
-        const Index a = f.v[(e + 1) % 3], b = f.v[(e + 2) % 3];
-        g[e] = f.nu.cross(vertex(P, b) - vertex(P, a));
-        c[e] = dot(N[e], f.nu);
-        const Index v = f.v[e];
-        A[e] = {s[v].x - h * f.nu.x(), s[v].y - h * f.nu.y(), s[v].z - h * f.nu.z()};
-      }
-      Dual G;
-      for (int e = 0; e < 3; ++e) {
-        if (c[e].v == 0) continue;  // x on this edge's line in the plane: the term vanishes
-        const int a = (e + 1) % 3, b = (e + 2) % 3;
-        const Dual aa = dot(A[a], A[b]);  // projected s_a · s_b
-        const Dual ss = aa + h2;          // s_a · s_b
-        const Dual ac = abs(c[e]);
-        const Real g2 = g[e].squaredNorm();
-        const Dual X = aa * g2 / (L[e] + ac) - ac;  // (β − β⁰) = atan(h² X / Y)
-        const Dual Y = ss * aa + L[e] * ac;
-        const Dual dbeta = X / Y * atanc(h2 * X / Y);
-        const Dual qq = h2 * g2 / (c[e] * c[e]);
-        const Dual sq = sqrt(1.0 + qq);
-        const Dual delta = g2 / (c[e] * c[e]) / (sq * (sq + 1.0));  // (1 − c/L) / h²
-        const Dual term = dbeta - k[e] * L[e] * delta;
-        G += c[e].v > 0 ? term : -term;
-      }
-      for (int i = 0; i < 3; ++i) {
-        Dual Pi;
-        for (int e = 0; e < 3; ++e) Pi += k[e] * g[e].dot(g[i]);
-        w[f.v[i]] += eta * h * (c[i] * G + Pi) / (2 * f.two_area);
-      }
-      continue;
-    }
-    // Direct form: w_i = m · N_i / D, m = ½ Σ k_e N_e, D = h |M|.
-    DVec mv{Dual(), Dual(), Dual()};
-    for (int e = 0; e < 3; ++e) {
-      const Dual ke = 0.5 * k[e];
-      mv.x += ke * N[e].x;
-      mv.y += ke * N[e].y;
-      mv.z += ke * N[e].z;
-    }
-    const Dual factor = t == eta_face ? Dual(sigma / f.two_area) : eta / (f.h * f.two_area);
-    for (int i = 0; i < 3; ++i) w[f.v[i]] += factor * dot(mv, N[i]);
+    const DVec sf[3] = {s[f.v[0]], s[f.v[1]], s[f.v[2]]};
+    const Dual rf[3] = {r[f.v[0]], r[f.v[1]], r[f.v[2]]};
+    Dual wf[3];
+    face_weights(P, f, sf, rf, eta, t == eta_face, sigma, wf);
+    for (int i = 0; i < 3; ++i) w[f.v[i]] += wf[i];
   }
   normalize(w, phi, dx, dy, dz);
+}
+
+/// The unscaled contribution (η = 1) of face t to the weights of its vertices at
+/// x, for a point the batched kernel found near the plane of t and left t out
+/// for; false if x projects into t (x is near the surface: the robust path).
+bool near_plane_face_weights(const PolyhedronArrays& P, const Point<3>& x, Index t, Dual* w) {
+  const DVec X = dual_point(x);
+  const int v[3] = {P.a[t], P.b[t], P.c[t]};
+  DVec s[3];
+  Dual r[3];
+  for (int i = 0; i < 3; ++i) {
+    s[i] = {P.x[v[i]] - X.x, P.y[v[i]] - X.y, P.z[v[i]] - X.z};
+    r[i] = sqrt(dot(s[i], s[i]));
+  }
+  const Face f = make_face(P, t, s[0], x);
+  if (f.over) return false;
+  face_weights(P, f, s, r, Dual(1.0), false, 1, w);
+  return true;
 }
 
 /// The triangles (up to two) that contain edge (a, b), and the shortest edge at a vertex.
@@ -356,7 +413,7 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
   const Real* Z = Y + N;
   const Real cx = P.center.x(), cy = P.center.y(), cz = P.center.z(), sc = P.scale, isc = 1 / sc;
   detail::PolyhedronScratch s;
-  s.resize(static_cast<int>(n));
+  s.resize(static_cast<int>(n), static_cast<int>(P.edge_a.size()));
   std::vector<Real> robust(static_cast<std::size_t>(4 * n));
   alignas(64) double iW[B], Wx[B], Wy[B], Wz[B];
   for (Index p0 = first * B; p0 < std::min(N, last * B); p0 += B) {
@@ -366,8 +423,27 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
       s.py[p] = (Y[p0 + p] - cy) / sc;
       s.pz[p] = (Z[p0 + p] - cz) / sc;
     }
-    detail::polyhedron_block<kGrad>(P.x.data(), P.y.data(), P.z.data(), static_cast<int>(n), P.a.data(),
-                                    P.b.data(), P.c.data(), static_cast<int>(P.triangle_count()), cnt, s);
+    detail::polyhedron_block<kGrad>(P, cnt, s);
+    // A face the kernel left out because x is near its plane: its h-factored
+    // contribution, unless x projects into it or is near several planes.
+    for (int p = 0; p < cnt; ++p) {
+      if (s.flag[p] != 0.0 || s.plane[p] == 0.0) continue;
+      const Index t = static_cast<Index>(s.plane_face[p]);
+      Dual wf[3];
+      if (s.plane[p] != 1.0 || !near_plane_face_weights(P, Point<3>(s.px[p], s.py[p], s.pz[p]), t, wf)) {
+        s.flag[p] = 1.0;
+        continue;
+      }
+      const int v[3] = {P.a[t], P.b[t], P.c[t]};
+      for (int i = 0; i < 3; ++i) {
+        s.w[v[i] * B + p] += wf[i].v;
+        if constexpr (kGrad) {
+          s.wx[v[i] * B + p] += wf[i].d[0];
+          s.wy[v[i] * B + p] += wf[i].d[1];
+          s.wz[v[i] * B + p] += wf[i].d[2];
+        }
+      }
+    }
     for (int p = 0; p < cnt; ++p) iW[p] = Wx[p] = Wy[p] = Wz[p] = 0;
     for (Index v = 0; v < n; ++v) {
       const double* w = s.w.data() + v * B;

@@ -10,13 +10,15 @@
 // Kronecker delta at the vertices, and are smooth inside.
 //
 // Batched over points (N x 3, SoA) with a vectorized kernel and analytic
-// gradients. Points near the surface, near a vertex, or close to the plane or
-// edge line of some triangle are re-evaluated by a robust formula: weights
-// scaled by the distance to the surface, and for a triangle whose plane passes
-// (nearly) through x a form of its contribution with the factor h (distance to
+// gradients. Points near the surface, near a vertex, or close to the edge line
+// of some triangle are re-evaluated by a robust formula with weights scaled by
+// the distance to the surface. For a triangle whose plane passes (nearly)
+// through x its contribution is taken in a form with the factor h (distance to
 // the plane) taken out exactly, so that the contribution h·F(x) and its
 // gradient F ∇h + h ∇F keep full accuracy as h → 0 (skipping the triangle
-// would be right for the value but wrong for the gradient). All tolerances
+// would be right for the value but wrong for the gradient); the batched
+// functions do this for that triangle alone and keep the vectorized result
+// for the others. All tolerances
 // are relative to local lengths, so the coordinates are invariant under
 // similarity transforms.
 
@@ -31,8 +33,13 @@ namespace warpfem::mapping {
 /// kernels loop over). Coordinates are stored normalized, (p − center) / scale
 /// with scale the bounding-box diagonal, which makes every tolerance relative.
 struct PolyhedronArrays {
-  std::vector<Real> x, y, z;  ///< normalized vertex coordinates
-  std::vector<int> a, b, c;   ///< vertex indices of each triangle (outward)
+  std::vector<Real> x, y, z;   ///< normalized vertex coordinates
+  std::vector<int> a, b, c;    ///< vertex indices of each triangle (outward)
+  std::vector<Real> two_area;  ///< |(p_b − p_a) × (p_c − p_a)| of each triangle (normalized)
+  /// Each edge once (edge_a < edge_b), and per triangle the indices of its edges
+  /// opposite a, b and c (3 per triangle): the kernels compute the angle terms
+  /// of an edge once for the two triangles that share it.
+  std::vector<int> edge_a, edge_b, triangle_edges;
   Point<3> center = Point<3>::Zero();
   Real scale = 1;
 

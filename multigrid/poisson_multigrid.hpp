@@ -51,6 +51,10 @@ struct MultigridTimings {
   double problems = 0;   ///< PoissonProblem construction on every level (DOF maps, WarpedGeometry)
   fem::PoissonSetupTimings problem_parts;  ///< `problems` split by part, summed over levels
   double finest_problem = 0;               ///< the finest level's share of `problems`
+  /// Process CPU seconds of the finest level's problem and assembly (what a
+  /// solver of the finest matrix alone needs; on a shared host the wall figures
+  /// above include waiting for a core).
+  double finest_cpu = 0;
   double assembly = 0;         ///< assembling every level (finest included; Galerkin: finest only)
   double finest_assembly = 0;  ///< the finest level's share of `assembly`
   double transfers = 0;        ///< prolongation matrices (smoothed: also their Galerkin operators)

@@ -2,13 +2,13 @@
 // batched kernel (one thread, two threads) against a straightforward scalar
 // implementation of the same formulas (per point, per triangle, std::atan2),
 // on a 96-triangle non-convex cage and random interior points. Rounds
-// alternate between the variants; medians are reported. One-thread kernel
-// rates and the machine limits are also taken in thread CPU time, which holds
-// on a loaded machine; everything else is wall time. Also: the share of
+// alternate between the variants; medians are reported. One-thread rates and
+// the machine limits are taken in thread CPU time, which holds on a loaded
+// machine; the one- against two-thread comparison needs wall time. Also: the share of
 // points the kernel hands to the robust path, VTK's
 // vtkMeanValueCoordinatesInterpolator (values only) as a peer, and divide/sqrt
-// and FMA throughput micro-benchmarks to relate the kernel's rate to the
-// machine's limits.
+// and vector floating-point throughput micro-benchmarks to relate the kernel's
+// rate to the machine's limits.
 //
 // Run (Release):  build/bench/mapping/bench_mean_value_3d [rounds]
 
@@ -184,24 +184,33 @@ struct VtkPeer {
   }
 };
 
-/// Independent fused multiply-adds (vectorized): the machine's rate for the
-/// arithmetic of the kernel (per core, FMA instructions on doubles per second).
-/// Compiled like the kernels (target clones), so it runs the same vector instructions.
-WARPFEM_KERNEL_CLONES double fma_rate() {
-  constexpr int L = 256, reps = 40000;
-  alignas(64) double a[L];
-  for (int i = 0; i < L; ++i) a[i] = 1.0 + i * 1e-6;
-  const double b = 0.999999, c = 1e-7;
+/// Eight doubles in one vector register (AVX-512; two or four registers on
+/// narrower clones).
+typedef double Lanes __attribute__((vector_size(64)));
+
+/// The machine's peak rate of vector floating-point instructions per core, as
+/// doubles per second: 8 independent FMA chains and 8 independent add chains in
+/// registers (so the FMA and the add pipes are all busy). Compiled like the
+/// kernels (target clones), so it runs the same vector width.
+WARPFEM_KERNEL_CLONES double fp_peak_rate() {
+  constexpr long reps = 20'000'000;
+  Lanes a[8], b[8];
+  for (int i = 0; i < 8; ++i)
+    for (int l = 0; l < 8; ++l) a[i][l] = 1.0 + 1e-3 * (i + l), b[i][l] = 2.0 + 1e-3 * (i + l);
+  const Lanes m = {0.999999, 0.999999, 0.999999, 0.999999, 0.999999, 0.999999, 0.999999, 0.999999};
+  const Lanes c = {1e-7, 1e-7, 1e-7, 1e-7, 1e-7, 1e-7, 1e-7, 1e-7};
+  Lanes a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3], a4 = a[4], a5 = a[5], a6 = a[6], a7 = a[7];
+  Lanes b0 = b[0], b1 = b[1], b2 = b[2], b3 = b[3], b4 = b[4], b5 = b[5], b6 = b[6], b7 = b[7];
   const double t0 = thread_seconds();
-  for (int r = 0; r < reps; ++r) {
-    WARPFEM_IVDEP
-    for (int i = 0; i < L; ++i) a[i] = a[i] * b + c;  // contracted to one FMA
+  for (long r = 0; r < reps; ++r) {
+    a0 = a0 * m + c, a1 = a1 * m + c, a2 = a2 * m + c, a3 = a3 * m + c;
+    a4 = a4 * m + c, a5 = a5 * m + c, a6 = a6 * m + c, a7 = a7 * m + c;
+    b0 = b0 + c, b1 = b1 + c, b2 = b2 + c, b3 = b3 + c, b4 = b4 + c, b5 = b5 + c, b6 = b6 + c, b7 = b7 + c;
   }
   const double t = thread_seconds() - t0;
-  double sink = 0;
-  for (double v : a) sink += v;
-  if (sink == 42) std::puts("");
-  return static_cast<double>(L) * reps / t;
+  const Lanes sum = a0 + a1 + a2 + a3 + a4 + a5 + a6 + a7 + b0 + b1 + b2 + b3 + b4 + b5 + b6 + b7;
+  if (sum[0] == 42) std::puts("");
+  return 16.0 * 8 * reps / t;
 }
 
 /// Independent vector divides and square roots: the machine's rate for the
@@ -233,11 +242,12 @@ int main(int argc, char** argv) {
               static_cast<long long>(P.vertex_count()), static_cast<long long>(P.triangle_count()),
               static_cast<long long>(kPoints), static_cast<long long>(kChunk));
 
-  // Points handed to the robust path by the kernel's flags.
+  // Points the kernel flags for the robust path, and points near the plane of
+  // a face (that face alone is added in the h-factored form).
   {
     wm::detail::PolyhedronScratch s;
-    s.resize(static_cast<int>(A.size()));
-    Index flagged = 0;
+    s.resize(static_cast<int>(A.size()), static_cast<int>(A.edge_a.size()));
+    Index flagged = 0, near_plane = 0;
     for (const auto& x : chunks)
       for (Index p0 = 0; p0 < x.rows(); p0 += wm::detail::kPolyhedronBlock) {
         const int cnt = static_cast<int>(std::min<Index>(wm::detail::kPolyhedronBlock, x.rows() - p0));
@@ -246,13 +256,13 @@ int main(int argc, char** argv) {
           s.py[p] = (x(p0 + p, 1) - A.center.y()) / A.scale;
           s.pz[p] = (x(p0 + p, 2) - A.center.z()) / A.scale;
         }
-        wm::detail::polyhedron_block<false>(A.x.data(), A.y.data(), A.z.data(), static_cast<int>(A.size()),
-                                            A.a.data(), A.b.data(), A.c.data(),
-                                            static_cast<int>(A.triangle_count()), cnt, s);
-        for (int p = 0; p < cnt; ++p) flagged += s.flag[p] != 0;
+        wm::detail::polyhedron_block<false>(A, cnt, s);
+        for (int p = 0; p < cnt; ++p)
+          flagged += s.flag[p] != 0, near_plane += s.flag[p] == 0 && s.plane[p] != 0;
       }
-    std::printf("robust path: %lld of %lld points (%.3f %%)\n", static_cast<long long>(flagged),
-                static_cast<long long>(kPoints), 100.0 * flagged / kPoints);
+    std::printf("robust path: %lld of %lld points (%.3f %%); near a face's plane: %lld (%.3f %%)\n",
+                static_cast<long long>(flagged), static_cast<long long>(kPoints), 100.0 * flagged / kPoints,
+                static_cast<long long>(near_plane), 100.0 * near_plane / kPoints);
   }
 
   MatrixX phi, dx, dy, dz, rphi, rdx, rdy, rdz;
@@ -277,23 +287,23 @@ int main(int argc, char** argv) {
     for (const auto& x : chunks) wm::mean_value_coordinates(A, x, phi, dx, dy, dz);
     t_fast1_wall.push_back(kPoints / seconds_since(t0));
     t_fast1.push_back(kPoints / (thread_seconds() - c0));
-    t0 = std::chrono::steady_clock::now();
+    const double timed_scalar = static_cast<double>((scalar_points + kChunk - 1) / kChunk * kChunk);
+    c0 = thread_seconds();
     for (Index made = 0, c = 0; made < scalar_points; made += chunks[c].rows(), ++c)
       scalar_reference(P, chunks[c], rphi, rdx, rdy, rdz);
-    t_scalar.push_back(static_cast<double>((scalar_points + kChunk - 1) / kChunk * kChunk) /
-                       seconds_since(t0));
+    t_scalar.push_back(timed_scalar / (thread_seconds() - c0));
     warpfem::set_thread_count(2);
     t0 = std::chrono::steady_clock::now();
     for (const auto& x : chunks) wm::mean_value_coordinates(A, x, phi, dx, dy, dz);
     t_fast2.push_back(kPoints / seconds_since(t0));
     warpfem::set_thread_count(1);
-    t0 = std::chrono::steady_clock::now();
+    c0 = thread_seconds();
     for (const auto& x : chunks) wm::mean_value_coordinates(A, x, phi);
-    t_values1.push_back(kPoints / seconds_since(t0));
-    t0 = std::chrono::steady_clock::now();
+    t_values1.push_back(kPoints / (thread_seconds() - c0));
+    c0 = thread_seconds();
     for (Index made = 0, c = 0; made < scalar_points; made += chunks[c].rows(), ++c)
       vtk.values(chunks[c], vphi);
-    t_vtk.push_back(static_cast<double>((scalar_points + kChunk - 1) / kChunk * kChunk) / seconds_since(t0));
+    t_vtk.push_back(timed_scalar / (thread_seconds() - c0));
   }
   const double m = static_cast<double>(P.triangle_count());
   const double f1 = median(t_fast1), f2 = median(t_fast2), sc = median(t_scalar), v1 = median(t_values1),
@@ -302,30 +312,37 @@ int main(int argc, char** argv) {
               f1 / 1e6, f1 * m);
   const double f1w = median(t_fast1_wall);
   std::printf("values + gradients, 1 thread : %8.3f M points/s in wall time\n", f1w / 1e6);
+  std::vector<double> ratio;
+  for (std::size_t r = 0; r < t_fast2.size(); ++r) ratio.push_back(t_fast2[r] / t_fast1_wall[r]);
   std::printf(
-      "values + gradients, 2 threads: %8.3f M points/s in wall time (x%.2f of 1 thread in wall time)\n",
-      f2 / 1e6, f2 / f1w);
-  std::printf("values only, 1 thread        : %8.3f M points/s\n", v1 / 1e6);
-  std::printf("scalar reference, 1 thread   : %8.3f M points/s (vectorized is x%.1f, both in wall time)\n",
-              sc / 1e6, f1w / sc);
-  std::printf("VTK values only, 1 thread    : %8.3f M points/s (vectorized values only is x%.1f)\n", vt / 1e6,
-              v1 / vt);
+      "values + gradients, 2 threads: %8.3f M points/s in wall time (x%.2f of 1 thread in wall time, median "
+      "of the per-round ratios)\n",
+      f2 / 1e6, median(ratio));
+  std::printf("values only, 1 thread        : %8.3f M points/s in thread CPU time\n", v1 / 1e6);
+  std::printf("scalar reference, 1 thread   : %8.3f M points/s in thread CPU time (vectorized is x%.1f)\n",
+              sc / 1e6, f1 / sc);
+  std::printf(
+      "VTK values only, 1 thread    : %8.3f M points/s in thread CPU time (vectorized values only is "
+      "x%.1f)\n",
+      vt / 1e6, v1 / vt);
+  // Per point: each edge (E of them) takes 1 sqrt and 1 divide, each triangle
+  // 1 divide, each vertex 1 sqrt and 1 divide.
+  const double edges = static_cast<double>(A.edge_a.size()), verts = static_cast<double>(P.vertex_count());
   const double rate = divide_sqrt_rate();
-  // Per point and triangle the kernel takes 3 sqrt and 4 divides, plus 1 sqrt
-  // and 1 divide per vertex (n / m per triangle).
-  const double ops = 7 + 2.0 * static_cast<double>(P.vertex_count()) / m;
+  const double ops = (2 * edges + m + 2 * verts) / m;
   std::printf(
-      "divide+sqrt throughput: %.3g /s per core; kernel needs %.1f per point-triangle -> bound %.3f M "
+      "divide+sqrt throughput: %.3g /s per core; kernel needs %.2f per point-triangle -> bound %.3f M "
       "points/s, reached %.0f %%\n",
       rate, ops, rate / ops / m / 1e6, 100 * f1 * m * ops / rate);
-  // Arithmetic instructions per point-triangle with gradients, counted by hand in
-  // the kernel's source (an FMA, add, multiply, min, compare or select is one):
-  // about 83 for each of the three edges and 150 to combine them.
-  const double arith = 150 + 3 * 83;
-  const double fma = fma_rate();
+  // Vector floating-point instructions (FMA, multiply, add, compare, select,
+  // divide, sqrt) per 8 points, counted in the x86-64-v4 build of the kernel
+  // (GCC 12): 78 per edge, 148 per triangle, 9 per vertex; as doubles per
+  // point-triangle that is (78 E + 148 m + 9 n) / m.
+  const double arith = (78 * edges + 148 * m + 9 * verts) / m;
+  const double peak = fp_peak_rate();
   std::printf(
-      "FMA throughput: %.3g /s per core; kernel needs ~%.0f arithmetic instructions per point-triangle -> "
+      "FP peak (FMA + add pipes): %.3g doubles/s per core; kernel needs ~%.0f per point-triangle -> "
       "bound %.3f M points/s, reached %.0f %%\n",
-      fma, arith, fma / arith / m / 1e6, 100 * f1 * m * arith / fma);
+      peak, arith, peak / arith / m / 1e6, 100 * f1 * m * arith / peak);
   std::printf("(medians of %d alternated rounds)\n", rounds);
 }

@@ -254,6 +254,10 @@ void DofDistribution<dim>::pattern(const Mesh<dim>& mesh, const DofMap<dim>& dof
   slot[0] = 0;
   const std::vector<std::array<Index, 2>> every_cell{{0, nc}};
   const auto& scanned = candidate_cells_.empty() ? every_cell : candidate_cells_;
+  if constexpr (dim == 3) {
+    pattern_by_row_cells(dofs, scanned, row_ptr, cols, off_row_ptr, off_cols);
+    return;
+  }
   for (const auto& [first, last] : scanned)
     for (Index c = first; c < last; ++c)
       for (Index k = 0; k < nloc; ++k)
@@ -369,6 +373,102 @@ void DofDistribution<dim>::pattern(const Mesh<dim>& mesh, const DofMap<dim>& dof
         PetscInt* out_off = off_cols->data() + orp[r];
         std::copy(row, row + lo, out_off);
         std::copy(row + lo + own, row + lo + own + (off - lo), out_off + lo);
+      }
+  });
+}
+
+template <int dim>
+void DofDistribution<dim>::pattern_by_row_cells(const DofMap<dim>& dofs,
+                                                const std::vector<std::array<Index, 2>>& scanned,
+                                                std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& cols,
+                                                std::vector<PetscInt>* off_row_ptr,
+                                                std::vector<PetscInt>* off_cols) const {
+  const bool split = off_row_ptr != nullptr;
+  const IndexTable& cd = dofs.cell_dofs();
+  const int nloc = static_cast<int>(cd.cols());
+  const PetscInt rows = num_owned();
+  const auto owned_row = [&](Index d) {
+    return owner_[d] == rank_ ? global_[d] - owned_begin_ : PetscInt{-1};
+  };
+  // 1. The cells of every owned row (compressed rows of cell indices).
+  std::vector<PetscInt> cell_start(static_cast<std::size_t>(rows) + 1, 0);
+  for (const auto& [first, last] : scanned)
+    for (Index c = first; c < last; ++c)
+      for (int k = 0; k < nloc; ++k)
+        if (const PetscInt r = owned_row(cd(c, k)); r >= 0) ++cell_start[static_cast<std::size_t>(r) + 1];
+  for (PetscInt r = 0; r < rows; ++r) cell_start[r + 1] += cell_start[r];
+  std::vector<TableIndex> row_cells;
+  resize_prefaulted(row_cells, static_cast<std::size_t>(cell_start[rows]));
+  {
+    std::vector<PetscInt> next(cell_start.begin(), cell_start.end() - 1);
+    for (const auto& [first, last] : scanned)
+      for (Index c = first; c < last; ++c)
+        for (int k = 0; k < nloc; ++k)
+          if (const PetscInt r = owned_row(cd(c, k)); r >= 0)
+            row_cells[next[r]++] = static_cast<TableIndex>(c);
+  }
+  // 2. Every row merges its cells' DOFs twice, duplicates dropped by a mark
+  // per column (the row that last took it): once to count its columns (own
+  // and other ranks'), once to write them; then sorted. Blocks of rows on
+  // the threads, one set of marks each.
+  const Index blocks = std::max<Index>(1, std::min<Index>(thread_count(), rows / 4096));
+  const auto row_range = [&](Index blk) {
+    return std::array<PetscInt, 2>{static_cast<PetscInt>(rows * blk / blocks),
+                                   static_cast<PetscInt>(rows * (blk + 1) / blocks)};
+  };
+  // Calls take(global column) for each distinct column of row r, its diagonal first.
+  const auto merge_row = [&](PetscInt r, std::vector<PetscInt>& mark, auto&& take) {
+    const PetscInt diagonal = owned_begin_ + r;
+    mark[static_cast<std::size_t>(diagonal)] = r;
+    take(diagonal);
+    for (PetscInt m = cell_start[r]; m < cell_start[r + 1]; ++m) {
+      const TableIndex* d = &cd(row_cells[static_cast<std::size_t>(m)], 0);
+      for (int j = 0; j < nloc; ++j)
+        if (const PetscInt g = global_[d[j]]; mark[static_cast<std::size_t>(g)] != r) {
+          mark[static_cast<std::size_t>(g)] = r;
+          take(g);
+        }
+    }
+  };
+  const auto own = [&](PetscInt g) { return g >= owned_begin_ && g < owned_end_; };
+  row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
+  if (split) off_row_ptr->assign(static_cast<std::size_t>(rows) + 1, 0);
+  parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
+    std::vector<PetscInt> mark(static_cast<std::size_t>(num_global_), -1);
+    for (Index blk = first_block; blk < last_block; ++blk)
+      for (auto [r, end] = row_range(blk); r < end; ++r) {
+        PetscInt in = 0, off = 0;
+        merge_row(r, mark, [&](PetscInt g) { ++(!split || own(g) ? in : off); });
+        row_ptr[static_cast<std::size_t>(r) + 1] = in;
+        if (split) (*off_row_ptr)[static_cast<std::size_t>(r) + 1] = off;
+      }
+  });
+  for (PetscInt r = 0; r < rows; ++r) row_ptr[r + 1] += row_ptr[r];
+  resize_prefaulted(cols, static_cast<std::size_t>(row_ptr[rows]));
+  if (split) {
+    std::vector<PetscInt>& orp = *off_row_ptr;
+    for (PetscInt r = 0; r < rows; ++r) orp[r + 1] += orp[r];
+    off_cols->resize(static_cast<std::size_t>(orp[rows]));
+  }
+  parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
+    std::vector<PetscInt> mark(static_cast<std::size_t>(num_global_), -1);
+    for (Index blk = first_block; blk < last_block; ++blk)
+      for (auto [r, end] = row_range(blk); r < end; ++r) {
+        PetscInt* const in_begin = cols.data() + row_ptr[r];
+        PetscInt* in = in_begin;
+        PetscInt* const off_begin = split ? off_cols->data() + (*off_row_ptr)[r] : nullptr;
+        PetscInt* off = off_begin;
+        // Own columns local when split, global otherwise; other ranks' global.
+        merge_row(r, mark, [&](PetscInt g) {
+          if (!split)
+            *in++ = g;
+          else if (own(g))
+            *in++ = g - owned_begin_;
+          else
+            *off++ = g;
+        });
+        std::sort(in_begin, in);
+        if (split) std::sort(off_begin, off);
       }
   });
 }

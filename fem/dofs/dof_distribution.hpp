@@ -102,6 +102,11 @@ class DofDistribution {
   void pattern(const Mesh<dim>& mesh, const DofMap<dim>& dofs, std::vector<PetscInt>& row_ptr,
                std::vector<PetscInt>& cols, std::vector<PetscInt>* off_row_ptr,
                std::vector<PetscInt>* off_cols) const;
+  /// pattern() in 3D: from the cells of each row rather than a buffer of
+  /// candidate columns (3D rows take many more: cells per DOF × DOFs per cell).
+  void pattern_by_row_cells(const DofMap<dim>& dofs, const std::vector<std::array<Index, 2>>& scanned,
+                            std::vector<PetscInt>& row_ptr, std::vector<PetscInt>& cols,
+                            std::vector<PetscInt>* off_row_ptr, std::vector<PetscInt>* off_cols) const;
   /// Owners of the DOFs by a pass over the cells (the first cell containing a DOF decides).
   template <class CellOwner>
   void own_by_cells(const Mesh<dim>& mesh, const DofMap<dim>& dofs, const CellOwner& cell_owner);

@@ -8,6 +8,7 @@
 
 #include "core/cofactor.hpp"
 #include "core/error.hpp"
+#include "core/prefault.hpp"
 #include "core/threads.hpp"
 #include "fem/geometry/simple_cell_geometry.hpp"
 
@@ -44,6 +45,10 @@ WarpedGeometry<dim>::WarpedGeometry(const Mesh<dim>& mesh, std::span<const Index
   x_.resize(n, dim);
   JinvT_.resize(n, dim * dim);
   JxW_.resize(n);
+  // The largest fresh arrays of a problem: backed in one call each, not page by page.
+  prefault(x_.data(), static_cast<std::size_t>(x_.size()) * sizeof(double));
+  prefault(JinvT_.data(), static_cast<std::size_t>(JinvT_.size()) * sizeof(double));
+  prefault(JxW_.data(), static_cast<std::size_t>(JxW_.size()) * sizeof(double));
 
   // Whole cells per chunk; the chunks are spread over the threads (the map's own
   // threading then runs serially inside each), each with its own temporaries.

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstring>
 #include <functional>
+#include <numeric>
 #include <string>
 #include <unordered_map>
 
@@ -91,6 +92,123 @@ std::vector<Region> split(const Region& r, CellType type) {
   for (std::size_t k = 0; k < 4; ++k)
     out.push_back({c, {v[k], mid(v[k], v[(k + 1) % 4]), centre, mid(v[(k + 3) % 4], v[k])}});
   return out;
+}
+
+// Cells whose curved geometry still folds — at a vertex where f is not
+// differentiable the quadratic interpolant of f folds at any subdivision
+// depth — get their non-vertex nodes pulled toward the straight cell spanned by
+// their mapped vertices: x = c + t (f(x0) − c), with c the node's place on that
+// straight cell and t halved, down to 0, until no cell holding a pulled node
+// folds. Shared nodes move for every cell that holds them, so no crack opens;
+// the field values stay those at x0.
+template <int dim, class Tangled>
+void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int nvert, const Tangled& tangled,
+                             std::vector<Index> folded) {
+  const Index ncells = out.cells.rows(), nloc = out.cells.cols(), npoints = out.points.rows();
+  const auto row = [&](Index c) {
+    std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+    for (Index k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(c, k);
+    return nodes;
+  };
+  std::vector<Index> work = std::move(folded);
+  std::vector<char> folded_before(static_cast<std::size_t>(ncells), 0);
+  for (const Index c : work) folded_before[static_cast<std::size_t>(c)] = 1;
+  out.num_tangled_cells = static_cast<Index>(work.size());
+  if (work.empty()) return;
+  // The cells of every node (compressed rows).
+  std::vector<Index> start(static_cast<std::size_t>(npoints) + 1, 0);
+  for (Index c = 0; c < ncells; ++c)
+    for (Index k = 0; k < nloc; ++k) ++start[static_cast<std::size_t>(out.cells(c, k)) + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<Index> holders(static_cast<std::size_t>(start.back()));
+  {
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    for (Index c = 0; c < ncells; ++c)
+      for (Index k = 0; k < nloc; ++k)
+        holders[static_cast<std::size_t>(fill[static_cast<std::size_t>(out.cells(c, k))]++)] = c;
+  }
+  const Points<dim> curved = out.points;
+  std::vector<double> t(static_cast<std::size_t>(npoints), 1.0);
+  std::unordered_map<Index, Point<dim>> straight;  // node -> its place on the straight cell
+  std::vector<char> straightened(static_cast<std::size_t>(ncells), 0),
+      seen(static_cast<std::size_t>(ncells), 0);
+  constexpr std::array<double, 4> pull = {0.5, 0.25, 0.125, 0.0};
+  for (std::size_t round = 0; round < pull.size() && !work.empty(); ++round) {
+    std::vector<Index> moved;
+    for (const Index c : work) {
+      straightened[static_cast<std::size_t>(c)] = 1;
+      for (Index k = nvert; k < nloc; ++k) {
+        const Index node = out.cells(c, k);
+        auto [it, inserted] = straight.try_emplace(node, Point<dim>::Zero());
+        if (inserted)
+          for (int v = 0; v < nvert; ++v)
+            it->second += geometry(k, v) * curved.row(out.cells(c, v)).transpose();
+        if (t[static_cast<std::size_t>(node)] > pull[round]) {
+          t[static_cast<std::size_t>(node)] = pull[round];
+          out.points.row(node) =
+              (it->second + pull[round] * (curved.row(node).transpose() - it->second)).transpose();
+          moved.push_back(node);
+        }
+      }
+    }
+    std::vector<Index> next;
+    std::fill(seen.begin(), seen.end(), 0);
+    for (const Index node : moved)
+      for (Index j = start[static_cast<std::size_t>(node)]; j < start[static_cast<std::size_t>(node) + 1];
+           ++j) {
+        const Index c = holders[static_cast<std::size_t>(j)];
+        if (!seen[static_cast<std::size_t>(c)]) {
+          seen[static_cast<std::size_t>(c)] = 1;
+          if (tangled(row(c))) next.push_back(c);
+        }
+      }
+    work = std::move(next);
+  }
+
+  // Where f bends too strongly at the cells' scale, straight cells fold too and
+  // the pulls can leave more folded cells than they found: those are undone.
+  // Cells sharing a pulled node form one group and are decided together (a
+  // group holds every cell of its pulled nodes, so groups are independent).
+  std::vector<Index> group(static_cast<std::size_t>(ncells));
+  std::iota(group.begin(), group.end(), Index{0});
+  const auto root = [&](Index c) {
+    while (group[static_cast<std::size_t>(c)] != c)
+      c = group[static_cast<std::size_t>(c)] =
+          group[static_cast<std::size_t>(group[static_cast<std::size_t>(c)])];
+    return c;
+  };
+  const auto pulled = [&](Index node) { return t[static_cast<std::size_t>(node)] < 1; };
+  for (Index node = 0; node < npoints; ++node) {
+    if (!pulled(node)) continue;
+    const Index first = root(holders[static_cast<std::size_t>(start[static_cast<std::size_t>(node)])]);
+    for (Index j = start[static_cast<std::size_t>(node)] + 1; j < start[static_cast<std::size_t>(node) + 1];
+         ++j)
+      if (const Index r = root(holders[static_cast<std::size_t>(j)]); r != first)
+        group[static_cast<std::size_t>(r)] = first;
+  }
+  std::vector<Index> before(static_cast<std::size_t>(ncells), 0), after(static_cast<std::size_t>(ncells), 0);
+  std::vector<char> folded_after(folded_before);
+  for (Index c = 0; c < ncells; ++c) {
+    bool touched = false;
+    for (Index k = nvert; k < nloc && !touched; ++k) touched = pulled(out.cells(c, k));
+    if (touched) folded_after[static_cast<std::size_t>(c)] = tangled(row(c)) ? 1 : 0;
+    before[static_cast<std::size_t>(root(c))] += folded_before[static_cast<std::size_t>(c)];
+    after[static_cast<std::size_t>(root(c))] += folded_after[static_cast<std::size_t>(c)];
+  }
+  const auto undone = [&](Index c) {
+    const Index r = root(c);
+    return after[static_cast<std::size_t>(r)] >= before[static_cast<std::size_t>(r)];
+  };
+  for (Index node = 0; node < npoints; ++node)
+    if (pulled(node) && undone(holders[static_cast<std::size_t>(start[static_cast<std::size_t>(node)])]))
+      out.points.row(node) = curved.row(node);
+  out.num_straightened_cells = 0;
+  out.num_tangled_cells = 0;
+  for (Index c = 0; c < ncells; ++c) {
+    const bool keep = !undone(c);
+    out.num_straightened_cells += keep && straightened[static_cast<std::size_t>(c)] ? 1 : 0;
+    out.num_tangled_cells += (keep ? folded_after : folded_before)[static_cast<std::size_t>(c)];
+  }
 }
 
 }  // namespace
@@ -182,11 +300,12 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
   // replaced by four children whose nodes are again placed by f, recursively.
   const Points<dim> check = jacobian_check_points(element);
   const auto check_gradients = element.gradients(check);
-  const auto tangled = [&](const std::vector<Index>& nodes) {
+  // True if the cell whose k-th node lies at node_position(k) folds somewhere.
+  const auto folds = [&](const auto& node_position) {
     for (Index p = 0; p < check.rows(); ++p) {
       Eigen::Matrix<double, dim, dim> J = Eigen::Matrix<double, dim, dim>::Zero();
       for (int k = 0; k < nloc; ++k) {
-        const Point<dim> x = out.points.row(nodes[static_cast<std::size_t>(k)]).transpose();
+        const Point<dim> x = node_position(k);
         for (int d = 0; d < dim; ++d) J.col(d) += check_gradients[static_cast<std::size_t>(d)](p, k) * x;
       }
       if constexpr (dim == 2) {
@@ -197,13 +316,17 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     }
     return false;
   };
+  const auto tangled = [&](const std::vector<Index>& nodes) {
+    return folds(
+        [&](int k) -> Point<dim> { return out.points.row(nodes[static_cast<std::size_t>(k)]).transpose(); });
+  };
+  std::vector<Index> folded;  // output cells still folded
   if constexpr (dim == 3) {
-    for (Index i = 0; i < out.cells.rows(); ++i) {
+    for (Index c = 0; c < out.cells.rows(); ++c) {
       std::vector<Index> nodes(static_cast<std::size_t>(nloc));
-      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(i, k);
-      if (tangled(nodes)) ++out.num_tangled_cells;
+      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(c, k);
+      if (tangled(nodes)) folded.push_back(c);
     }
-    return out;
   } else {
     std::vector<std::vector<Index>> kept;
     std::vector<Index> kept_ids, kept_sources;
@@ -226,17 +349,61 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     }
     std::unordered_map<XiKey, Index, XiKeyHash> by_xi;
     std::vector<char> subdivided(cells.size(), 0);
-    constexpr int max_depth = 4;
-    for (int depth = 1; depth <= max_depth && !pending.empty(); ++depth) {
-      // Nodes of the regions being split are reused by the children they touch.
+    const auto node_xi = [&](const Region& region, int k) {
+      Point<2> xi = Point<2>::Zero();
+      for (int v = 0; v < nvert; ++v) xi += geometry(k, v) * region.xi[static_cast<std::size_t>(v)];
+      return xi;
+    };
+    // Nodes of the regions being split are reused by the children they touch.
+    const auto remember_pending = [&] {
       for (std::size_t r = 0; r < pending.size(); ++r) {
         subdivided[static_cast<std::size_t>(pending[r].cell_index)] = 1;
-        for (int k = 0; k < nloc; ++k) {
-          Point<2> xi = Point<2>::Zero();
-          for (int v = 0; v < nvert; ++v) xi += geometry(k, v) * pending[r].xi[static_cast<std::size_t>(v)];
-          by_xi.try_emplace(xi_key(pending[r].cell_index, xi), pending_nodes[r][static_cast<std::size_t>(k)]);
-        }
+        for (int k = 0; k < nloc; ++k)
+          by_xi.try_emplace(xi_key(pending[r].cell_index, node_xi(pending[r], k)),
+                            pending_nodes[r][static_cast<std::size_t>(k)]);
       }
+    };
+    // New nodes (mesh cell, reference point): Ω0 positions by the mesh cell's
+    // straight geometry, Ω1 positions and det J_f by f.
+    struct Placed {
+      Points<2> x0, x1;
+      VectorX det;
+    };
+    const auto place = [&](const std::vector<std::pair<Index, Point<2>>>& sources) {
+      const Index added = static_cast<Index>(sources.size());
+      Points<2> xi(added, 2);
+      for (Index j = 0; j < added; ++j) xi.row(j) = sources[static_cast<std::size_t>(j)].second.transpose();
+      const MatrixX weights = linear.values(xi);
+      Placed placed;
+      placed.x0.resize(added, 2);
+      for (Index j = 0; j < added; ++j) {
+        const Index c = cells[static_cast<std::size_t>(sources[static_cast<std::size_t>(j)].first)];
+        Point<2> x = Point<2>::Zero();
+        for (int v = 0; v < nvert; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(c, v));
+        placed.x0.row(j) = x.transpose();
+      }
+      placed.x1 = warp_nodes(map, placed.x0, &placed.det);
+      return placed;
+    };
+    const auto append = [&](const std::vector<std::pair<Index, Point<2>>>& sources, const Placed& placed) {
+      const Index old_count = out.points.rows(), added = placed.x0.rows();
+      out.reference_points.conservativeResize(old_count + added, 2);
+      out.points.conservativeResize(old_count + added, 2);
+      out.map_det.conservativeResize(old_count + added);
+      out.reference_points.bottomRows(added) = placed.x0;
+      out.points.bottomRows(added) = placed.x1;
+      out.map_det.tail(added) = placed.det;
+      for (const auto& source : sources)
+        out.node_source_.push_back({cells[static_cast<std::size_t>(source.first)], source.second});
+    };
+    const auto keep = [&](const Region& region, std::vector<Index> nodes) {
+      kept.push_back(std::move(nodes));
+      kept_ids.push_back(cells[static_cast<std::size_t>(region.cell_index)]);
+      kept_sources.push_back(region.cell_index);
+    };
+    constexpr int max_depth = 4;
+    for (int depth = 1; depth <= max_depth && !pending.empty(); ++depth) {
+      remember_pending();
       std::vector<Region> next;
       std::vector<std::vector<Index>> next_nodes;
       std::vector<std::pair<Index, Point<2>>> new_sources;
@@ -244,8 +411,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
         for (const Region& child : split(pending[r], mesh.cell_type)) {
           std::vector<Index> nodes(static_cast<std::size_t>(nloc));
           for (int k = 0; k < nloc; ++k) {
-            Point<2> xi = Point<2>::Zero();
-            for (int v = 0; v < nvert; ++v) xi += geometry(k, v) * child.xi[static_cast<std::size_t>(v)];
+            const Point<2> xi = node_xi(child, k);
             const auto [it, inserted] = by_xi.try_emplace(
                 xi_key(child.cell_index, xi), out.points.rows() + static_cast<Index>(new_sources.size()));
             if (inserted) new_sources.emplace_back(child.cell_index, xi);
@@ -254,42 +420,21 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
           next.push_back(child);
           next_nodes.push_back(std::move(nodes));
         }
-      // Place the new nodes: Ω0 positions by the mesh cell's straight geometry, Ω1 by f.
-      const Index old_count = out.points.rows(), added = static_cast<Index>(new_sources.size());
-      Points<2> xi(added, 2);
-      for (Index j = 0; j < added; ++j)
-        xi.row(j) = new_sources[static_cast<std::size_t>(j)].second.transpose();
-      const MatrixX weights = linear.values(xi);
-      Points<2> x0(added, 2);
-      for (Index j = 0; j < added; ++j) {
-        const Index c = cells[static_cast<std::size_t>(new_sources[static_cast<std::size_t>(j)].first)];
-        Point<2> x = Point<2>::Zero();
-        for (int v = 0; v < nvert; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(c, v));
-        x0.row(j) = x.transpose();
-      }
-      VectorX det;
-      const Points<2> x1 = warp_nodes(map, x0, &det);
-      out.reference_points.conservativeResize(old_count + added, 2);
-      out.points.conservativeResize(old_count + added, 2);
-      out.map_det.conservativeResize(old_count + added);
-      out.reference_points.bottomRows(added) = x0;
-      out.points.bottomRows(added) = x1;
-      out.map_det.tail(added) = det;
-      for (const auto& s : new_sources)
-        out.node_source_.push_back({cells[static_cast<std::size_t>(s.first)], s.second});
+      append(new_sources, place(new_sources));
       pending.clear();
       pending_nodes.clear();
       for (std::size_t r = 0; r < next.size(); ++r) {
-        if (depth < max_depth && tangled(next_nodes[r])) {
+        if (tangled(next_nodes[r])) {
           pending.push_back(next[r]);
           pending_nodes.push_back(std::move(next_nodes[r]));
         } else {
-          if (tangled(next_nodes[r])) ++out.num_tangled_cells;
-          kept.push_back(std::move(next_nodes[r]));
-          kept_ids.push_back(cells[static_cast<std::size_t>(next[r].cell_index)]);
-          kept_sources.push_back(next[r].cell_index);
+          keep(next[r], std::move(next_nodes[r]));
         }
       }
+    }
+    for (std::size_t r = 0; r < pending.size(); ++r) {
+      folded.push_back(static_cast<Index>(kept.size()));
+      keep(pending[r], std::move(pending_nodes[r]));
     }
     out.num_subdivided_cells = static_cast<Index>(std::count(subdivided.begin(), subdivided.end(), 1));
     if (out.num_subdivided_cells > 0) {
@@ -300,21 +445,27 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       out.cell_ids = std::move(kept_ids);
       out.source_cells = std::move(kept_sources);
     }
-    return out;
   }
+  straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded));
+  return out;
 }
 
 template <int dim>
 void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out) {
-  long long counts[3] = {out.num_mesh_cells, out.num_subdivided_cells, out.num_tangled_cells};
-  MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_LONG_LONG, MPI_SUM, comm);
+  long long counts[4] = {out.num_mesh_cells, out.num_subdivided_cells, out.num_straightened_cells,
+                         out.num_tangled_cells};
+  MPI_Allreduce(MPI_IN_PLACE, counts, 4, MPI_LONG_LONG, MPI_SUM, comm);
   if (counts[1] > 0)
     log::info("output: ", counts[1], " of ", counts[0],
               " cells subdivided to keep them untangled (their curved geometry folded)");
   if (counts[2] > 0)
-    log::warning("output: ", counts[2],
-                 " written cells still fold after four subdivisions and are drawn folded; the solution is "
-                 "unaffected (f is strongly anisotropic there; a finer mesh or another map helps)");
+    log::info("output: ", counts[2],
+              " written cells drawn less curved (nodes pulled toward the straight cell) where f is not "
+              "smooth enough for curved cells to follow it; the solution is unaffected");
+  if (counts[3] > 0)
+    log::warning("output: ", counts[3],
+                 " written cells still fold and are drawn folded; the solution is unaffected (f is "
+                 "strongly anisotropic there; a finer mesh or another map helps)");
 }
 
 template <int dim>

@@ -24,9 +24,9 @@ struct OutputMesh {
   std::vector<Index> cell_ids;      ///< mesh cell id of every output cell
   std::vector<Index> source_cells;  ///< index into the local cells of every output cell
   /// Mesh cells whose curved geometry folded and were written as smaller
-  /// curved cells (2D), and output cells still folded (at the depth limit in
-  /// 2D; every folded cell in 3D, where cells are not subdivided).
-  Index num_mesh_cells = 0, num_subdivided_cells = 0, num_tangled_cells = 0;
+  /// curved cells (2D); output cells whose nodes were pulled toward their
+  /// straight cell because they still folded; output cells written folded.
+  Index num_mesh_cells = 0, num_subdivided_cells = 0, num_straightened_cells = 0, num_tangled_cells = 0;
 
   /// A per-local-cell field spread onto the output cells (pieces of a
   /// subdivided cell get their cell's value).
@@ -52,8 +52,11 @@ struct OutputMesh {
 /// max(element order, 1 if f is affine else 2). A 2D cell whose curved
 /// geometry would fold (det of its geometric Jacobian ≤ 0 at a node or on a
 /// lattice of its reference cell) is split into four, recursively up to four
-/// times, with every node placed by f; a folded 3D cell is written as it is
-/// and counted in num_tangled_cells.
+/// times, with every node placed by f. A cell that still folds (2D at the
+/// depth limit, 3D at once) has its non-vertex nodes pulled toward the straight
+/// cell of its mapped vertices until it does not, unless that leaves more
+/// folded cells around it than before; what still folds is counted in
+/// num_tangled_cells.
 template <int dim>
 OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
                                  const mapping::Map<dim>& map, int order);

@@ -1,30 +1,35 @@
 #pragma once
 // Internal: the vectorized kernel of polyhedron_mean_value_coordinates.cpp.
 //
-// For a block of up to kPolyhedronBlock points (normalized coordinates) it first
-// forms, per vertex and point, s = p − x, r = |s| and 1/r², then walks over the
-// triangles. Per triangle (edges e = 1, 2, 3 opposite vertices 1, 2, 3, i.e.
+// For a block of up to kPolyhedronBlock points (normalized coordinates) it
+// forms, per vertex and point, s = p − x, r = |s| and 1/r²; per edge (a, b)
+// and point, once for the two triangles that share it,
+//   L_e = |s_a × s_b|,  c_e = s_a · s_b,  β_e = angle(s_a, s_b) through atan of
+//   the half angle,  k_e = β_e / (2 L_e),  1/L_e;
+// then per triangle (edges e = 1, 2, 3 opposite vertices 1, 2, 3, i.e.
 // N_1 = s_2 × s_3, ...) and point:
-//   L_e = |N_e|,  β_e = angle(s_a, s_b) through atan of the half angle,
-//   k_e = β_e / (2 L_e),  m = Σ k_e N_e,  D = s_1 · N_1,
-//   w_i = m · N_i / D,
-// and, with d_e = p_a − p_b (so ∇(N_e · v) = d_e × v), K = Σ k_e d_e,
-// M = Σ N_e = (p_2 − p_1) × (p_3 − p_1) (∇D = −M) and q = s / r²,
-//   ∇k_e = N_e × (q_a − q_b + 2 k_e d_e) / (2 L_e²),
-//   ∇w_i = (Σ_e (N_e · N_i) ∇k_e + K × N_i + d_i × m + w_i M) / D.
+//   m = Σ k_e N_e,  D = s_1 · N_1,  w_i = m · N_i / D.
+// Since w = S⁻¹ m with S = (s_1 s_2 s_3), the gradient is
+//   ∂_j w_i = N_i · (∂_j m + W e_j) / D,  W = Σ_i w_i,
+//   ∂_j m = Σ_e ∂_j k_e N_e + e_j × K,  K = Σ_e k_e (s_a − s_b),
+//   ∇k_e = N_e × (s_a / r_a² − s_b / r_b² + 2 k_e (s_a − s_b)) / (2 L_e²).
 // The loops over points are branch-free (selects), so the compiler vectorizes
 // them; atan is Cephes' rational approximation (relative error ~1e-17 on
 // [0, 0.66]) behind a half-angle reduction, since libm's atan does not vectorize;
 // its division shares one reciprocal with 1/L_e.
 //
 // Points where this loses accuracy are flagged for the robust path: within
-// kNearVertex of a vertex, |h| < kNearPlane · min_a r_a for a triangle's plane
-// (h = D / |M|), or sin β_e < kNearLine for an edge's line.
+// kNearVertex of a vertex, or sin β_e < kNearLine for an edge's line. A
+// triangle whose plane passes within kNearPlane · min_a r_a of x (h = D / |M|)
+// is left out and recorded; the caller adds its contribution in the h-factored
+// form (or takes the robust path when x is near several such planes or near
+// the surface).
 
 #include <cmath>
 #include <vector>
 
 #include "mapping/detail/mean_value_kernel.hpp"
+#include "mapping/polyhedron_mean_value_coordinates.hpp"
 
 namespace warpfem::mapping::detail {
 
@@ -57,26 +62,59 @@ WARPFEM_KERNEL_INLINE void atan_fraction(double n, double d, double& numer, doub
 }
 
 /// Per-thread scratch: per vertex and point s, r, 1/r² and the accumulated
-/// weights and gradients (vertex-major rows of kPolyhedronBlock).
+/// weights and gradients, per edge and point k_e and ∇k_e (rows of
+/// kPolyhedronBlock).
 struct PolyhedronScratch {
-  std::vector<double> sx, sy, sz, r, ir2, w, wx, wy, wz;
+  std::vector<double> sx, sy, sz, r, ir2, w, wx, wy, wz, ek, ekx, eky, ekz;
   alignas(64) double px[kPolyhedronBlock], py[kPolyhedronBlock], pz[kPolyhedronBlock];
   alignas(64) double flag[kPolyhedronBlock];
-  void resize(int n) {
+  /// Faces whose plane passes near the point, left out: how many, and the sum of their indices.
+  alignas(64) double plane[kPolyhedronBlock], plane_face[kPolyhedronBlock];
+  void resize(int n, int edges) {
     const std::size_t m = static_cast<std::size_t>(n) * kPolyhedronBlock;
     for (auto* v : {&sx, &sy, &sz, &r, &ir2, &w, &wx, &wy, &wz}) v->assign(m, 0.0);
+    const std::size_t me = static_cast<std::size_t>(edges) * kPolyhedronBlock;
+    for (auto* v : {&ek, &ekx, &eky, &ekz}) v->assign(me, 0.0);
   }
 };
+
+/// k = β / (2 L) and 1/L for an edge with L = |s_a × s_b|, c = s_a · s_b and
+/// rr = r_a r_b. tan(β/2) = L / (rr + c) = (rr − c) / L: the form whose value
+/// is <= 1 is atan(L / den) with den = rr + |c|; above 0.66 it is reduced by
+/// π/4, atan(z) = π/4 + atan((z − 1) / (z + 1)). One division gives both that
+/// argument and 1/L.
+WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& iL) {
+  const double den = rr + std::abs(c);
+  // 1 or 0 as a number: a boolean used three times makes GCC branch and not vectorize.
+  const double big = L > 0.66 * den ? 1.0 : 0.0;
+  const double num_y = L - big * den;
+  const double den_y = den + big * L;
+  double R, Q;
+  atan_fraction(num_y, den_y, R, Q);
+  const double f = 1.0 / (L * den_y * Q);
+  iL = den_y * Q * f;
+  const double a = big * 0.78539816339744830962 + num_y * R * L * f;
+  return (c >= 0.0 ? a : 1.57079632679489661923 - a) * iL;
+}
 
 /// Accumulates the weights (and gradients) of `cnt` points (normalized, in
 /// s.px/py/pz) into s.w (s.wx, wy, wz), and sets s.flag[p] for points that need
 /// the robust path.
 template <bool kGrad>
-WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, const double* vz, int n,
-                                            const int* ta, const int* tb, const int* tc, int m, int cnt,
-                                            PolyhedronScratch& s) {
+WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, PolyhedronScratch& s) {
+  const double *vx = P.x.data(), *vy = P.y.data(), *vz = P.z.data();
+  const int *ta = P.a.data(), *tb = P.b.data(), *tc = P.c.data(), *ea = P.edge_a.data(),
+            *eb = P.edge_b.data(), *te = P.triangle_edges.data();
+  const double* two_area = P.two_area.data();
+  const int n = static_cast<int>(P.size()), m = static_cast<int>(P.triangle_count()),
+            ne = static_cast<int>(P.edge_a.size());
   constexpr int B = kPolyhedronBlock;
-  for (int p = 0; p < cnt; ++p) s.flag[p] = 0.0;
+  // The block is padded with copies of its first point, so that the loops over
+  // vertices and triangles run over all B points: a fixed trip count, no
+  // remainder loops. (Not the edge loop: with a fixed count GCC 12 does not
+  // vectorize it for AVX2.)
+  for (int p = cnt; p < B; ++p) s.px[p] = s.px[0], s.py[p] = s.py[0], s.pz[p] = s.pz[0];
+  for (int p = 0; p < B; ++p) s.flag[p] = s.plane[p] = s.plane_face[p] = 0.0;
   for (int v = 0; v < n; ++v) {
     double* __restrict sx = s.sx.data() + v * B;
     double* __restrict sy = s.sy.data() + v * B;
@@ -86,7 +124,7 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, 
     double* __restrict w = s.w.data() + v * B;
     const double ax = vx[v], ay = vy[v], az = vz[v];
     WARPFEM_IVDEP
-    for (int p = 0; p < cnt; ++p) {
+    for (int p = 0; p < B; ++p) {
       const double x = ax - s.px[p], y = ay - s.py[p], z = az - s.pz[p];
       const double r2 = x * x + y * y + z * z;
       sx[p] = x;
@@ -98,17 +136,56 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, 
       s.flag[p] = r[p] < kPolyhedronNearVertex ? 1.0 : s.flag[p];
     }
     if constexpr (kGrad) {
-      for (int p = 0; p < cnt; ++p) s.wx[v * B + p] = s.wy[v * B + p] = s.wz[v * B + p] = 0.0;
+      for (int p = 0; p < B; ++p) s.wx[v * B + p] = s.wy[v * B + p] = s.wz[v * B + p] = 0.0;
+    }
+  }
+  // Per edge (shared by two triangles, the same in both up to the sign of N):
+  // k = β / (2L) and ∇k.
+  for (int e = 0; e < ne; ++e) {
+    const double* __restrict sax = s.sx.data() + ea[e] * B;
+    const double* __restrict say = s.sy.data() + ea[e] * B;
+    const double* __restrict saz = s.sz.data() + ea[e] * B;
+    const double* __restrict sbx = s.sx.data() + eb[e] * B;
+    const double* __restrict sby = s.sy.data() + eb[e] * B;
+    const double* __restrict sbz = s.sz.data() + eb[e] * B;
+    const double* __restrict ra = s.r.data() + ea[e] * B;
+    const double* __restrict rb = s.r.data() + eb[e] * B;
+    const double* __restrict qa = s.ir2.data() + ea[e] * B;
+    const double* __restrict qb = s.ir2.data() + eb[e] * B;
+    double* __restrict ek = s.ek.data() + e * B;
+    double* __restrict ekx = s.ekx.data() + e * B;
+    double* __restrict eky = s.eky.data() + e * B;
+    double* __restrict ekz = s.ekz.data() + e * B;
+    WARPFEM_IVDEP
+    for (int p = 0; p < cnt; ++p) {
+      const double ax = sax[p], ay = say[p], az = saz[p];
+      const double bx = sbx[p], by = sby[p], bz = sbz[p];
+      const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+      const double L = std::sqrt(nx * nx + ny * ny + nz * nz);
+      const double c = ax * bx + ay * by + az * bz;
+      const double rr = ra[p] * rb[p];
+      double iL;
+      const double k = half_angle(L, c, rr, iL);
+      ek[p] = k;
+      if constexpr (kGrad) {
+        // ∇k = N × (q_a − q_b + 2 k (s_a − s_b)) / (2 L²), q = s / r², expanded with
+        // (s_a × s_b) × v = (s_a · v) s_b − (s_b · v) s_a into α s_a + γ s_b:
+        //   α = 1 − c / r_a² + 2 k (r_b² − c),  γ = 1 − c / r_b² + 2 k (r_a² − c).
+        const double h = 0.5 * iL * iL, k2 = k + k;
+        const double al = (1.0 - c * qa[p] + k2 * (rb[p] * rb[p] - c)) * h;
+        const double ga = (1.0 - c * qb[p] + k2 * (ra[p] * ra[p] - c)) * h;
+        ekx[p] = al * ax + ga * bx;
+        eky[p] = al * ay + ga * by;
+        ekz[p] = al * az + ga * bz;
+      }
+      // Flags summed as numbers: boolean logic here makes GCC branch and not vectorize.
+      s.flag[p] += L < kNearLine * rr ? 1.0 : 0.0;
     }
   }
   for (int t = 0; t < m; ++t) {
     const int i1 = ta[t], i2 = tb[t], i3 = tc[t];
-    // Triangle constants: d_e = p_a − p_b for e = (a, b) = (2, 3), (3, 1), (1, 2); M = Σ N_e.
-    const double d1x = vx[i2] - vx[i3], d1y = vy[i2] - vy[i3], d1z = vz[i2] - vz[i3];
-    const double d2x = vx[i3] - vx[i1], d2y = vy[i3] - vy[i1], d2z = vz[i3] - vz[i1];
-    const double d3x = vx[i1] - vx[i2], d3y = vy[i1] - vy[i2], d3z = vz[i1] - vz[i2];
-    const double Mx = d2y * d3z - d2z * d3y, My = d2z * d3x - d2x * d3z, Mz = d2x * d3y - d2y * d3x;
-    const double absM = std::sqrt(Mx * Mx + My * My + Mz * Mz);
+    const int e1 = te[3 * t], e2 = te[3 * t + 1], e3 = te[3 * t + 2];
+    const double near_plane = kNearPlane * two_area[t];
     const double* __restrict s1x = s.sx.data() + i1 * B;
     const double* __restrict s1y = s.sy.data() + i1 * B;
     const double* __restrict s1z = s.sz.data() + i1 * B;
@@ -121,9 +198,18 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, 
     const double* __restrict r1 = s.r.data() + i1 * B;
     const double* __restrict r2 = s.r.data() + i2 * B;
     const double* __restrict r3 = s.r.data() + i3 * B;
-    const double* __restrict q1 = s.ir2.data() + i1 * B;
-    const double* __restrict q2 = s.ir2.data() + i2 * B;
-    const double* __restrict q3 = s.ir2.data() + i3 * B;
+    const double* __restrict ek1 = s.ek.data() + e1 * B;
+    const double* __restrict ek2 = s.ek.data() + e2 * B;
+    const double* __restrict ek3 = s.ek.data() + e3 * B;
+    const double* __restrict gk1x = s.ekx.data() + e1 * B;
+    const double* __restrict gk1y = s.eky.data() + e1 * B;
+    const double* __restrict gk1z = s.ekz.data() + e1 * B;
+    const double* __restrict gk2x = s.ekx.data() + e2 * B;
+    const double* __restrict gk2y = s.eky.data() + e2 * B;
+    const double* __restrict gk2z = s.ekz.data() + e2 * B;
+    const double* __restrict gk3x = s.ekx.data() + e3 * B;
+    const double* __restrict gk3y = s.eky.data() + e3 * B;
+    const double* __restrict gk3z = s.ekz.data() + e3 * B;
     double* __restrict w1 = s.w.data() + i1 * B;
     double* __restrict w2 = s.w.data() + i2 * B;
     double* __restrict w3 = s.w.data() + i3 * B;
@@ -137,7 +223,7 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, 
     double* __restrict g3y = s.wy.data() + i3 * B;
     double* __restrict g3z = s.wz.data() + i3 * B;
     WARPFEM_IVDEP
-    for (int p = 0; p < cnt; ++p) {
+    for (int p = 0; p < B; ++p) {
       const double ax = s1x[p], ay = s1y[p], az = s1z[p];
       const double bx = s2x[p], by = s2y[p], bz = s2z[p];
       const double cx = s3x[p], cy = s3y[p], cz = s3z[p];
@@ -145,84 +231,57 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const double* vx, const double* vy, 
       const double n1x = by * cz - bz * cy, n1y = bz * cx - bx * cz, n1z = bx * cy - by * cx;
       const double n2x = cy * az - cz * ay, n2y = cz * ax - cx * az, n2z = cx * ay - cy * ax;
       const double n3x = ay * bz - az * by, n3y = az * bx - ax * bz, n3z = ax * by - ay * bx;
-      const double L1 = std::sqrt(n1x * n1x + n1y * n1y + n1z * n1z);
-      const double L2 = std::sqrt(n2x * n2x + n2y * n2y + n2z * n2z);
-      const double L3 = std::sqrt(n3x * n3x + n3y * n3y + n3z * n3z);
-      const double c1 = bx * cx + by * cy + bz * cz, c2 = cx * ax + cy * ay + cz * az,
-                   c3 = ax * bx + ay * by + az * bz;
-      const double rr1 = r2[p] * r3[p], rr2 = r3[p] * r1[p], rr3 = r1[p] * r2[p];
-      // k_e = β_e / (2 L_e) with tan(β/2) = L / (rr + c) = (rr − c) / L: take the
-      // form whose value is <= 1, atan(L / den) with den = rr + |c|; above 0.66
-      // reduce by π/4: atan(z) = π/4 + atan((z − 1) / (z + 1)). One division
-      // gives both that argument and 1/L.
-      const auto half_angle = [](double L, double c, double rr, double& iL) {
-        const double den = rr + std::abs(c);
-        const bool big = L > 0.66 * den;
-        const double num_y = big ? L - den : L;
-        const double den_y = big ? L + den : den;
-        double R, Q;
-        atan_fraction(num_y, den_y, R, Q);
-        const double f = 1.0 / (L * den_y * Q);  // the one division: 1/L and atan(num_y/den_y)
-        iL = den_y * Q * f;
-        const double a = (big ? 0.78539816339744830962 : 0.0) + num_y * R * L * f;
-        return (c >= 0.0 ? a : 1.57079632679489661923 - a) * iL;
-      };
-      double iL1, iL2, iL3;
-      const double k1 = half_angle(L1, c1, rr1, iL1);
-      const double k2 = half_angle(L2, c2, rr2, iL2);
-      const double k3 = half_angle(L3, c3, rr3, iL3);
+      const double k1 = ek1[p], k2 = ek2[p], k3 = ek3[p];
       const double D = ax * n1x + ay * n1y + az * n1z;
       const double r12 = r1[p] < r2[p] ? r1[p] : r2[p];
       const double rmin = r12 < r3[p] ? r12 : r3[p];
-      // Flags summed as numbers: boolean logic here makes GCC branch and not vectorize.
-      s.flag[p] += (std::abs(D) < kNearPlane * rmin * absM ? 1.0 : 0.0) + (L1 < kNearLine * rr1 ? 1.0 : 0.0) +
-                   (L2 < kNearLine * rr2 ? 1.0 : 0.0) + (L3 < kNearLine * rr3 ? 1.0 : 0.0);
-      const double iD = 1.0 / D;
+      // A face whose plane passes near x (and x projects outside it, or x is near the
+      // surface) loses accuracy here: it is left out (iD = 0) and recorded.
+      // (Numbers, not booleans: those make GCC branch and not vectorize.)
+      const double near = std::abs(D) < near_plane * rmin ? 1.0 : 0.0;
+      s.plane[p] += near;
+      s.plane_face[p] += near * static_cast<double>(t);  // the face, when it is the only one
+      const double iD = (1.0 - near) / (D + near);
       const double mx = k1 * n1x + k2 * n2x + k3 * n3x;
       const double my = k1 * n1y + k2 * n2y + k3 * n3y;
       const double mz = k1 * n1z + k2 * n2z + k3 * n3z;
-      const double e1 = (mx * n1x + my * n1y + mz * n1z) * iD;
-      const double e2 = (mx * n2x + my * n2y + mz * n2z) * iD;
-      const double e3 = (mx * n3x + my * n3y + mz * n3z) * iD;
-      w1[p] += e1;
-      w2[p] += e2;
-      w3[p] += e3;
+      const double o1 = (mx * n1x + my * n1y + mz * n1z) * iD;
+      const double o2 = (mx * n2x + my * n2y + mz * n2z) * iD;
+      const double o3 = (mx * n3x + my * n3y + mz * n3z) * iD;
+      w1[p] += o1;
+      w2[p] += o2;
+      w3[p] += o3;
       if constexpr (kGrad) {
-        // Gram matrix of the N_e.
-        const double G11 = L1 * L1, G22 = L2 * L2, G33 = L3 * L3;
-        const double G12 = n1x * n2x + n1y * n2y + n1z * n2z;
-        const double G13 = n1x * n3x + n1y * n3y + n1z * n3z;
-        const double G23 = n2x * n3x + n2y * n3y + n2z * n3z;
-        // ∇k_e = N_e × u_e / (2 L_e²), u_e = q_a − q_b + 2 k_e d_e, q = s / r².
-        const double qax = ax * q1[p], qay = ay * q1[p], qaz = az * q1[p];
-        const double qbx = bx * q2[p], qby = by * q2[p], qbz = bz * q2[p];
-        const double qcx = cx * q3[p], qcy = cy * q3[p], qcz = cz * q3[p];
-        const double h1 = 0.5 * iL1 * iL1, h2 = 0.5 * iL2 * iL2, h3 = 0.5 * iL3 * iL3;
-        const double u1x = qbx - qcx + 2 * k1 * d1x, u1y = qby - qcy + 2 * k1 * d1y,
-                     u1z = qbz - qcz + 2 * k1 * d1z;
-        const double u2x = qcx - qax + 2 * k2 * d2x, u2y = qcy - qay + 2 * k2 * d2y,
-                     u2z = qcz - qaz + 2 * k2 * d2z;
-        const double u3x = qax - qbx + 2 * k3 * d3x, u3y = qay - qby + 2 * k3 * d3y,
-                     u3z = qaz - qbz + 2 * k3 * d3z;
-        const double k1x = (n1y * u1z - n1z * u1y) * h1, k1y = (n1z * u1x - n1x * u1z) * h1,
-                     k1z = (n1x * u1y - n1y * u1x) * h1;
-        const double k2x = (n2y * u2z - n2z * u2y) * h2, k2y = (n2z * u2x - n2x * u2z) * h2,
-                     k2z = (n2x * u2y - n2y * u2x) * h2;
-        const double k3x = (n3y * u3z - n3z * u3y) * h3, k3y = (n3z * u3x - n3x * u3z) * h3,
-                     k3z = (n3x * u3y - n3y * u3x) * h3;
-        const double Kx = k1 * d1x + k2 * d2x + k3 * d3x;
-        const double Ky = k1 * d1y + k2 * d2y + k3 * d3y;
-        const double Kz = k1 * d1z + k2 * d2z + k3 * d3z;
-        // ∇w_i = (Σ_e G_ei ∇k_e + K × N_i + d_i × m + w_i M) / D.
-        const auto grad = [&](double Ga, double Gb, double Gc, double nx, double ny, double nz, double dx,
-                              double dy, double dz, double wi, double* gx, double* gy, double* gz) {
-          gx[p] += (Ga * k1x + Gb * k2x + Gc * k3x + Ky * nz - Kz * ny + dy * mz - dz * my + wi * Mx) * iD;
-          gy[p] += (Ga * k1y + Gb * k2y + Gc * k3y + Kz * nx - Kx * nz + dz * mx - dx * mz + wi * My) * iD;
-          gz[p] += (Ga * k1z + Gb * k2z + Gc * k3z + Kx * ny - Ky * nx + dx * my - dy * mx + wi * Mz) * iD;
+        // w = S⁻¹ m with S = (s_1 s_2 s_3) (rows of S⁻¹: N_i / D), and ∂S/∂x_j = −e_j 1ᵀ, so
+        // ∂_j w_i = N_i · C_j / D with C_j = ∂_j m + W e_j, W = Σ_i w_i, and
+        // ∂_j m = Σ_e ∇k_e[j] N_e + e_j × K, K = Σ_e k_e (s_a − s_b).
+        const double k1x = gk1x[p], k1y = gk1y[p], k1z = gk1z[p];
+        const double k2x = gk2x[p], k2y = gk2y[p], k2z = gk2z[p];
+        const double k3x = gk3x[p], k3y = gk3y[p], k3z = gk3z[p];
+        // K = (k_3 − k_2) s_1 + (k_1 − k_3) s_2 + (k_2 − k_1) s_3.
+        const double f1 = k3 - k2, f2 = k1 - k3, f3 = k2 - k1;
+        const double Kx = f1 * ax + f2 * bx + f3 * cx;
+        const double Ky = f1 * ay + f2 * by + f3 * cy;
+        const double Kz = f1 * az + f2 * bz + f3 * cz;
+        const double W = o1 + o2 + o3;
+        // C_j / D, component by component (e_x × K = (0, −K_z, K_y), ...).
+        const double cxx = (k1x * n1x + k2x * n2x + k3x * n3x + W) * iD;
+        const double cxy = (k1x * n1y + k2x * n2y + k3x * n3y - Kz) * iD;
+        const double cxz = (k1x * n1z + k2x * n2z + k3x * n3z + Ky) * iD;
+        const double cyx = (k1y * n1x + k2y * n2x + k3y * n3x + Kz) * iD;
+        const double cyy = (k1y * n1y + k2y * n2y + k3y * n3y + W) * iD;
+        const double cyz = (k1y * n1z + k2y * n2z + k3y * n3z - Kx) * iD;
+        const double czx = (k1z * n1x + k2z * n2x + k3z * n3x - Ky) * iD;
+        const double czy = (k1z * n1y + k2z * n2y + k3z * n3y + Kx) * iD;
+        const double czz = (k1z * n1z + k2z * n2z + k3z * n3z + W) * iD;
+        const auto grad = [&](double nx, double ny, double nz, double* gx, double* gy, double* gz) {
+          gx[p] += nx * cxx + ny * cxy + nz * cxz;
+          gy[p] += nx * cyx + ny * cyy + nz * cyz;
+          gz[p] += nx * czx + ny * czy + nz * czz;
         };
-        grad(G11, G12, G13, n1x, n1y, n1z, d1x, d1y, d1z, e1, g1x, g1y, g1z);
-        grad(G12, G22, G23, n2x, n2y, n2z, d2x, d2y, d2z, e2, g2x, g2y, g2z);
-        grad(G13, G23, G33, n3x, n3y, n3z, d3x, d3y, d3z, e3, g3x, g3y, g3z);
+        grad(n1x, n1y, n1z, g1x, g1y, g1z);
+        grad(n2x, n2y, n2z, g2x, g2y, g2z);
+        grad(n3x, n3y, n3z, g3x, g3y, g3z);
       }
     }
   }

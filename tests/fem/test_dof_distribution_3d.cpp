@@ -100,6 +100,45 @@ TEST_P(DofDistribution3d, ParallelNumberingIsTheSerialOneUpToPermutation) {
   }
 }
 
+TEST_P(DofDistribution3d, SparsityRowsAreTheDofsSharingACellAndSplitRowsTheSame) {
+  const Mesh<3> mesh = structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 1, 1), {3, 2, 4}, GetParam().type);
+  const fem::DofMap<3> dofs(mesh, fem::LagrangeElement<3>(mesh.cell_type, GetParam().order));
+  const fem::DofDistribution<3> dist(MPI_COMM_WORLD, mesh, dofs);
+  // By brute force: the PETSc indices of the DOFs sharing a cell with each DOF.
+  std::vector<std::vector<PetscInt>> expected(static_cast<std::size_t>(dofs.num_dofs()));
+  const IndexTable& cd = dofs.cell_dofs();
+  for (Index c = 0; c < mesh.num_cells(); ++c)
+    for (Index a = 0; a < cd.cols(); ++a)
+      for (Index b = 0; b < cd.cols(); ++b)
+        expected[static_cast<std::size_t>(cd(c, a))].push_back(dist.global(cd(c, b)));
+  for (auto& row : expected) {
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+  }
+  std::vector<PetscInt> row_ptr, cols, own_ptr, own_cols, off_ptr, off_cols;
+  dist.sparsity(mesh, dofs, row_ptr, cols);
+  dist.sparsity_split(mesh, dofs, own_ptr, own_cols, off_ptr, off_cols);
+  ASSERT_EQ(static_cast<PetscInt>(row_ptr.size()), dist.num_owned() + 1);
+  for (Index d = 0; d < dofs.num_dofs(); ++d) {
+    if (!dist.owns(d)) continue;
+    const PetscInt r = dist.global(d) - dist.owned_begin();
+    const std::vector<PetscInt> row(cols.begin() + row_ptr[r], cols.begin() + row_ptr[r + 1]);
+    ASSERT_EQ(row, expected[static_cast<std::size_t>(d)]) << "DOF " << d;
+    // Split: the own columns as sorted local indices, the others sorted and global.
+    std::vector<PetscInt> own(own_cols.begin() + own_ptr[r], own_cols.begin() + own_ptr[r + 1]);
+    const std::vector<PetscInt> off(off_cols.begin() + off_ptr[r], off_cols.begin() + off_ptr[r + 1]);
+    EXPECT_TRUE(std::is_sorted(own.begin(), own.end()) && std::is_sorted(off.begin(), off.end()));
+    for (PetscInt& k : own) {
+      EXPECT_TRUE(k >= 0 && k < dist.num_owned());
+      k += dist.owned_begin();
+    }
+    for (const PetscInt k : off) EXPECT_TRUE(k < dist.owned_begin() || k >= dist.owned_end());
+    own.insert(own.end(), off.begin(), off.end());
+    std::sort(own.begin(), own.end());
+    ASSERT_EQ(own, row) << "DOF " << d;
+  }
+}
+
 TEST(DofDistribution3d, Partitions3dMeshesAndRefusesNestedBlocks) {
   const Mesh<3> mesh =
       structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 1, 1), {4, 4, 4}, CellType::hexahedron);

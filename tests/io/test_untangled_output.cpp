@@ -1,0 +1,163 @@
+// Written curved cells never fold, even where f is not differentiable: the
+// radial map f(x) = x |x|^(α−1), α = 0.3, is bijective but its quadratic
+// interpolant folds every cell at the origin at any mesh size. The written
+// files are read back and judged by VTK's own Lagrange cell evaluation
+// (finite differences of the positions VTK interpolates), not by warpfem's
+// own check.
+
+#include <gtest/gtest.h>
+#include <vtkCell.h>
+#include <vtkNew.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include "core/mesh/structured_mesher.hpp"
+#include "core/polygon.hpp"
+#include "fem/dofs/dof_distribution.hpp"
+#include "fem/dofs/dof_map.hpp"
+#include "fem/postprocessing/output_mesh.hpp"
+#include "fem/reference/lagrange_element.hpp"
+#include "io/vtk_writer.hpp"
+
+using namespace warpfem;
+
+namespace {
+
+constexpr double alpha = 0.3;
+
+/// f(x) = x |x|^(α−1): radial, monotone in |x|, hence bijective; singular at 0.
+template <int dim>
+class RadialPowerMap final : public mapping::Map<dim> {
+ public:
+  void eval(const Points<dim>& x0, Points<dim>& x) const override {
+    x.resize(x0.rows(), dim);
+    for (Index p = 0; p < x0.rows(); ++p) {
+      const double r = x0.row(p).norm();
+      x.row(p) = r > 0 ? (x0.row(p) * std::pow(r, alpha - 1)).eval() : x0.row(p);
+    }
+  }
+  void jacobian(const Points<dim>& x0, Jacobians<dim>& J) const override {
+    J.setZero(x0.rows(), dim * dim);
+    for (Index p = 0; p < x0.rows(); ++p) {
+      const Point<dim> y = x0.row(p).transpose();
+      const double r = y.norm();
+      if (!(r > 0)) continue;
+      const Matrix<dim> m =
+          std::pow(r, alpha - 1) * (Matrix<dim>::Identity() + (alpha - 1) * y * y.transpose() / (r * r));
+      set_jacobian_at(J, p, m);
+    }
+  }
+  std::string describe() const override { return "radial power"; }
+};
+
+template <int dim>
+Mesh<dim> unit_box(CellType type, int n) {
+  if constexpr (dim == 2)
+    return structured_mesh(Polygon({Point<2>(0, 0), Point<2>(1, 0), Point<2>(1, 1), Point<2>(0, 1)}), n, n,
+                           type);
+  else
+    return structured_box_mesh(Point<3>::Zero(), Point<3>::Ones(), {n, n, n}, type);
+}
+
+/// Reference points where a viewer samples a cell: its nodes and a lattice of step 1/4.
+std::vector<Eigen::Vector3d> sample_points(vtkCell* cell, int dim) {
+  std::vector<Eigen::Vector3d> pts;
+  const double* nodes = cell->GetParametricCoords();
+  for (vtkIdType k = 0; k < cell->GetNumberOfPoints(); ++k)
+    pts.emplace_back(nodes[3 * k], nodes[3 * k + 1], nodes[3 * k + 2]);
+  const int type = cell->GetCellType();
+  const bool simplex = type == VTK_LAGRANGE_TRIANGLE || type == VTK_LAGRANGE_TETRAHEDRON;
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= (simplex ? 4 - i : 4); ++j)
+      for (int k = 0; k <= (dim == 2 ? 0 : simplex ? 4 - i - j : 4); ++k)
+        pts.emplace_back(i / 4.0, j / 4.0, k / 4.0);
+  return pts;
+}
+
+/// det of d(position)/d(parametric) of `cell` at `r` by central differences of
+/// VTK's interpolated positions (the shape functions are polynomials, so
+/// stepping just outside the reference cell is harmless).
+double vtk_det(vtkCell* cell, const Eigen::Vector3d& r, int dim) {
+  std::vector<double> weights(static_cast<std::size_t>(cell->GetNumberOfPoints()));
+  const auto position = [&](const Eigen::Vector3d& q) {
+    int sub = 0;
+    Eigen::Vector3d x;
+    cell->EvaluateLocation(sub, q.data(), x.data(), weights.data());
+    return x;
+  };
+  constexpr double h = 1e-6;
+  Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+  for (int d = 0; d < dim; ++d) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e(d) = h;
+    J.col(d) = (position(r + e) - position(r - e)) / (2 * h);
+  }
+  if (dim == 2) return J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0);
+  return J.determinant();
+}
+
+struct Case {
+  int dim;
+  CellType type;
+};
+
+class UntangledOutput : public ::testing::TestWithParam<Case> {};
+
+template <int dim>
+void check_untangled(CellType type) {
+  const Mesh<dim> mesh = unit_box<dim>(type, 3);
+  const fem::DofMap<dim> dofs(mesh, fem::LagrangeElement<dim>(mesh.cell_type, 1));
+  const fem::DofDistribution<dim> dist(MPI_COMM_SELF, mesh, dofs);
+  const RadialPowerMap<dim> map;
+  const fem::OutputMesh<dim> out = fem::make_output_mesh(mesh, dist, map, 2);
+  EXPECT_GT(out.num_straightened_cells, 0) << "the case must exercise cells whose curved geometry folds";
+  EXPECT_EQ(out.num_tangled_cells, 0);
+
+  // Vertices stay where f puts them.
+  const int nvert = fem::LagrangeElement<dim>(mesh.cell_type, 1).num_dofs();
+  Points<dim> x1;
+  map.eval(out.reference_points, x1);
+  for (Index c = 0; c < out.cells.rows(); ++c)
+    for (int v = 0; v < nvert; ++v)
+      ASSERT_LT((out.points.row(out.cells(c, v)) - x1.row(out.cells(c, v))).norm(), 1e-14);
+
+  const std::string dir = "output/test_untangled_output";
+  const std::string name = std::string("radial_") + to_string(type);
+  io::VtkOutput<dim> vtk;
+  vtk.mesh = &out;
+  const std::string file = io::write_vtk(MPI_COMM_SELF, vtk, dir, name);
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  ASSERT_EQ(grid->GetNumberOfCells(), out.cells.rows());
+  vtkIdType folded = 0;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+    vtkCell* cell = grid->GetCell(c);
+    for (const auto& r : sample_points(cell, dim))
+      if (!(vtk_det(cell, r, dim) > 0)) {
+        ++folded;
+        break;
+      }
+  }
+  EXPECT_EQ(folded, 0) << "of " << grid->GetNumberOfCells() << " " << name << " cells";
+}
+
+TEST_P(UntangledOutput, QuadraticCellsAtASingularPointAreWrittenUnfolded) {
+  if (GetParam().dim == 2)
+    check_untangled<2>(GetParam().type);
+  else
+    check_untangled<3>(GetParam().type);
+}
+
+INSTANTIATE_TEST_SUITE_P(CellTypes, UntangledOutput,
+                         ::testing::Values(Case{2, CellType::triangle}, Case{2, CellType::quadrilateral},
+                                           Case{3, CellType::tetrahedron}, Case{3, CellType::hexahedron}),
+                         [](const auto& info) { return to_string(info.param.type); });
+
+}  // namespace
