@@ -30,50 +30,56 @@ fem::NewtonOptions newton_options(const io::NewtonSpec& s) {
   return o;
 }
 
-double max_nodal_displacement(const fem::VectorSpace<2>& space, Vec u) {
+template <int dim>
+double max_nodal_displacement(const fem::VectorSpace<dim>& space, Vec u) {
   const PetscScalar* a = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArrayRead(u, &a));
   double local = 0;
-  for (PetscInt i = 0; i + 1 < space.num_owned(); i += 2) local = std::max(local, std::hypot(a[i], a[i + 1]));
+  for (PetscInt i = 0; i + dim - 1 < space.num_owned(); i += dim)
+    local = std::max(local, Eigen::Map<const Eigen::Matrix<double, dim, 1>>(a + i).norm());
   WARPFEM_PETSC_CHECK(VecRestoreArrayRead(u, &a));
   double global = 0;
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, space.comm());
   return global;
 }
 
-class ElasticityPhysics final : public Physics<2> {
+template <int dim>
+class ElasticityPhysics final : public Physics<dim> {
  public:
-  ElasticityPhysics(const io::ElasticityConfig& cfg, MPI_Comm comm, const RunOptions& options)
+  ElasticityPhysics(const io::ElasticityRunConfig<dim>& cfg, MPI_Comm comm, const RunOptions& options)
       : cfg_(cfg), comm_(comm), options_(options), newton_(newton_options(cfg.solver)) {}
 
-  const fem::Problem<2>& set_up(Mesh<2> coarse, int refinements, mapping::MapPtr<2> map) override {
+  const fem::Problem<dim>& set_up(Mesh<dim> coarse, int refinements, mapping::MapPtr<dim> map) override {
     int size = 1;
     MPI_Comm_size(comm_, &size);
     // Multigrid runs on the hierarchy's nested partition, which the coarse levels share.
     Stopwatch watch;
-    hierarchy_ = std::make_unique<fem::MeshHierarchy<2>>(std::move(coarse), refinements);
+    hierarchy_ = std::make_unique<fem::MeshHierarchy<dim>>(std::move(coarse), refinements);
     const bool mg = newton_.pc_type == "mg";
-    const std::vector<std::vector<int>> level_owners =
-        mg ? fem::nested_partitions(*hierarchy_, size) : std::vector<std::vector<int>>{};
+    // (In 3D every rank holds every level whole; PETSc's default layout then splits the rows.)
+    std::vector<std::vector<int>> level_owners;
+    if constexpr (dim == 2)
+      if (mg) level_owners = fem::nested_partitions(*hierarchy_, size);
     const std::vector<int> cell_owner = level_owners.empty() ? std::vector<int>{} : level_owners.back();
-    const Mesh<2>& mesh = hierarchy_->finest();
-    op_ = std::make_unique<fem::HyperelasticOperator<2>>(comm_, mesh, map, cfg_.problem.order,
-                                                         cfg_.problem.quadrature_degree,
-                                                         io::make_elasticity_data(cfg_), cell_owner);
+    const Mesh<dim>& mesh = hierarchy_->finest();
+    op_ = std::make_unique<fem::HyperelasticOperator<dim>>(comm_, mesh, map, cfg_.problem.order,
+                                                           cfg_.problem.quadrature_degree,
+                                                           io::make_elasticity_data(cfg_), cell_owner);
     u_ = op_->space().create_vector();
-    const std::string element = std::string(mesh.cell_type == warpfem::CellType::triangle ? "P" : "Q") +
-                                std::to_string(cfg_.problem.order);
+    const bool simplex =
+        mesh.cell_type == warpfem::CellType::triangle || mesh.cell_type == warpfem::CellType::tetrahedron;
+    const std::string element = std::string(simplex ? "P" : "Q") + std::to_string(cfg_.problem.order);
     log::info("elasticity: ", fem::to_string(op_->material().model), " (λ = ", op_->material().lambda,
               ", μ = ", op_->material().mu, ", ρ = ", op_->material().density, "), vector ", element, ", ",
               op_->space().num_global(), " DOFs on ", size, " rank(s), ", op_->num_constrained(),
               " constrained (", format_seconds(watch.seconds()), ")");
     if (options_.write_output && cfg_.output.vtk)  // von Mises stress and det F at the nodes
-      projection_ = std::make_unique<fem::NodalProjection<2>>(comm_, mesh, op_->geometry(), cell_owner);
+      projection_ = std::make_unique<fem::NodalProjection<dim>>(comm_, mesh, op_->geometry(), cell_owner);
     if (mg) {
       // Geometric multigrid on the mesh hierarchy, Galerkin coarse operators of each Newton Jacobian.
       watch.reset();
-      mg_ = std::make_unique<multigrid::GeometricMultigrid<2>>(
-          *hierarchy_, *op_, multigrid::GeometricMultigrid<2>::galerkin_defaults(), level_owners);
+      mg_ = std::make_unique<multigrid::GeometricMultigrid<dim>>(
+          *hierarchy_, *op_, multigrid::GeometricMultigrid<dim>::galerkin_defaults(), level_owners);
       if (newton_.ksp_type == "preonly") newton_.ksp_type = "gmres";  // one V-cycle is not a solve
       newton_.configure_preconditioner = [this](KSP ksp, Mat jacobian) {
         WARPFEM_PETSC_CHECK(KSPSetTolerances(ksp, 1e-10, 1e-50, PETSC_DEFAULT, 1000));
@@ -86,8 +92,8 @@ class ElasticityPhysics final : public Physics<2> {
   }
   int order() const override { return cfg_.problem.order; }
 
-  void solve(RunOutput<2>* output, RunResult& result) override {
-    const SteppingContext context{cfg_, *op_, newton_, output, options_.compute_energy};
+  void solve(RunOutput<dim>* output, RunResult& result) override {
+    const SteppingContext<dim> context{cfg_, *op_, newton_, output, options_.compute_energy};
     Stopwatch watch;
     if (cfg_.problem.analysis == "quasi_static")
       solve_quasi_static(context, u_.get(), result);
@@ -106,18 +112,17 @@ class ElasticityPhysics final : public Physics<2> {
   }
 
   Vec state() const override { return u_.get(); }
-  void add_fields(const fem::OutputMesh<2>& mesh, Vec u, io::VtkOutput<2>& vtk) const override {
-    const fem::VectorSpace<2>& space = op_->space();
+  void add_fields(const fem::OutputMesh<dim>& mesh, Vec u, io::VtkOutput<dim>& vtk) const override {
+    const fem::VectorSpace<dim>& space = op_->space();
     const VectorX ur = space.gather_relevant(u);
-    const VectorX ux = mesh.interpolate(space.dofs(), space.nodes(), space.component(ur, 0));
-    const VectorX uy = mesh.interpolate(space.dofs(), space.nodes(), space.component(ur, 1));
-    std::vector<double> disp(static_cast<std::size_t>(3 * ux.size()), 0.0);
-    for (Index i = 0; i < ux.size(); ++i) {
-      disp[static_cast<std::size_t>(3 * i)] = ux(i);
-      disp[static_cast<std::size_t>(3 * i + 1)] = uy(i);
+    std::vector<double> disp;  // VTK vectors have three components (z = 0 in 2D)
+    for (int c = 0; c < dim; ++c) {
+      const VectorX uc = mesh.interpolate(space.dofs(), space.nodes(), space.component(ur, c));
+      disp.resize(static_cast<std::size_t>(3 * uc.size()), 0.0);
+      for (Index i = 0; i < uc.size(); ++i) disp[static_cast<std::size_t>(3 * i + c)] = uc(i);
     }
     const auto cells = op_->point_values(u);
-    const fem::NodalProjection<2>& p = *projection_;
+    const fem::NodalProjection<dim>& p = *projection_;
     const VectorX vm = mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.von_mises));
     const VectorX det = mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.det_F));
     vtk.point_fields.push_back({"displacement", 3, disp});
@@ -128,22 +133,28 @@ class ElasticityPhysics final : public Physics<2> {
   }
 
  private:
-  const io::ElasticityConfig& cfg_;
+  const io::ElasticityRunConfig<dim>& cfg_;
   MPI_Comm comm_;
   RunOptions options_;
   fem::NewtonOptions newton_;
-  std::unique_ptr<fem::MeshHierarchy<2>> hierarchy_;
-  std::unique_ptr<fem::HyperelasticOperator<2>> op_;
-  std::unique_ptr<fem::NodalProjection<2>> projection_;
-  std::unique_ptr<multigrid::GeometricMultigrid<2>> mg_;
+  std::unique_ptr<fem::MeshHierarchy<dim>> hierarchy_;
+  std::unique_ptr<fem::HyperelasticOperator<dim>> op_;
+  std::unique_ptr<fem::NodalProjection<dim>> projection_;
+  std::unique_ptr<multigrid::GeometricMultigrid<dim>> mg_;
   petsc::Vector u_;
 };
 
 }  // namespace
 
-std::unique_ptr<Physics<2>> make_physics(const io::ElasticityConfig& config, MPI_Comm comm,
-                                         const RunOptions& options) {
-  return std::make_unique<ElasticityPhysics>(config, comm, options);
+template <int dim>
+std::unique_ptr<Physics<dim>> make_physics(const io::ElasticityRunConfig<dim>& config, MPI_Comm comm,
+                                           const RunOptions& options) {
+  return std::make_unique<ElasticityPhysics<dim>>(config, comm, options);
 }
+
+template std::unique_ptr<Physics<2>> make_physics(const io::ElasticityRunConfig<2>&, MPI_Comm,
+                                                  const RunOptions&);
+template std::unique_ptr<Physics<3>> make_physics(const io::ElasticityRunConfig<3>&, MPI_Comm,
+                                                  const RunOptions&);
 
 }  // namespace warpfem::apps

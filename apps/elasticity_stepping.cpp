@@ -19,25 +19,32 @@ Error at_config_key(const Error& e, const std::string& file, const std::string& 
 }
 
 /// v(x) at every owned node from the initial-velocity expressions (x = f(x0)).
-void interpolate_initial_velocity(const io::ElasticityConfig& cfg, const fem::HyperelasticOperator<2>& op,
-                                  Vec v) {
+template <int dim>
+void interpolate_initial_velocity(const io::ElasticityRunConfig<dim>& cfg,
+                                  const fem::HyperelasticOperator<dim>& op, Vec v) {
   const auto& iv = cfg.problem.initial_velocity;
-  if (iv[0] == "0" && iv[1] == "0") return;
-  const io::Expression ex(iv[0], cfg.file, "/problem/initial_velocity/0");
-  const io::Expression ey(iv[1], cfg.file, "/problem/initial_velocity/1");
+  if (iv == io::zero_vector_expression<dim>()) return;
+  std::vector<io::Expression> e;
+  for (int c = 0; c < dim; ++c)
+    e.emplace_back(iv[static_cast<std::size_t>(c)], cfg.file,
+                   "/problem/initial_velocity/" + std::to_string(c));
   const auto& dist = op.space().nodes();
   std::vector<Index> owned;
   for (Index d : dist.relevant_dofs())
     if (dist.owns(d)) owned.push_back(d);
-  Points<2> x0(static_cast<Index>(owned.size()), 2);
+  Points<dim> x0(static_cast<Index>(owned.size()), dim);
   for (std::size_t i = 0; i < owned.size(); ++i)
     x0.row(static_cast<Index>(i)) = op.space().dofs().dof_points().row(owned[i]);
-  const Points<2> x = fem::warp_nodes(op.map(), x0);  // once, at set-up
+  const Points<dim> x = fem::warp_nodes(op.map(), x0);  // once, at set-up
   for (std::size_t i = 0; i < owned.size(); ++i) {
-    const Point<2> p = x.row(static_cast<Index>(i)).transpose();
-    const PetscInt rows[2] = {op.space().global(owned[i], 0), op.space().global(owned[i], 1)};
-    const PetscScalar vals[2] = {ex.at<2>(p, 0.0), ey.at<2>(p, 0.0)};
-    WARPFEM_PETSC_CHECK(VecSetValues(v, 2, rows, vals, INSERT_VALUES));
+    const Point<dim> p = x.row(static_cast<Index>(i)).transpose();
+    PetscInt rows[dim];
+    PetscScalar vals[dim];
+    for (int c = 0; c < dim; ++c) {
+      rows[c] = op.space().global(owned[i], c);
+      vals[c] = e[static_cast<std::size_t>(c)].template at<dim>(p, 0.0);
+    }
+    WARPFEM_PETSC_CHECK(VecSetValues(v, dim, rows, vals, INSERT_VALUES));
   }
   WARPFEM_PETSC_CHECK(VecAssemblyBegin(v));
   WARPFEM_PETSC_CHECK(VecAssemblyEnd(v));
@@ -45,8 +52,9 @@ void interpolate_initial_velocity(const io::ElasticityConfig& cfg, const fem::Hy
 
 }  // namespace
 
-void solve_quasi_static(const SteppingContext& c, Vec u, RunResult& result) {
-  const io::ElasticityConfig& cfg = c.config;
+template <int dim>
+void solve_quasi_static(const SteppingContext<dim>& c, Vec u, RunResult& result) {
+  const io::ElasticityRunConfig<dim>& cfg = c.config;
   log::info("quasi-static: load factor 0 → 1 in ", cfg.load_stepping.steps, " step(s)");
   fem::QuasiStaticSolver solver(c.op, c.newton, {cfg.load_stepping.steps, cfg.load_stepping.min_increment});
   int index = 0;
@@ -69,8 +77,9 @@ void solve_quasi_static(const SteppingContext& c, Vec u, RunResult& result) {
   }
 }
 
-void solve_transient(const SteppingContext& c, Vec u, RunResult& result) {
-  const io::ElasticityConfig& cfg = c.config;
+template <int dim>
+void solve_transient(const SteppingContext<dim>& c, Vec u, RunResult& result) {
+  const io::ElasticityRunConfig<dim>& cfg = c.config;
   petsc::Vector v = c.op.space().create_vector();
   interpolate_initial_velocity(cfg, c.op, v.get());
   fem::TransientOptions t;
@@ -100,5 +109,10 @@ void solve_transient(const SteppingContext& c, Vec u, RunResult& result) {
     throw at_config_key(e, cfg.file, "/time");
   }
 }
+
+template void solve_quasi_static(const SteppingContext<2>&, Vec, RunResult&);
+template void solve_quasi_static(const SteppingContext<3>&, Vec, RunResult&);
+template void solve_transient(const SteppingContext<2>&, Vec, RunResult&);
+template void solve_transient(const SteppingContext<3>&, Vec, RunResult&);
 
 }  // namespace warpfem::apps

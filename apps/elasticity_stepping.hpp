@@ -16,16 +16,19 @@ namespace warpfem::apps {
 template <int dim>
 class RunOutput;
 
+template <int dim>
 struct SteppingContext {
-  const io::ElasticityConfig& config;
-  const fem::HyperelasticOperator<2>& op;
+  const io::ElasticityRunConfig<dim>& config;
+  const fem::HyperelasticOperator<dim>& op;
   const fem::NewtonOptions& newton;
-  RunOutput<2>* output = nullptr;  ///< null: nothing written
+  RunOutput<dim>* output = nullptr;  ///< null: nothing written
   bool compute_energy = false;
 };
 
 /// Solves from `u` (the initial state, the result in place).
-void solve_quasi_static(const SteppingContext& context, Vec u, RunResult& result);
-void solve_transient(const SteppingContext& context, Vec u, RunResult& result);
+template <int dim>
+void solve_quasi_static(const SteppingContext<dim>& context, Vec u, RunResult& result);
+template <int dim>
+void solve_transient(const SteppingContext<dim>& context, Vec u, RunResult& result);
 
 }  // namespace warpfem::apps

@@ -44,11 +44,12 @@ class Physics {
   virtual void add_fields(const fem::OutputMesh<dim>& mesh, Vec state, io::VtkOutput<dim>& vtk) const = 0;
 };
 
-// The physics of a config. Poisson and elasticity are instantiated for dim = 2 today;
-// their 3D versions return Physics<3> from the same two functions.
-std::unique_ptr<Physics<2>> make_physics(const io::RunConfig& config, MPI_Comm comm,
-                                         const RunOptions& options);
-std::unique_ptr<Physics<2>> make_physics(const io::ElasticityConfig& config, MPI_Comm comm,
-                                         const RunOptions& options);
+// The physics of a config, in the config's dimension.
+template <int dim>
+std::unique_ptr<Physics<dim>> make_physics(const io::PoissonRunConfig<dim>& config, MPI_Comm comm,
+                                           const RunOptions& options);
+template <int dim>
+std::unique_ptr<Physics<dim>> make_physics(const io::ElasticityRunConfig<dim>& config, MPI_Comm comm,
+                                           const RunOptions& options);
 
 }  // namespace warpfem::apps

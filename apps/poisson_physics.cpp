@@ -20,17 +20,18 @@
 namespace warpfem::apps {
 namespace {
 
-class PoissonPhysics final : public Physics<2> {
+template <int dim>
+class PoissonPhysics final : public Physics<dim> {
  public:
-  PoissonPhysics(const io::RunConfig& cfg, MPI_Comm comm, const RunOptions& options)
+  PoissonPhysics(const io::PoissonRunConfig<dim>& cfg, MPI_Comm comm, const RunOptions& options)
       : cfg_(cfg), comm_(comm), options_(options) {}
 
-  const fem::Problem<2>& set_up(Mesh<2> coarse, int refinements, mapping::MapPtr<2> map) override {
-    fem::PoissonData<2> data;
-    data.source = io::Expression(cfg_.poisson.source, cfg_.file, "/problem/source").as_function_2d();
-    data.dirichlet = io::make_boundary_conditions(cfg_.poisson.dirichlet, cfg_.file);
-    data.neumann = io::make_boundary_conditions(cfg_.poisson.neumann, cfg_.file);
-    data.boundary_polygon = *cfg_.map.source;
+  const fem::Problem<dim>& set_up(Mesh<dim> coarse, int refinements, mapping::MapPtr<dim> map) override {
+    fem::PoissonData<dim> data;
+    data.source = io::expression_function<dim>(cfg_.poisson.source, cfg_.file, "/problem/source");
+    data.dirichlet = io::make_boundary_conditions<dim>(cfg_.poisson.dirichlet, cfg_.file);
+    data.neumann = io::make_boundary_conditions<dim>(cfg_.poisson.neumann, cfg_.file);
+    if constexpr (dim == 2) data.boundary_polygon = *cfg_.map.source;
     const int order = cfg_.poisson.order;
     const int qdeg = cfg_.poisson.quadrature_degree > 0 ? cfg_.poisson.quadrature_degree
                                                         : warpfem::default_quadrature_degree(order);
@@ -42,26 +43,29 @@ class PoissonPhysics final : public Physics<2> {
       mg_options.linear = cfg_.solver.linear;
       mg_options.multigrid = cfg_.solver.multigrid;
       mg_options.finest_geometry = storage;
-      mg_ = std::make_unique<multigrid::PoissonMultigridSolver<2>>(comm_, std::move(coarse), refinements, map,
-                                                                   order, qdeg, data, mg_options);
+      mg_ = std::make_unique<multigrid::PoissonMultigridSolver<dim>>(comm_, std::move(coarse), refinements,
+                                                                     map, order, qdeg, data, mg_options);
     } else {
-      mesh_ = std::make_unique<Mesh<2>>(std::move(coarse));
+      mesh_ = std::make_unique<Mesh<dim>>(std::move(coarse));
       for (int r = 0; r < refinements; ++r) *mesh_ = warpfem::refine_uniformly(*mesh_).mesh;
-      single_ = std::make_unique<fem::PoissonProblem<2>>(comm_, *mesh_, map, order, qdeg, data, storage);
+      single_ = std::make_unique<fem::PoissonProblem<dim>>(comm_, *mesh_, map, order, qdeg, data, storage);
       single_->assemble();
     }
-    const fem::PoissonProblem<2>& p = problem();
+    const fem::PoissonProblem<dim>& p = problem();
     int size = 1;
     MPI_Comm_size(comm_, &size);
-    log::info("assembled P", order, " Poisson", mg_ ? " on every level" : "", ": ", p.dofs().num_dofs(),
-              " DOFs on ", size, " rank(s), ", p.geometry().num_cells() * p.geometry().points_per_cell(),
+    const bool simplex =
+        p.mesh().cell_type == CellType::triangle || p.mesh().cell_type == CellType::tetrahedron;
+    log::info("assembled ", simplex ? "P" : "Q", order, " Poisson", mg_ ? " on every level" : "", ": ",
+              p.dofs().num_dofs(), " DOFs on ", size, " rank(s), ",
+              p.geometry().num_cells() * p.geometry().points_per_cell(),
               " warped quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
     check_load_is_finite();
     return p;
   }
   int order() const override { return cfg_.poisson.order; }
 
-  void solve(RunOutput<2>*, RunResult& result) override {
+  void solve(RunOutput<dim>*, RunResult& result) override {
     if (mg_) {
       result.solve = mg_->solve().linear;
     } else {
@@ -78,14 +82,17 @@ class PoissonPhysics final : public Physics<2> {
   }
 
   void report(RunResult& result) const override {
-    const fem::PoissonProblem<2>& p = problem();
+    const fem::PoissonProblem<dim>& p = problem();
     result.area = p.area();
     if (!cfg_.poisson.exact_solution.empty()) {
       const io::Expression exact(cfg_.poisson.exact_solution, cfg_.file, "/problem/exact_solution");
-      const fem::GradientFunction<2> grad = [&exact](const Point<2>& x, double t) {
-        return exact.gradient<2>(x, t);
+      const fem::GradientFunction<dim> grad = [&exact](const Point<dim>& x, double t) {
+        return exact.template gradient<dim>(x, t);
       };
-      const auto e = p.errors(exact.as_function_2d(), grad);
+      const fem::ScalarFunction<dim> value = [&exact](const Point<dim>& x, double t) {
+        return exact.template at<dim>(x, t);
+      };
+      const auto e = p.errors(value, grad);
       result.l2_error = e.l2;
       result.h1_error = e.h1_semi;
       log::info("error against exact solution: L2 ", std::scientific, std::setprecision(4), e.l2,
@@ -95,8 +102,8 @@ class PoissonPhysics final : public Physics<2> {
   }
 
   Vec state() const override { return problem().solution(); }
-  void add_fields(const fem::OutputMesh<2>& mesh, Vec u, io::VtkOutput<2>& vtk) const override {
-    const fem::PoissonProblem<2>& p = problem();
+  void add_fields(const fem::OutputMesh<dim>& mesh, Vec u, io::VtkOutput<dim>& vtk) const override {
+    const fem::PoissonProblem<dim>& p = problem();
     const VectorX values = mesh.interpolate(p.dofs(), p.distribution(), p.distribution().gather_relevant(u));
     vtk.point_fields.push_back({"u", 1, std::vector<double>(values.data(), values.data() + values.size())});
   }
@@ -105,7 +112,7 @@ class PoissonPhysics final : public Physics<2> {
   /// Geometric multigrid needs at least one refinement; one level is solved with
   /// the configured (or an algebraic) preconditioner.
   bool use_multigrid() const { return cfg_.solver.linear.pc_type == "mg" && cfg_.mesh.refinements > 0; }
-  const fem::PoissonProblem<2>& problem() const { return mg_ ? mg_->finest() : *single_; }
+  const fem::PoissonProblem<dim>& problem() const { return mg_ ? mg_->finest() : *single_; }
 
   /// A NaN or inf load would only surface as a diverging multigrid smoother.
   void check_load_is_finite() const {
@@ -121,19 +128,25 @@ class PoissonPhysics final : public Physics<2> {
                    "or sqrt/log of negative values on the target domain"});
   }
 
-  const io::RunConfig& cfg_;
+  const io::PoissonRunConfig<dim>& cfg_;
   MPI_Comm comm_;
   RunOptions options_;
-  std::unique_ptr<multigrid::PoissonMultigridSolver<2>> mg_;
-  std::unique_ptr<Mesh<2>> mesh_;
-  std::unique_ptr<fem::PoissonProblem<2>> single_;
+  std::unique_ptr<multigrid::PoissonMultigridSolver<dim>> mg_;
+  std::unique_ptr<Mesh<dim>> mesh_;
+  std::unique_ptr<fem::PoissonProblem<dim>> single_;
 };
 
 }  // namespace
 
-std::unique_ptr<Physics<2>> make_physics(const io::RunConfig& config, MPI_Comm comm,
-                                         const RunOptions& options) {
-  return std::make_unique<PoissonPhysics>(config, comm, options);
+template <int dim>
+std::unique_ptr<Physics<dim>> make_physics(const io::PoissonRunConfig<dim>& config, MPI_Comm comm,
+                                           const RunOptions& options) {
+  return std::make_unique<PoissonPhysics<dim>>(config, comm, options);
 }
+
+template std::unique_ptr<Physics<2>> make_physics(const io::PoissonRunConfig<2>&, MPI_Comm,
+                                                  const RunOptions&);
+template std::unique_ptr<Physics<3>> make_physics(const io::PoissonRunConfig<3>&, MPI_Comm,
+                                                  const RunOptions&);
 
 }  // namespace warpfem::apps

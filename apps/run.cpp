@@ -15,11 +15,31 @@
 #include "core/log.hpp"
 #include "core/timer.hpp"
 #include "fem/hierarchy/mesh_factory.hpp"
+#include "fem/hierarchy/polyhedron_parts.hpp"
 #include "io/config_field.hpp"
 #include "mapping/make_map.hpp"
 
 namespace warpfem::apps {
 namespace {
+
+std::string cell_plural(CellType type) {
+  switch (type) {
+    case CellType::tetrahedron: return "tetrahedra";
+    case CellType::hexahedron: return "hexahedra";
+    default: return warpfem::to_string(type) + "s";
+  }
+}
+
+/// The boundary parts of a polyhedron source, which the config's "faces" name.
+void log_boundary_parts(const Polyhedron& source) {
+  const fem::PolyhedronParts parts = fem::planar_face_groups(source);
+  log::info("boundary parts (\"faces\") of ", source.name(), ": ", parts.count(), " planar face groups");
+  for (int k = 0; k < parts.count(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    log::debug("  face ", k, ": normal (", parts.normal[i].transpose(), "), centroid (",
+               parts.centroid[i].transpose(), ")");
+  }
+}
 
 template <int dim, class Config>
 RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options) {
@@ -35,8 +55,17 @@ RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options
 
   // 3. The simple mesh of Ω0 (pulled back from Ω1 if the config asks); the physics
   // refines it into the hierarchy its solver needs.
-  Mesh<dim> coarse = fem::make_coarse_mesh(
-      *cfg.map.source, cfg.map.target ? *cfg.map.target : *cfg.map.source, *map, cfg.mesh);
+  Mesh<dim> coarse = [&] {
+    try {
+      return fem::make_coarse_mesh(*cfg.map.source, cfg.map.target ? *cfg.map.target : *cfg.map.source, *map,
+                                   cfg.mesh);
+    } catch (const Error& e) {
+      if (!e.context().key_path.empty()) throw;
+      // A mesher's failure (TetGen's, say) names the surface; the mesh settings are what to change.
+      throw Error(e.message(), {.file = cfg.file, .key_path = "/mesh", .hint = e.context().hint});
+    }
+  }();
+  if constexpr (dim == 3) log_boundary_parts(*cfg.map.source);
 
   // 4. The problem on the warped mesh: a fem::Problem<dim> on the finest level.
   const fem::Problem<dim>& problem = physics->set_up(std::move(coarse), cfg.mesh.refinements, map);
@@ -46,9 +75,8 @@ RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options
   result.h = mesh.max_edge_length();
   if (mesh.partial)  // stored only around this rank's cells: the largest over the ranks
     MPI_Allreduce(MPI_IN_PLACE, &result.h, 1, MPI_DOUBLE, MPI_MAX, comm);
-  log::info("mesh of Ω0: ", mesh.num_cells(), " ", warpfem::to_string(mesh.cell_type), "s, ",
-            mesh.num_vertices(), " vertices, h = ", std::setprecision(4), result.h, " (",
-            cfg.mesh.refinements, " refinements)");
+  log::info("mesh of Ω0: ", mesh.num_cells(), " ", cell_plural(mesh.cell_type), ", ", mesh.num_vertices(),
+            " vertices, h = ", std::setprecision(4), result.h, " (", cfg.mesh.refinements, " refinements)");
 
   // 5. Solve: linear (Krylov + geometric multigrid), quasi-static load stepping or
   // transient time stepping. A time series writes its steps as they converge.
@@ -74,8 +102,9 @@ RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options
 }  // namespace
 
 RunResult run(const io::Config& config, MPI_Comm comm, const RunOptions& options) {
-  // Every physics is two-dimensional today; a 3D config (polyhedra) selects run_recipe<3> here.
-  return std::visit([&](const auto& cfg) { return run_recipe<2>(cfg, comm, options); }, config);
+  return std::visit(
+      [&](const auto& cfg) { return run_recipe<std::decay_t<decltype(cfg)>::dim>(cfg, comm, options); },
+      config);
 }
 
 int run_command(const std::vector<std::string>& args) {

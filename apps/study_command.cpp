@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "io/config_field.hpp"
+#include "io/polyhedron_config.hpp"
 
 namespace warpfem::apps {
 
@@ -22,6 +23,12 @@ int study_command(const std::vector<std::string>& args) {
   const nlohmann::json study_json = json.contains("study") ? json["study"] : nlohmann::json::object();
   json.erase("study");
   StudySpec spec = parse_study_spec(io::ConfigNode(study_json, path, "/study"));
+  if (io::is_polyhedron_map(json))
+    throw Error(
+        "warpfem study compares with standard FEM on polygons; this config's source is a polyhedron",
+        {.file = path,
+         .key_path = "/map/source",
+         .hint = "run the 3D config with `warpfem run` (it prints the errors against an exact solution)"});
   io::RunConfig cfg = io::parse_run_config(json, path);
   // The study refines levels - 1 times more, and the reference solution further.
   io::check_discretization_size(

@@ -1,6 +1,7 @@
 #pragma once
 // The config of `warpfem run`: a Poisson config (io/run_config.hpp) or an
-// elasticity config (io/elasticity_config.hpp), chosen by /problem/type.
+// elasticity config (io/elasticity_config.hpp), chosen by /problem/type, in 2D
+// (a polygon source) or 3D (a polyhedron source, io/polyhedron_config.hpp).
 
 #include <string>
 #include <variant>
@@ -10,7 +11,7 @@
 
 namespace warpfem::io {
 
-using Config = std::variant<RunConfig, ElasticityConfig>;
+using Config = std::variant<RunConfig, ElasticityConfig, PoissonRunConfig<3>, ElasticityRunConfig<3>>;
 
 /// Loads and validates the config at `path` (the file is read once); throws
 /// warpfem::Error naming the file and field.

@@ -1,5 +1,6 @@
 #include "io/elasticity_config.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -25,17 +26,22 @@ std::string shortest_text(double v) {
   return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
 }
 
-/// [e0, e1]: numbers or expression strings; null marks a free component if allowed.
-VectorExpression parse_vector(const ConfigNode& node, const std::string& key, bool allow_null,
-                              const VectorExpression& fallback) {
+/// [e0, e1 (, e2)]: numbers or expression strings; null marks a free component if allowed.
+template <int dim>
+VectorExpression<dim> parse_vector(const ConfigNode& node, const std::string& key, bool allow_null,
+                                   const VectorExpression<dim>& fallback) {
   if (!node.has(key)) return fallback;
   const nlohmann::json& v = node.raw(key);
+  const std::string xs = dim == 2 ? "x, y" : "x, y, z";
   const std::string what = allow_null
-                               ? "[ux, uy] (numbers, expressions of x, y, t, or null for a free component)"
-                               : "[x, y] (numbers or expressions of x, y, t)";
-  if (!v.is_array() || v.size() != 2) throw node.error(key, "expected " + what + ", got " + json_excerpt(v));
-  VectorExpression out;
-  for (std::size_t c = 0; c < 2; ++c) {
+                               ? std::string(dim == 2 ? "[ux, uy]" : "[ux, uy, uz]") +
+                                     " (numbers, expressions of " + xs + ", t, or null for a free component)"
+                               : "[" + xs + "] (numbers or expressions of " + xs + ", t)";
+  if (!v.is_array() || v.size() != dim)
+    throw node.error(key, "expected " + what + ", got " + json_excerpt(v),
+                     dim == 3 ? "a 3D config (polyhedron source) takes three components" : "");
+  VectorExpression<dim> out;
+  for (std::size_t c = 0; c < dim; ++c) {
     const std::string path = node.path_of(key) + "/" + std::to_string(c);
     if (v[c].is_number()) {
       out[c] = number_text(v[c].get<double>());
@@ -53,45 +59,26 @@ VectorExpression parse_vector(const ConfigNode& node, const std::string& key, bo
   return out;
 }
 
-std::vector<int> parse_edges(const ConfigNode& item, Index num_edges) {
-  std::vector<int> edges;
-  if (!item.has("edges")) return edges;
-  const nlohmann::json& e = item.raw("edges");
-  if (e.is_string() && e.get<std::string>() == "all") return edges;
-  if (!e.is_array())
-    throw item.error("edges", "expected \"all\" or an array of edge indices, got " + json_excerpt(e),
-                     "edge i joins target vertices i and i+1");
-  if (e.empty())
-    throw item.error("edges", "an empty list selects no edge, so this condition would do nothing",
-                     "list edge indices, or omit the key (or use \"all\") to select all edges");
-  for (std::size_t k = 0; k < e.size(); ++k) {
-    if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_edges)
-      throw item.error(
-          "edges/" + std::to_string(k),
-          "expected an edge index in [0, " + std::to_string(num_edges - 1) + "], got " + json_excerpt(e[k]),
-          "edge i joins target vertices i and i+1");
-    edges.push_back(e[k].get<int>());
-  }
-  return edges;
-}
-
-std::vector<VectorBoundarySpec> parse_conditions(const ConfigNode& node, const std::string& key,
-                                                 const std::string& value_key, bool allow_null,
-                                                 Index num_edges) {
-  std::vector<VectorBoundarySpec> out;
+template <int dim>
+std::vector<VectorBoundarySpec<dim>> parse_conditions(const ConfigNode& node, const std::string& key,
+                                                      const std::string& value_key, bool allow_null,
+                                                      Index num_parts) {
+  std::vector<VectorBoundarySpec<dim>> out;
   if (!node.has(key)) return out;
   const nlohmann::json& list = node.raw(key);
+  const std::string parts_key = boundary_part_key<dim>();
+  const std::string example = dim == 2 ? "[0, 0]" : "[0, 0, 0]";
   if (!list.is_array())
-    throw node.error(key, "expected an array of {\"edges\": ..., \"" + value_key +
-                              "\": [.., ..]} objects, got " + json_excerpt(list));
+    throw node.error(key, "expected an array of {\"" + parts_key + "\": ..., \"" + value_key +
+                              "\": " + example + "} objects, got " + json_excerpt(list));
   for (std::size_t i = 0; i < list.size(); ++i) {
     const ConfigNode item(list[i], node.file(), node.path_of(key) + "/" + std::to_string(i));
-    VectorBoundarySpec bc;
-    bc.edges = parse_edges(item, num_edges);
+    VectorBoundarySpec<dim> bc;
+    bc.edges = parse_boundary_parts<dim>(item, num_parts);
     if (!item.has(value_key))
       throw item.error(value_key, "missing required field",
-                       "give [x, y] values, e.g. \"" + value_key + "\": [0, 0]");
-    bc.value = parse_vector(item, value_key, allow_null, {"0", "0"});
+                       "give one value per component, e.g. \"" + value_key + "\": " + example);
+    bc.value = parse_vector<dim>(item, value_key, allow_null, zero_vector_expression<dim>());
     bc.key_path = item.path_of(value_key);
     item.finish();
     out.push_back(bc);
@@ -139,21 +126,22 @@ fem::Material parse_material(const ConfigNode& node) {
 }
 
 /// Time steps and output files of a transient run (each step is a nonlinear solve).
-void check_transient_size(const ConfigNode& root, const ElasticityConfig& cfg) {
-  const double steps = std::ceil(cfg.time.end / cfg.time.step);
-  if (steps > cfg.limits.time_steps)
+void check_transient_size(const ConfigNode& root, const TimeSpec& time, const ElasticityOutputSpec& output,
+                          const SizeLimits& limits) {
+  const double steps = std::ceil(time.end / time.step);
+  if (steps > limits.time_steps)
     throw root.error("time/step",
-                     "end " + shortest_text(cfg.time.end) + " / step " + shortest_text(cfg.time.step) +
-                         " makes " + estimate_text(steps) + " time steps, more than the limit of " +
-                         estimate_text(cfg.limits.time_steps),
+                     "end " + shortest_text(time.end) + " / step " + shortest_text(time.step) + " makes " +
+                         estimate_text(steps) + " time steps, more than the limit of " +
+                         estimate_text(limits.time_steps),
                      "use a larger \"step\", or raise \"limits\": {\"time_steps\": ...}");
-  if (!cfg.output.vtk) return;
-  const double files = std::ceil(steps / cfg.output.every) + 2;  // step files, the last step and the .pvd
-  if (files > cfg.limits.output_files)
+  if (!output.vtk) return;
+  const double files = std::ceil(steps / output.every) + 2;  // step files, the last step and the .pvd
+  if (files > limits.output_files)
     throw root.error("output/every",
-                     "writing every " + std::to_string(cfg.output.every) + " of " + estimate_text(steps) +
+                     "writing every " + std::to_string(output.every) + " of " + estimate_text(steps) +
                          " time steps makes about " + estimate_text(files) +
-                         " output files, more than the limit of " + estimate_text(cfg.limits.output_files),
+                         " output files, more than the limit of " + estimate_text(limits.output_files),
                      "write less often (\"output\": {\"every\": ...}), or raise \"limits\": "
                      "{\"output_files\": ...}");
 }
@@ -171,35 +159,39 @@ std::string problem_type(const nlohmann::json& json, const std::string& file) {
   return t.get<std::string>();
 }
 
-ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::string& file) {
-  ElasticityConfig cfg;
+template <int dim>
+ElasticityRunConfig<dim> parse_elasticity_config_for(const nlohmann::json& json, const std::string& file) {
+  ElasticityRunConfig<dim> cfg;
   cfg.file = file;
   const ConfigNode root(json, file);
   cfg.verbosity = parse_verbosity(root);
-  cfg.map = parse_required_map(root);
-  const Index num_edges = cfg.map.source->size();
-  cfg.mesh = parse_mesh_spec(root.child("mesh"));
+  cfg.map = parse_required_map_for<dim>(root);
+  const Index num_parts = boundary_part_count<dim>(cfg.map);
+  cfg.mesh = parse_mesh_spec(root.child("mesh"), dim);
 
   const ConfigNode problem = root.child("problem");
   problem.get_choice("type", "elasticity", {"elasticity"});
   auto& p = cfg.problem;
-  read_parameters(problem, elasticity_parameters(), p);
+  read_parameters(problem, elasticity_parameters(), static_cast<ElasticitySpec&>(p));
   if (!problem.has("material"))
     throw problem.error("material", "missing required field: the material",
                         "add \"material\": {\"model\": \"neo_hookean\", \"E\": 1e5, \"nu\": 0.3}");
   p.material = parse_material(problem.child("material"));
   if (problem.has("gravity")) {
     const std::vector<double> g = problem.get_doubles("gravity");
-    if (g.size() != 2) throw problem.error("gravity", "expected [gx, gy]", "e.g. \"gravity\": [0, -9.81]");
-    p.gravity = {g[0], g[1]};
+    if (g.size() != dim)
+      throw problem.error("gravity", dim == 2 ? "expected [gx, gy]" : "expected [gx, gy, gz]",
+                          dim == 2 ? "e.g. \"gravity\": [0, -9.81]" : "e.g. \"gravity\": [0, 0, -9.81]");
+    std::copy(g.begin(), g.end(), p.gravity.begin());
   }
-  p.body_force = parse_vector(problem, "body_force", false, p.body_force);
-  p.dirichlet = parse_conditions(problem, "dirichlet", "displacement", true, num_edges);
-  p.neumann = parse_conditions(problem, "neumann", "traction", false, num_edges);
-  p.initial_velocity = parse_vector(problem, "initial_velocity", false, p.initial_velocity);
+  p.body_force = parse_vector<dim>(problem, "body_force", false, p.body_force);
+  p.dirichlet = parse_conditions<dim>(problem, "dirichlet", "displacement", true, num_parts);
+  p.neumann = parse_conditions<dim>(problem, "neumann", "traction", false, num_parts);
+  p.initial_velocity = parse_vector<dim>(problem, "initial_velocity", false, p.initial_velocity);
   if (p.dirichlet.empty())
     throw problem.error("dirichlet", "no displacement boundary condition: the body could move rigidly",
-                        "add \"dirichlet\": [{\"edges\": [0], \"displacement\": [0, 0]}]");
+                        dim == 2 ? "add \"dirichlet\": [{\"edges\": [0], \"displacement\": [0, 0]}]"
+                                 : "add \"dirichlet\": [{\"faces\": [0], \"displacement\": [0, 0, 0]}]");
   if (p.analysis == "quasi_static" && problem.has("initial_velocity"))
     throw problem.error("initial_velocity", "an initial velocity needs \"analysis\": \"transient\"");
   problem.finish();
@@ -235,12 +227,17 @@ ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::
   output.finish();
   cfg.limits = parse_limits(root);
   root.finish();
-  check_map_size(root, cfg.map, cfg.limits);
-  check_discretization_size(root, cfg.mesh, cfg.map,
-                            {.refinements = cfg.mesh.refinements, .order = p.order, .components = 2},
-                            cfg.limits);
-  if (transient) check_transient_size(root, cfg);
+  check_run_size<dim>(root, cfg.mesh, cfg.map,
+                      {.refinements = cfg.mesh.refinements, .order = p.order, .components = dim}, cfg.limits);
+  if (transient) check_transient_size(root, cfg.time, cfg.output, cfg.limits);
   return cfg;
+}
+
+template ElasticityRunConfig<2> parse_elasticity_config_for<2>(const nlohmann::json&, const std::string&);
+template ElasticityRunConfig<3> parse_elasticity_config_for<3>(const nlohmann::json&, const std::string&);
+
+ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::string& file) {
+  return parse_elasticity_config_for<2>(json, file);
 }
 
 ElasticityConfig load_elasticity_config(const std::string& path) {
@@ -250,36 +247,52 @@ ElasticityConfig load_elasticity_config(const std::string& path) {
 
 namespace {
 
-fem::ScalarFunction<2> scalar(const std::string& text, const std::string& file, const std::string& key_path) {
+template <int dim>
+fem::ScalarFunction<dim> scalar(const std::string& text, const std::string& file,
+                                const std::string& key_path) {
   if (text.empty()) return {};
   const Expression e(text, file, key_path);
-  return [e](const Point<2>& x, double t) { return e.at<2>(x, t); };
+  return [e](const Point<dim>& x, double t) { return e.at<dim>(x, t); };
 }
 
-fem::VectorFunction<2> vector(const VectorExpression& v, const std::string& file,
-                              const std::string& key_path) {
-  const Expression ex(v[0], file, key_path + "/0"), ey(v[1], file, key_path + "/1");
-  return [ex, ey](const Point<2>& x, double t) { return Point<2>(ex.at<2>(x, t), ey.at<2>(x, t)); };
+template <int dim>
+fem::VectorFunction<dim> vector(const VectorExpression<dim>& v, const std::string& file,
+                                const std::string& key_path) {
+  std::vector<Expression> e;
+  for (int c = 0; c < dim; ++c)
+    e.emplace_back(v[static_cast<std::size_t>(c)], file, key_path + "/" + std::to_string(c));
+  return [e](const Point<dim>& x, double t) {
+    Point<dim> out;
+    for (int c = 0; c < dim; ++c) out(c) = e[static_cast<std::size_t>(c)].template at<dim>(x, t);
+    return out;
+  };
 }
 
 }  // namespace
 
-fem::ElasticityData<2> make_elasticity_data(const ElasticityConfig& cfg) {
+template <int dim>
+fem::ElasticityData<dim> make_elasticity_data(const ElasticityRunConfig<dim>& cfg) {
   const auto& p = cfg.problem;
-  fem::ElasticityData<2> data;
+  fem::ElasticityData<dim> data;
   data.material = p.material;
-  data.boundary_polygon = cfg.map.source;
-  data.gravity = Point<2>(p.gravity[0], p.gravity[1]);
-  if (p.body_force[0] != "0" || p.body_force[1] != "0")
+  if constexpr (dim == 2) data.boundary_polygon = cfg.map.source;
+  for (int c = 0; c < dim; ++c) data.gravity(c) = p.gravity[static_cast<std::size_t>(c)];
+  if (p.body_force != zero_vector_expression<dim>())
     data.body_force =
-        vector(p.body_force, cfg.file, json_pointer(elasticity_parameters().field("body_force")));
-  for (const auto& bc : p.dirichlet)
-    data.dirichlet.push_back({bc.edges,
-                              {scalar(bc.value[0], cfg.file, bc.key_path + "/0"),
-                               scalar(bc.value[1], cfg.file, bc.key_path + "/1")}});
+        vector<dim>(p.body_force, cfg.file, json_pointer(elasticity_parameters().field("body_force")));
+  for (const auto& bc : p.dirichlet) {
+    std::array<fem::ComponentFunction<dim>, dim> value;
+    for (int c = 0; c < dim; ++c)
+      value[static_cast<std::size_t>(c)] =
+          scalar<dim>(bc.value[static_cast<std::size_t>(c)], cfg.file, bc.key_path + "/" + std::to_string(c));
+    data.dirichlet.push_back({bc.edges, value});
+  }
   for (const auto& bc : p.neumann)
-    data.neumann.push_back({bc.edges, vector(bc.value, cfg.file, bc.key_path)});
+    data.neumann.push_back({bc.edges, vector<dim>(bc.value, cfg.file, bc.key_path)});
   return data;
 }
+
+template fem::ElasticityData<2> make_elasticity_data(const ElasticityRunConfig<2>&);
+template fem::ElasticityData<3> make_elasticity_data(const ElasticityRunConfig<3>&);
 
 }  // namespace warpfem::io

@@ -1,6 +1,6 @@
 #pragma once
 // The configuration of an elasticity run ("problem": {"type": "elasticity"}):
-// map and mesh sections as for Poisson (io/run_config.hpp), then material,
+// map and mesh sections as for Poisson (io/run_config.hpp; 2D or 3D), then material,
 // loads, boundary conditions, load stepping (quasi-static) or time stepping
 // (transient), Newton/linear solver and output. See docs/elasticity.md.
 
@@ -13,25 +13,40 @@
 
 namespace warpfem::io {
 
-/// Two expressions of x, y, t (one per component); "" marks a free component (Dirichlet only).
-using VectorExpression = std::array<std::string, 2>;
+/// One expression of x, y (, z), t per component; "" marks a free component (Dirichlet only).
+template <int dim>
+using VectorExpression = std::array<std::string, dim>;
 
+template <int dim>
+VectorExpression<dim> zero_vector_expression() {
+  VectorExpression<dim> v;
+  v.fill("0");
+  return v;
+}
+
+template <int dim>
 struct VectorBoundarySpec {
-  std::vector<int> edges;  ///< empty: all edges
-  VectorExpression value;
+  std::vector<int> edges;  ///< boundary parts ("edges" in 2D, "faces" in 3D); empty: all
+  VectorExpression<dim> value;
   std::string key_path;  ///< of the value array, for error messages
 };
 
+/// The settings of the "problem" object that do not depend on the dimension.
 struct ElasticitySpec {
   std::string analysis = "quasi_static";  ///< quasi_static | transient
   int order = 1;                          ///< Lagrange order (1 or 2)
   int quadrature_degree = 0;              ///< 0: 2·order + 2
   fem::Material material;                 ///< model, λ, μ, density
-  std::array<double, 2> gravity = {0, 0};
-  VectorExpression body_force = {"0", "0"};
-  std::vector<VectorBoundarySpec> dirichlet;  ///< prescribed displacement
-  std::vector<VectorBoundarySpec> neumann;    ///< traction per unit length of f(∂Ω0)
-  VectorExpression initial_velocity = {"0", "0"};
+};
+
+/// The whole "problem" object: the settings, loads and boundary conditions.
+template <int dim>
+struct ElasticityProblemSpec : ElasticitySpec {
+  std::array<double, dim> gravity{};
+  VectorExpression<dim> body_force = zero_vector_expression<dim>();
+  std::vector<VectorBoundarySpec<dim>> dirichlet;  ///< prescribed displacement
+  std::vector<VectorBoundarySpec<dim>> neumann;    ///< traction per unit measure of f(∂Ω0)
+  VectorExpression<dim> initial_velocity = zero_vector_expression<dim>();
 };
 
 struct LoadSteppingSpec {
@@ -66,18 +81,22 @@ struct ElasticityOutputSpec {
   std::string cells = "curved";      ///< curved | linear (linear: vertices only, vtk_order 1)
 };
 
-struct ElasticityConfig {
+/// An elasticity run on a polygon (dim 2) or a polyhedron (dim 3).
+template <int dim_>
+struct ElasticityRunConfig {
+  static constexpr int dim = dim_;
   std::string file;
   std::string verbosity = "info";
-  mapping::MapSpec map;
+  MapSpecFor<dim> map;
   MeshSpec mesh;
-  ElasticitySpec problem;
+  ElasticityProblemSpec<dim> problem;
   LoadSteppingSpec load_stepping;
   TimeSpec time;
   NewtonSpec solver;
   ElasticityOutputSpec output;
   SizeLimits limits;  ///< "limits": memory, time step and file caps of the size checks
 };
+using ElasticityConfig = ElasticityRunConfig<2>;
 
 /// The value of /problem/type of a parsed config ("poisson" when absent); for dispatching.
 std::string problem_type(const nlohmann::json& json, const std::string& file);
@@ -85,8 +104,12 @@ std::string problem_type(const nlohmann::json& json, const std::string& file);
 /// Loads and validates an elasticity config; throws warpfem::Error naming the file and field.
 ElasticityConfig load_elasticity_config(const std::string& path);
 ElasticityConfig parse_elasticity_config(const nlohmann::json& json, const std::string& file);
+/// An elasticity config of either dimension (3 when the map's source is a polyhedron).
+template <int dim>
+ElasticityRunConfig<dim> parse_elasticity_config_for(const nlohmann::json& json, const std::string& file);
 
 /// The pointwise data (material, loads, boundary conditions) of a parsed config.
-fem::ElasticityData<2> make_elasticity_data(const ElasticityConfig& config);
+template <int dim>
+fem::ElasticityData<dim> make_elasticity_data(const ElasticityRunConfig<dim>& config);
 
 }  // namespace warpfem::io

@@ -13,22 +13,24 @@ ParameterTable<ElasticitySpec> make_problem() {
   t.other("type", "`\"elasticity\"`", "—", "selects this solver");
   t.choice("analysis", &S::analysis, {"quasi_static", "transient"}, "load stepping or time stepping");
   t.integer("order", &S::order, 1, 2,
-            "Lagrange order of the displacement: P1/P2 on triangles, Q1/Q2 on quadrilaterals")
+            "Lagrange order of the displacement: P1/P2 on triangles and tetrahedra, Q1/Q2 on quadrilaterals "
+            "and hexahedra")
       .with_type("1 or 2");
   t.integer("quadrature_degree", &S::quadrature_degree, 0, 30, "exactness degree of the cell quadrature")
       .with_default("0 = 2·order + 2");
   t.other("material", "object", "*required*", "see `problem.material`");
-  t.other("gravity", "`[gx, gy]`", "`[0, 0]`",
-          "acceleration g; adds the body force ρ g per unit reference area");
-  t.other("body_force", "`[x, y]` numbers or expressions", "`[\"0\", \"0\"]`",
-          "extra body force per unit reference area; numbers or expressions of x, y, t");
+  t.other("gravity", "`[gx, gy]` (3D: `[gx, gy, gz]`)", "zero",
+          "acceleration g; adds the body force ρ g per unit reference area (volume in 3D)");
+  t.other("body_force", "`[x, y]` (3D: `[x, y, z]`) numbers or expressions", "zero",
+          "extra body force per unit reference area (volume); numbers or expressions of x, y (, z), t");
   t.other("dirichlet", "array", "*required*",
           "list of `{\"edges\": [...] or \"all\", \"displacement\": [ux, uy]}`; a `null` component is left "
-          "free (a roller: `[null, 0]`)");
+          "free (a roller: `[null, 0]`). 3D: `{\"faces\": ..., \"displacement\": [ux, uy, uz]}` "
+          "([config.md](config.md#3d-configs-polyhedra))");
   t.other("neumann", "array", "—",
           "list of `{\"edges\": ..., \"traction\": [tx, ty]}`: a dead-load force per unit length of the "
-          "warped boundary");
-  t.other("initial_velocity", "`[x, y]` numbers or expressions", "`[\"0\", \"0\"]`", "transient only");
+          "warped boundary (3D: `\"faces\"`, `[tx, ty, tz]` per unit area)");
+  t.other("initial_velocity", "`[x, y]` (3D: `[x, y, z]`) numbers or expressions", "zero", "transient only");
   return t;
 }
 

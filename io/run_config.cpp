@@ -1,5 +1,6 @@
 #include "io/run_config.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -9,8 +10,10 @@
 
 #include "core/log.hpp"
 #include "fem/hierarchy/mesh_parameters.hpp"
+#include "fem/hierarchy/polyhedron_parts.hpp"
 #include "io/expression.hpp"
 #include "io/parameter_reader.hpp"
+#include "io/polyhedron_config.hpp"
 #include "io/run_parameters.hpp"
 #include "mapping/map_parameters.hpp"
 #include "multigrid/multigrid_parameters.hpp"
@@ -138,40 +141,64 @@ mapping::MapSpec parse_map_spec(const ConfigNode& node) {
   return spec;
 }
 
+template <int dim>
+std::vector<int> parse_boundary_parts(const ConfigNode& item, Index num_parts) {
+  const std::string key = boundary_part_key<dim>();
+  const std::string other = boundary_part_key<5 - dim>();
+  if (item.has(other))
+    throw item.error(other,
+                     dim == 2 ? "\"faces\" names faces of a polyhedron, but the source is a polygon"
+                              : "\"edges\" names edges of a polygon, but the source is a polyhedron",
+                     "rename \"" + other + "\" to \"" + key + "\"");
+  const std::string what = dim == 2 ? "edge" : "face";
+  const std::string hint = dim == 2 ? "edge i joins target vertices i and i+1"
+                                    : "face i is the i-th planar face group of the source polyhedron, "
+                                      "numbered by its first triangle (docs/config.md: boundary parts in 3D)";
+  std::vector<int> parts;
+  if (!item.has(key)) return parts;
+  const nlohmann::json& e = item.raw(key);
+  if (e.is_string() && e.get<std::string>() == "all") return parts;
+  if (!e.is_array())
+    throw item.error(key, "expected \"all\" or an array of " + what + " indices, got " + json_excerpt(e),
+                     hint);
+  if (e.empty())
+    throw item.error(
+        key, "an empty list selects no " + what + ", so this condition would do nothing",
+        "list " + what + " indices, or omit the key (or use \"all\") to select all " + what + "s");
+  for (std::size_t k = 0; k < e.size(); ++k) {
+    if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_parts)
+      throw item.error(key + "/" + std::to_string(k),
+                       "expected " + std::string(dim == 2 ? "an " : "a ") + what + " index in [0, " +
+                           std::to_string(num_parts - 1) + "], got " + json_excerpt(e[k]),
+                       hint);
+    parts.push_back(e[k].get<int>());
+  }
+  return parts;
+}
+
+template std::vector<int> parse_boundary_parts<2>(const ConfigNode&, Index);
+template std::vector<int> parse_boundary_parts<3>(const ConfigNode&, Index);
+
 namespace {
 
-std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::string& key, Index num_edges) {
+template <int dim>
+std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::string& key, Index num_parts) {
   std::vector<BoundarySpec> out;
   if (!node.has(key)) return out;
   const nlohmann::json& list = node.raw(key);
+  const std::string parts_key = boundary_part_key<dim>();
   if (!list.is_array())
-    throw node.error(
-        key, "expected an array of {\"edges\": ..., \"value\": ...} objects, got " + json_excerpt(list));
+    throw node.error(key, "expected an array of {\"" + parts_key + "\": ..., \"value\": ...} objects, got " +
+                              json_excerpt(list));
   for (std::size_t i = 0; i < list.size(); ++i) {
     const ConfigNode item(list[i], node.file(), node.path_of(key) + "/" + std::to_string(i));
     BoundarySpec bc;
     bc.key_path = item.path_of("value");
-    if (item.has("edges")) {
-      const nlohmann::json& e = item.raw("edges");
-      if (e.is_string() && e.get<std::string>() == "all") {
-      } else if (e.is_array()) {
-        if (e.empty())
-          throw item.error("edges", "an empty list selects no edge, so this condition would do nothing",
-                           "list edge indices, or omit the key (or use \"all\") to select all edges");
-        for (std::size_t k = 0; k < e.size(); ++k) {
-          if (!e[k].is_number_integer() || e[k].get<long>() < 0 || e[k].get<long>() >= num_edges)
-            throw item.error("edges/" + std::to_string(k),
-                             "expected an edge index in [0, " + std::to_string(num_edges - 1) + "], got " +
-                                 json_excerpt(e[k]),
-                             "edge i joins target vertices i and i+1");
-          bc.edges.push_back(e[k].get<int>());
-        }
-      } else {
-        throw item.error("edges", "expected \"all\" or an array of edge indices, got " + json_excerpt(e));
-      }
-    }
+    bc.edges = parse_boundary_parts<dim>(item, num_parts);
     if (!item.has("value"))
-      throw item.error("value", "missing required field", "give a number or an expression of x, y");
+      throw item.error(
+          "value", "missing required field",
+          dim == 2 ? "give a number or an expression of x, y" : "give a number or an expression of x, y, z");
     bc.value = item.get_expression("value", "0");
     Expression(bc.value, node.file(), bc.key_path);  // syntax check now
     item.finish();
@@ -182,30 +209,65 @@ std::vector<BoundarySpec> parse_boundary(const ConfigNode& node, const std::stri
 
 }  // namespace
 
-MeshSpec parse_mesh_spec(const ConfigNode& mesh) {
+MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
   MeshSpec spec;
   const auto& table = fem::mesh_parameters();
+  if (dim == 3) spec.type = "tetgen";
   read_parameters(mesh, table, spec);
+  const std::vector<std::string> types_2d = {"delaunay", "quad_split", "structured", "gmsh", "pullback"};
+  if (dim == 3 && spec.type != "tetgen" && spec.type != "structured")
+    throw mesh.error("type",
+                     "mesh type \"" + spec.type + "\" meshes polygons, but the source is a polyhedron" +
+                         (spec.type == "gmsh" ? " (the Gmsh reader reads 2D meshes only)" : ""),
+                     "use \"tetgen\" (tetrahedra of any polyhedron) or \"structured\" (a box)");
+  if (dim == 2 && spec.type == "tetgen")
+    throw mesh.error("type", "TetGen meshes polyhedra, but the source is a polygon",
+                     "use \"delaunay\", or give a polyhedron source {\"vertices\": ..., \"triangles\": ...}");
+  for (const std::string key : {"quality_ratio", "max_volume", "keep_surface"})
+    if (mesh.has(key) && spec.type != "tetgen")
+      throw mesh.error(key, "\"" + key + "\" is an option of mesh type \"tetgen\", not \"" + spec.type + "\"",
+                       "remove \"" + key + "\"");
   // The default cell type follows the mesh type.
   const auto& cell_type = table.at("cell_type");
-  if (spec.type == "structured") spec.cell_type = warpfem::CellType::quadrilateral;
+  if (spec.type == "structured")
+    spec.cell_type = dim == 2 ? warpfem::CellType::quadrilateral : warpfem::CellType::hexahedron;
+  if (spec.type == "tetgen") spec.cell_type = warpfem::CellType::tetrahedron;
   cell_type.set(spec,
                 mesh.get_choice("cell_type", std::get<std::string>(cell_type.get(spec)), cell_type.choices));
+  const bool cell_3d =
+      spec.cell_type == warpfem::CellType::tetrahedron || spec.cell_type == warpfem::CellType::hexahedron;
+  if (dim == 3 && !cell_3d)
+    throw mesh.error("cell_type",
+                     "\"" + warpfem::to_string(spec.cell_type) +
+                         "\" is a 2D cell, but the source is a polyhedron (a 3D config)",
+                     "use \"tetrahedron\" or \"hexahedron\"");
+  if (dim == 2 && cell_3d)
+    throw mesh.error("cell_type",
+                     "\"" + warpfem::to_string(spec.cell_type) +
+                         "\" is a 3D cell, but the source is a polygon (a 2D config)",
+                     "use \"triangle\" or \"quadrilateral\", or give a polyhedron source");
+  if (spec.type == "tetgen" && spec.cell_type != warpfem::CellType::tetrahedron)
+    throw mesh.error("cell_type", "TetGen meshes are made of tetrahedra",
+                     "use \"type\": \"structured\" for hexahedra of a box");
   if (spec.type == "delaunay" && spec.cell_type != warpfem::CellType::triangle)
     throw mesh.error("cell_type", "delaunay meshes are made of triangles",
                      "use \"type\": \"quad_split\" for quadrilaterals");
   if (spec.type == "quad_split") spec.cell_type = warpfem::CellType::quadrilateral;
   if (mesh.has("cells")) {
     const nlohmann::json& c = mesh.raw("cells");
-    if (c.is_number_integer() && c.get<long>() >= 1) {
-      spec.nx = spec.ny = c.get<int>();
-    } else if (c.is_array() && c.size() == 2 && c[0].is_number_integer() && c[1].is_number_integer() &&
-               c[0].get<long>() >= 1 && c[1].get<long>() >= 1) {
+    const auto positive = [](const nlohmann::json& v) { return v.is_number_integer() && v.get<long>() >= 1; };
+    if (positive(c)) {
+      spec.nx = spec.ny = spec.nz = c.get<int>();
+    } else if (c.is_array() && c.size() == static_cast<std::size_t>(dim) &&
+               std::all_of(c.begin(), c.end(), positive)) {
       spec.nx = c[0].get<int>();
       spec.ny = c[1].get<int>();
+      if (dim == 3) spec.nz = c[2].get<int>();
     } else {
-      throw mesh.error("cells", "expected a positive integer or [nx, ny], got " + json_excerpt(c),
-                       "e.g. \"cells\": [4, 4]");
+      throw mesh.error("cells",
+                       std::string("expected a positive integer or ") +
+                           (dim == 2 ? "[nx, ny]" : "[nx, ny, nz]") + ", got " + json_excerpt(c),
+                       dim == 2 ? "e.g. \"cells\": [4, 4]" : "e.g. \"cells\": [4, 4, 4]");
     }
   }
   if (spec.type == "gmsh") {
@@ -254,31 +316,34 @@ std::string config_relative_path(const std::string& config_file, const std::stri
   return (fs::path(config_file).parent_path() / p).lexically_normal().string();
 }
 
-RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) {
-  RunConfig cfg;
+template <int dim>
+PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std::string& file) {
+  PoissonRunConfig<dim> cfg;
   cfg.file = file;
   const ConfigNode root(json, file);
   cfg.verbosity = parse_verbosity(root);
-  cfg.map = parse_required_map(root);
-  const Index num_edges = cfg.map.source->size();
-
-  cfg.mesh = parse_mesh_spec(root.child("mesh"));
+  cfg.map = parse_required_map_for<dim>(root);
+  const Index num_parts = boundary_part_count<dim>(cfg.map);
+  cfg.mesh = parse_mesh_spec(root.child("mesh"), dim);
 
   const ConfigNode problem = root.child("problem");
   problem.get_choice("type", "poisson", {"poisson"});
   read_parameters(problem, poisson_parameters(), cfg.poisson);
-  cfg.poisson.dirichlet = parse_boundary(problem, "dirichlet", num_edges);
-  cfg.poisson.neumann = parse_boundary(problem, "neumann", num_edges);
+  cfg.poisson.dirichlet = parse_boundary<dim>(problem, "dirichlet", num_parts);
+  cfg.poisson.neumann = parse_boundary<dim>(problem, "neumann", num_parts);
   if (cfg.poisson.dirichlet.empty() && cfg.poisson.neumann.empty())
-    throw problem.error("dirichlet", "no boundary condition given",
-                        "add \"dirichlet\": [{\"edges\": \"all\", \"value\": 0}]");
+    throw problem.error(
+        "dirichlet", "no boundary condition given",
+        std::string("add \"dirichlet\": [{\"") + boundary_part_key<dim>() + "\": \"all\", \"value\": 0}]");
   if (cfg.poisson.dirichlet.empty())
     throw problem.error(
         "dirichlet",
         "only Neumann conditions: the solution is determined up to a constant, and solvable only "
         "if the source and the fluxes balance",
-        "prescribe the value on at least one edge, e.g. \"dirichlet\": [{\"edges\": [0], "
-        "\"value\": 0}]");
+        dim == 2
+            ? "prescribe the value on at least one edge, e.g. \"dirichlet\": [{\"edges\": [0], \"value\": 0}]"
+            : "prescribe the value on at least one face, e.g. \"dirichlet\": [{\"faces\": [0], \"value\": "
+              "0}]");
   problem.finish();
 
   const ConfigNode solver = root.child("solver");
@@ -317,13 +382,49 @@ RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) 
   output.finish();
   cfg.limits = parse_limits(root);
   root.finish();
-  check_map_size(root, cfg.map, cfg.limits);
-  check_discretization_size(root, cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements),
-                            cfg.limits);
+  check_run_size<dim>(root, cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements), cfg.limits);
   return cfg;
 }
 
-Discretization poisson_discretization(const RunConfig& cfg, int refinements) {
+template PoissonRunConfig<2> parse_poisson_config<2>(const nlohmann::json&, const std::string&);
+template PoissonRunConfig<3> parse_poisson_config<3>(const nlohmann::json&, const std::string&);
+
+RunConfig parse_run_config(const nlohmann::json& json, const std::string& file) {
+  return parse_poisson_config<2>(json, file);
+}
+
+template <>
+mapping::MapSpec parse_required_map_for<2>(const ConfigNode& root) {
+  return parse_required_map(root);
+}
+template <>
+mapping::PolyhedronMapSpec parse_required_map_for<3>(const ConfigNode& root) {
+  return parse_polyhedron_map_spec(root.child("map"));
+}
+
+template <>
+Index boundary_part_count<2>(const mapping::MapSpec& map) {
+  return map.source->size();
+}
+template <>
+Index boundary_part_count<3>(const mapping::PolyhedronMapSpec& map) {
+  return fem::planar_face_groups(*map.source).count();
+}
+
+template <>
+void check_run_size<2>(const ConfigNode& root, const MeshSpec& mesh, const mapping::MapSpec& map,
+                       const Discretization& d, const SizeLimits& limits) {
+  check_map_size(root, map, limits);
+  check_discretization_size(root, mesh, map, d, limits);
+}
+template <>
+void check_run_size<3>(const ConfigNode& root, const MeshSpec& mesh, const mapping::PolyhedronMapSpec& map,
+                       const Discretization& d, const SizeLimits& limits) {
+  check_discretization_size(root, mesh, *map.source, d, limits);
+}
+
+template <int dim>
+Discretization poisson_discretization(const PoissonRunConfig<dim>& cfg, int refinements) {
   return {.refinements = refinements,
           .order = cfg.poisson.order,
           .components = 1,
@@ -333,17 +434,38 @@ Discretization poisson_discretization(const RunConfig& cfg, int refinements) {
                                        : 0.0};
 }
 
+template Discretization poisson_discretization(const PoissonRunConfig<2>&, int);
+template Discretization poisson_discretization(const PoissonRunConfig<3>&, int);
+
 RunConfig load_run_config(const std::string& path) {
   const nlohmann::json json = ConfigNode::parse_file(path);
   return parse_run_config(json, path);
 }
 
-std::vector<fem::BoundaryCondition<2>> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
-                                                                const std::string& file) {
-  std::vector<fem::BoundaryCondition<2>> out;
-  for (const auto& s : specs)
-    out.push_back({s.edges, Expression(s.value, file, s.key_path).as_function_2d()});
+template <int dim>
+fem::ScalarFunction<dim> expression_function(const std::string& text, const std::string& file,
+                                             const std::string& key_path) {
+  const Expression e(text, file, key_path);
+  if (e.is_constant()) return fem::ConstantFunction{e(0.0, 0.0)};  // recognisable, no parser per point
+  auto copy = std::make_shared<Expression>(e);
+  return [copy](const Point<dim>& x, double t) { return copy->at<dim>(x, t); };
+}
+
+template <int dim>
+std::vector<fem::BoundaryCondition<dim>> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
+                                                                  const std::string& file) {
+  std::vector<fem::BoundaryCondition<dim>> out;
+  for (const auto& s : specs) out.push_back({s.edges, expression_function<dim>(s.value, file, s.key_path)});
   return out;
 }
+
+template fem::ScalarFunction<2> expression_function<2>(const std::string&, const std::string&,
+                                                       const std::string&);
+template fem::ScalarFunction<3> expression_function<3>(const std::string&, const std::string&,
+                                                       const std::string&);
+template std::vector<fem::BoundaryCondition<2>> make_boundary_conditions<2>(const std::vector<BoundarySpec>&,
+                                                                            const std::string&);
+template std::vector<fem::BoundaryCondition<3>> make_boundary_conditions<3>(const std::vector<BoundarySpec>&,
+                                                                            const std::string&);
 
 }  // namespace warpfem::io

@@ -17,9 +17,25 @@ namespace warpfem::io {
 
 using MeshSpec = fem::MeshSpec;
 
+/// What describes Ω0 and the map in `dim` dimensions: polygons or polyhedra.
+template <int dim>
+struct MapSpecOfDim;
+template <>
+struct MapSpecOfDim<2> {
+  using type = mapping::MapSpec;
+};
+template <>
+struct MapSpecOfDim<3> {
+  using type = mapping::PolyhedronMapSpec;
+};
+template <int dim>
+using MapSpecFor = typename MapSpecOfDim<dim>::type;
+
+/// A condition on boundary parts: source polygon edges in 2D ("edges"), planar
+/// face groups of the source polyhedron in 3D ("faces", fem/hierarchy/polyhedron_parts.hpp).
 struct BoundarySpec {
-  std::vector<int> edges;  ///< empty: all edges
-  std::string value;       ///< expression of x, y (physical coordinates), t
+  std::vector<int> edges;  ///< the parts; empty: all
+  std::string value;       ///< expression of x, y (, z) (physical coordinates), t
   std::string key_path;    ///< for error messages
 };
 
@@ -53,24 +69,56 @@ struct OutputSpec {
   std::string cells = "curved";      ///< curved | linear (linear: vertices only, vtk_order 1)
 };
 
-struct RunConfig {
+/// A Poisson run on a polygon (dim 2) or a polyhedron (dim 3).
+template <int dim_>
+struct PoissonRunConfig {
+  static constexpr int dim = dim_;
   std::string file;
   std::string verbosity = "info";
-  mapping::MapSpec map;
+  MapSpecFor<dim> map;
   MeshSpec mesh;
   PoissonSpec poisson;
   SolverSpec solver;
   OutputSpec output;
   SizeLimits limits;  ///< "limits": memory and file caps of the size checks
 };
+using RunConfig = PoissonRunConfig<2>;
 
 /// What the size checks count for `cfg` refined `refinements` times.
-Discretization poisson_discretization(const RunConfig& cfg, int refinements);
+template <int dim>
+Discretization poisson_discretization(const PoissonRunConfig<dim>& cfg, int refinements);
 
-/// Loads and validates a run config; throws warpfem::Error naming the file and field.
+/// Loads and validates a 2D run config; throws warpfem::Error naming the file and field.
 RunConfig load_run_config(const std::string& path);
 /// Same, from already parsed JSON (for tests); `file` is used in messages and to resolve relative paths.
 RunConfig parse_run_config(const nlohmann::json& json, const std::string& file);
+/// A Poisson config of either dimension (3 when the map's source is a polyhedron).
+template <int dim>
+PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std::string& file);
+
+/// The top-level "map" of a `dim`-dimensional config (polygons or polyhedra).
+template <int dim>
+MapSpecFor<dim> parse_required_map_for(const ConfigNode& root);
+
+/// Number of boundary parts of the map's source: polygon edges, or planar face groups.
+template <int dim>
+Index boundary_part_count(const MapSpecFor<dim>& map);
+
+/// The config key that lists boundary parts: "edges" in 2D, "faces" in 3D.
+template <int dim>
+const char* boundary_part_key() {
+  return dim == 2 ? "edges" : "faces";
+}
+
+/// The list of parts of a boundary condition item (`item` is its JSON object):
+/// empty when the key is absent or "all". Errors name the item and say what a part is.
+template <int dim>
+std::vector<int> parse_boundary_parts(const ConfigNode& item, Index num_parts);
+
+/// Size checks of a `dim`-dimensional discretization (io/size_limits.hpp).
+template <int dim>
+void check_run_size(const ConfigNode& root, const MeshSpec& mesh, const MapSpecFor<dim>& map,
+                    const Discretization& d, const SizeLimits& limits);
 
 /// Reads a polygon stored at `key`: an inline array of [x, y] or the name of a
 /// file with one "x, y" per line (relative to the config file); validates it.
@@ -85,8 +133,9 @@ std::string parse_verbosity(const ConfigNode& root);
 /// The required top-level "map" object, with a helpful error when it is missing.
 mapping::MapSpec parse_required_map(const ConfigNode& root);
 
-/// Reads the "mesh" object (shared by all run configs); `source` resolves relative file names.
-MeshSpec parse_mesh_spec(const ConfigNode& node);
+/// Reads the "mesh" object (shared by all run configs) of a `dim`-dimensional config
+/// (a polygon or a polyhedron source); refuses the mesh types and cell types of the other dimension.
+MeshSpec parse_mesh_spec(const ConfigNode& node, int dim = 2);
 
 /// Checks the "name", "vtk_order" and "cells" an "output" object gave (shared by
 /// `run` and elasticity configs); "cells": "linear" sets `vtk_order` to 1.
@@ -97,8 +146,14 @@ void check_output_options(const ConfigNode& output, const std::string& name, int
 /// (so that a run started from another directory reads and writes next to its config).
 std::string config_relative_path(const std::string& config_file, const std::string& path);
 
+/// An expression of x, y (, z), t as a function on points of dimension `dim`.
+template <int dim>
+fem::ScalarFunction<dim> expression_function(const std::string& text, const std::string& file,
+                                             const std::string& key_path);
+
 /// Turns boundary specs into fem boundary conditions (parses the expressions).
-std::vector<fem::BoundaryCondition<2>> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
-                                                                const std::string& file);
+template <int dim = 2>
+std::vector<fem::BoundaryCondition<dim>> make_boundary_conditions(const std::vector<BoundarySpec>& specs,
+                                                                  const std::string& file);
 
 }  // namespace warpfem::io

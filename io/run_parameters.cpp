@@ -12,8 +12,9 @@ ParameterTable<RunConfig> make_top_level() {
   ParameterTable<RunConfig> t("");
   t.choice("verbosity", &RunConfig::verbosity, {"quiet", "error", "warning", "info", "debug"},
            "amount of progress output");
-  t.other("map", "object", "*required*", "the domain and the map, below");
-  t.other("mesh", "object", "`{}`", "mesh of the source polygon Ω0");
+  t.other("map", "object", "*required*",
+          "the domain and the map, below; a polyhedron source makes a 3D config");
+  t.other("mesh", "object", "`{}`", "mesh of the source polygon (or polyhedron) Ω0");
   t.other("problem", "object", "*required* (boundary conditions)", "the PDE");
   t.other("solver", "object", "`{}`", "linear solver");
   t.other("output", "object", "`{}`", "result files");
@@ -35,7 +36,7 @@ ParameterTable<PoissonSpec> make_poisson() {
            "the map again in every pass (assembly, each error norm) — about half the memory and a faster "
            "set-up for a problem assembled and evaluated once; multigrid coarse levels always stream");
   t.expression("source", &PoissonSpec::source,
-               "g; a constant (no x, y, t) is integrated without evaluating the expression at every "
+               "g; a constant (no x, y, z, t) is integrated without evaluating the expression at every "
                "quadrature point");
   t.other("dirichlet", "array of boundary parts", "—", "u = value, imposed strongly at the nodes");
   t.other("neumann", "array of boundary parts", "—",

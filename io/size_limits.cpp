@@ -27,10 +27,34 @@ struct ElementCounts {
 };
 
 ElementCounts element_counts(warpfem::CellType cell, int order) {
-  if (cell == warpfem::CellType::triangle)
-    return order == 1 ? ElementCounts{0.5, 7, 3} : ElementCounts{2, 11, 6};
-  return order == 1 ? ElementCounts{1, 9, 4} : ElementCounts{4, 16, 9};
+  switch (cell) {
+    case warpfem::CellType::triangle: return order == 1 ? ElementCounts{0.5, 7, 3} : ElementCounts{2, 11, 6};
+    case warpfem::CellType::quadrilateral:
+      return order == 1 ? ElementCounts{1, 9, 4} : ElementCounts{4, 16, 9};
+    // Six tetrahedra per vertex and 7/6 edges per tetrahedron in a Kuhn grid.
+    case warpfem::CellType::tetrahedron:
+      return order == 1 ? ElementCounts{1.0 / 6, 15, 4} : ElementCounts{4.0 / 3, 50, 10};
+    case warpfem::CellType::hexahedron:
+      return order == 1 ? ElementCounts{1, 27, 8} : ElementCounts{8, 64, 27};
+  }
+  return {1, 1, 1};
 }
+
+SizeEstimate estimate_from_coarse_cells(double coarse_cells, int refinements, int children,
+                                        warpfem::CellType cell, const Discretization& d) {
+  SizeEstimate e;
+  e.coarse_cells = coarse_cells;
+  e.cells = e.coarse_cells * std::pow(children, refinements);
+  const ElementCounts c = element_counts(cell, d.order);
+  e.dofs = e.cells * c.dofs_per_cell * d.components;
+  const double matrix = e.dofs * c.nonzeros_per_row * d.components * 12.0 * (4.0 / 3.0);
+  e.bytes = matrix + 4 * 8.0 * e.dofs + e.cells * (c.nodes_per_cell * 8.0 + d.cached_bytes_per_cell);
+  return e;
+}
+
+/// Throws naming `culprit` if `e` exceeds the memory limit or PETSc's index range.
+void check_estimate(const ConfigNode& root, const SizeEstimate& e, const std::string& culprit,
+                    const SizeLimits& limits);
 
 }  // namespace
 
@@ -75,37 +99,51 @@ double delaunay_cells_lower_bound(const Polygon& polygon, double h) {
 
 double cached_geometry_bytes_per_cell(warpfem::CellType cell, int order, int degree) {
   const int q = degree > 0 ? degree : warpfem::default_quadrature_degree(order);
+  if (cell == warpfem::CellType::tetrahedron || cell == warpfem::CellType::hexahedron)
+    return 104.0 * static_cast<double>(warpfem::cell_quadrature<3>(cell, q).size());  // x, J⁻ᵀ, w det J
   return 56.0 * static_cast<double>(warpfem::cell_quadrature<2>(cell, q).size());
 }
 
 SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, const Discretization& d) {
-  SizeEstimate e;
   const Polygon& meshed = mesh.type == "pullback" && map.target ? *map.target : *map.source;
   const double h =
       mesh.max_edge_length > 0 ? mesh.max_edge_length : 0.1 * (meshed.bbox_max() - meshed.bbox_min()).norm();
+  double coarse_cells = 0;
   if (mesh.type == "structured") {
-    e.coarse_cells =
+    coarse_cells =
         static_cast<double>(mesh.nx) * mesh.ny * (mesh.cell_type == warpfem::CellType::triangle ? 2 : 1);
   } else if (mesh.type != "gmsh") {
-    e.coarse_cells = delaunay_cells_lower_bound(meshed, h);
-    if (mesh.cell_type == warpfem::CellType::quadrilateral) e.coarse_cells *= 3;  // each triangle split in 3
+    coarse_cells = delaunay_cells_lower_bound(meshed, h);
+    if (mesh.cell_type == warpfem::CellType::quadrilateral) coarse_cells *= 3;  // each triangle split in 3
   }
-  e.cells = e.coarse_cells * std::pow(4.0, d.refinements);
-  const ElementCounts c = element_counts(mesh.cell_type, d.order);
-  e.dofs = e.cells * c.dofs_per_cell * d.components;
-  const double matrix = e.dofs * c.nonzeros_per_row * d.components * 12.0 * (4.0 / 3.0);
-  e.bytes = matrix + 4 * 8.0 * e.dofs + e.cells * (c.nodes_per_cell * 8.0 + d.cached_bytes_per_cell);
-  return e;
+  return estimate_from_coarse_cells(coarse_cells, d.refinements, 4, mesh.cell_type, d);
 }
 
-void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const mapping::MapSpec& map,
-                               const Discretization& d, const SizeLimits& limits, const std::string& key) {
-  const SizeEstimate e = estimate_size(mesh, map, d);
-  std::string culprit = key;
-  if (culprit.empty())
-    culprit = json_pointer(fem::mesh_parameters().field(mesh.refinements > 0        ? "refinements"
-                                                        : mesh.type == "structured" ? "cells"
-                                                                                    : "max_edge_length"));
+SizeEstimate estimate_size(const fem::MeshSpec& mesh, const Polyhedron& source, const Discretization& d) {
+  double coarse_cells = 0;
+  if (mesh.type == "structured") {
+    coarse_cells = static_cast<double>(mesh.nx) * mesh.ny * mesh.nz *
+                   (mesh.cell_type == warpfem::CellType::tetrahedron ? 6 : 1);
+  } else {
+    // Every surface triangle is a face of one tetrahedron, which has four faces.
+    coarse_cells = static_cast<double>(source.triangle_count()) / 4;
+    if (mesh.max_volume > 0) coarse_cells = std::max(coarse_cells, source.signed_volume() / mesh.max_volume);
+  }
+  return estimate_from_coarse_cells(coarse_cells, d.refinements, 8, mesh.cell_type, d);
+}
+
+namespace {
+
+std::string size_culprit(const fem::MeshSpec& mesh, const std::string& key,
+                         const std::string& cell_size_key) {
+  if (!key.empty()) return key;
+  return json_pointer(fem::mesh_parameters().field(mesh.refinements > 0        ? "refinements"
+                                                   : mesh.type == "structured" ? "cells"
+                                                                               : cell_size_key));
+}
+
+void check_estimate(const ConfigNode& root, const SizeEstimate& e, const std::string& culprit,
+                    const SizeLimits& limits) {
   const std::string what = "the discretization would have at least " + estimate_text(e.cells) +
                            " cells and " + estimate_text(e.dofs) + " DOFs";
   const double max_index = static_cast<double>(std::numeric_limits<PetscInt>::max());
@@ -121,6 +159,18 @@ void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh
                  .key_path = culprit,
                  .hint = "use fewer refinements or larger cells (" + culprit +
                          "), or raise \"limits\": {\"memory_gb\": ...} on a machine with more memory"});
+}
+
+}  // namespace
+
+void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const mapping::MapSpec& map,
+                               const Discretization& d, const SizeLimits& limits, const std::string& key) {
+  check_estimate(root, estimate_size(mesh, map, d), size_culprit(mesh, key, "max_edge_length"), limits);
+}
+
+void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const Polyhedron& source,
+                               const Discretization& d, const SizeLimits& limits, const std::string& key) {
+  check_estimate(root, estimate_size(mesh, source, d), size_culprit(mesh, key, "max_volume"), limits);
 }
 
 void check_map_size(const ConfigNode& root, const mapping::MapSpec& map, const SizeLimits& limits) {

@@ -41,7 +41,7 @@ struct SizeEstimate {
   double bytes = 0;
 };
 
-/// What is discretized: `components` is 1 for Poisson, 2 for elasticity;
+/// What is discretized: `components` is 1 for Poisson, dim for elasticity;
 /// `cached_bytes_per_cell` is the geometry kept per finest-level cell (0 when
 /// it is streamed).
 struct Discretization {
@@ -51,15 +51,22 @@ struct Discretization {
   double cached_bytes_per_cell = 0;
 };
 
-/// The geometry Poisson caches per cell: x, J⁻ᵀ and w det J (56 bytes) at
+/// The geometry Poisson caches per cell: x, J⁻ᵀ and w det J (56 bytes in 2D, 104 in 3D) at
 /// every point of the cell quadrature of `degree` (0: the order's default).
 double cached_geometry_bytes_per_cell(warpfem::CellType cell, int order, int degree);
 
 SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& map, const Discretization& d);
+/// The same in 3D: 8 children per refinement; a TetGen mesh has at least a quarter
+/// as many cells as the surface has triangles, and volume / max_volume.
+SizeEstimate estimate_size(const fem::MeshSpec& mesh, const Polyhedron& source, const Discretization& d);
 
 /// Throws (naming `key`, or the mesh key that drives the size when empty) if
 /// the estimate exceeds the memory limit or PETSc's index range.
 void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const mapping::MapSpec& map,
+                               const Discretization& d, const SizeLimits& limits,
+                               const std::string& key = "");
+
+void check_discretization_size(const ConfigNode& root, const fem::MeshSpec& mesh, const Polyhedron& source,
                                const Discretization& d, const SizeLimits& limits,
                                const std::string& key = "");
 

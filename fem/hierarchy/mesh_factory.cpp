@@ -1,5 +1,6 @@
 #include "fem/hierarchy/mesh_factory.hpp"
 
+#include <cmath>
 #include <optional>
 
 #include "core/error.hpp"
@@ -7,8 +8,10 @@
 #include "core/mesh/gmsh_reader.hpp"
 #include "core/mesh/polygon_mesher.hpp"
 #include "core/mesh/structured_mesher.hpp"
+#include "core/mesh/tetgen_mesher.hpp"
 #include "fem/dofs/cell_partition.hpp"
 #include "fem/hierarchy/partial_refinement.hpp"
+#include "fem/hierarchy/polyhedron_parts.hpp"
 #include "fem/hierarchy/pullback_mesher.hpp"
 
 namespace warpfem::fem {
@@ -49,6 +52,49 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const map
             ", smallest/mean cell area in Ω0 ", report.min_area_ratio, ", largest cell distortion ",
             report.max_distortion);
   return spec.cell_type == CellType::quadrilateral ? split_into_quadrilaterals(triangles) : triangles;
+}
+
+namespace {
+/// True if the polyhedron is its bounding box: every vertex on the box's
+/// surface and the same volume (extra vertices on the sides are allowed).
+bool is_axis_aligned_box(const Polyhedron& p) {
+  const Point<3> lo = p.bbox_min(), hi = p.bbox_max();
+  const double tolerance = 1e-12 * (hi - lo).norm();
+  for (const Point<3>& v : p.vertices()) {
+    bool on_side = false;
+    for (int d = 0; d < 3; ++d)
+      on_side = on_side || std::abs(v(d) - lo(d)) <= tolerance || std::abs(v(d) - hi(d)) <= tolerance;
+    if (!on_side) return false;
+  }
+  const double box = (hi - lo).prod();
+  return std::abs(p.signed_volume() - box) <= 1e-9 * box;
+}
+}  // namespace
+
+Mesh<3> make_coarse_mesh(const Polyhedron& source, const Polyhedron&, const mapping::Map<3>&,
+                         const MeshSpec& spec) {
+  const PolyhedronParts parts = planar_face_groups(source);
+  if (spec.type == "structured") {
+    if (!is_axis_aligned_box(source))
+      throw Error(
+          "mesh type \"structured\" grids a box, but " + source.name() + " is not an axis-aligned box",
+          {.file = "",
+           .key_path = "/mesh/type",
+           .hint = "use \"type\": \"tetgen\" for other polyhedra, or give the box's surface"});
+    Mesh<3> mesh = structured_box_mesh(source.bbox_min(), source.bbox_max(), {spec.nx, spec.ny, spec.nz},
+                                       spec.cell_type);
+    tag_facets_by_part(mesh, source, parts);
+    return mesh;
+  }
+  if (spec.type != "tetgen")
+    throw Error("mesh type \"" + spec.type + "\" does not mesh polyhedra",
+                {.file = "", .key_path = "/mesh/type", .hint = "use \"tetgen\" or \"structured\""});
+  TetrahedralMeshOptions options;
+  options.quality_ratio = spec.quality_ratio;
+  options.max_volume = spec.max_volume;
+  options.keep_surface = spec.keep_surface;
+  options.triangle_tags = parts.triangle_part;
+  return mesh_polyhedron(source, options);
 }
 
 }  // namespace warpfem::fem

@@ -1,0 +1,31 @@
+#pragma once
+// Boundary parts of a polyhedron Ω0: its planar face groups, the 3D
+// counterpart of a polygon's edges. A group is a maximal set of triangles
+// connected across edges and lying in one plane (the six sides of a cube,
+// however finely each is triangulated). Part k is the group whose first
+// triangle comes k-th in the surface's triangle list, so the numbering is
+// fixed by the surface file and does not depend on the mesh.
+
+#include <vector>
+
+#include "core/mesh/mesh.hpp"
+#include "core/polyhedron.hpp"
+
+namespace warpfem::fem {
+
+struct PolyhedronParts {
+  std::vector<int> triangle_part;  ///< part of each surface triangle
+  std::vector<Point<3>> normal;    ///< per part: outward unit normal
+  std::vector<Point<3>> centroid;  ///< per part: area-weighted centroid (for messages)
+  int count() const { return static_cast<int>(normal.size()); }
+};
+
+/// The planar face groups of a (validated) polyhedron.
+PolyhedronParts planar_face_groups(const Polyhedron& polyhedron);
+
+/// Tags every boundary facet of `mesh` (a mesh of the polyhedron) with the part
+/// of the surface triangle that contains the facet's centroid; throws
+/// warpfem::Error if a facet lies on no triangle (the mesh does not fit the surface).
+void tag_facets_by_part(Mesh<3>& mesh, const Polyhedron& polyhedron, const PolyhedronParts& parts);
+
+}  // namespace warpfem::fem
