@@ -33,6 +33,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/bench_options.hpp"
 #include "core/environment.hpp"
 #include "core/log.hpp"
 #include "core/mesh/structured_mesher.hpp"
@@ -44,21 +45,10 @@
 #include "multigrid/geometric_multigrid.hpp"
 
 using namespace warpfem;
+using bench::int_option;
+using bench::string_option;
 
 namespace {
-
-PetscInt int_option(const char* name, PetscInt fallback) {
-  PetscInt v = fallback;
-  WARPFEM_PETSC_CHECK(PetscOptionsGetInt(nullptr, nullptr, name, &v, nullptr));
-  return v;
-}
-
-std::string string_option(const char* name, const char* fallback) {
-  char buf[PETSC_MAX_PATH_LEN] = {0};
-  PetscBool set = PETSC_FALSE;
-  WARPFEM_PETSC_CHECK(PetscOptionsGetString(nullptr, nullptr, name, buf, sizeof buf, &set));
-  return set ? buf : fallback;
-}
 
 /// f(x) = x + (0.1 y z, 0.1 x², 0.05 x y): smooth, not affine.
 class WarpedBox final : public mapping::Map<3> {

@@ -28,6 +28,7 @@
 #include <exception>
 #include <string>
 
+#include "bench/bench_options.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/mesh/polygon_mesher.hpp"
@@ -41,6 +42,8 @@
 #include "multigrid/poisson_multigrid.hpp"
 
 using namespace warpfem;
+using bench::int_option;
+using bench::string_option;
 
 namespace {
 
@@ -81,19 +84,6 @@ AmgResult solve_amg(Mat A, Vec b, Vec x0, const char* pc_type) {
   WARPFEM_PETSC_CHECK(KSPGetConvergedReason(ksp.get(), &reason));
   r.iterations = reason > 0 ? static_cast<int>(its) : -static_cast<int>(its);
   return r;
-}
-
-PetscInt int_option(const char* name, PetscInt fallback) {
-  PetscInt v = fallback;
-  WARPFEM_PETSC_CHECK(PetscOptionsGetInt(nullptr, nullptr, name, &v, nullptr));
-  return v;
-}
-
-std::string string_option(const char* name, const char* fallback) {
-  char buf[PETSC_MAX_PATH_LEN] = {0};
-  PetscBool set = PETSC_FALSE;
-  WARPFEM_PETSC_CHECK(PetscOptionsGetString(nullptr, nullptr, name, buf, sizeof buf, &set));
-  return set ? buf : fallback;
 }
 
 }  // namespace

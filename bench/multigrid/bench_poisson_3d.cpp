@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_options.hpp"
 #include "core/environment.hpp"
 #include "core/log.hpp"
 #include "core/mesh/structured_mesher.hpp"
@@ -39,21 +40,10 @@
 #include "multigrid/poisson_multigrid.hpp"
 
 using namespace warpfem;
+using bench::int_option;
+using bench::string_option;
 
 namespace {
-
-PetscInt int_option(const char* name, PetscInt fallback) {
-  PetscInt v = fallback;
-  WARPFEM_PETSC_CHECK(PetscOptionsGetInt(nullptr, nullptr, name, &v, nullptr));
-  return v;
-}
-
-std::string string_option(const char* name, const char* fallback) {
-  char buf[PETSC_MAX_PATH_LEN] = {0};
-  PetscBool set = PETSC_FALSE;
-  WARPFEM_PETSC_CHECK(PetscOptionsGetString(nullptr, nullptr, name, buf, sizeof buf, &set));
-  return set ? buf : fallback;
-}
 
 double cpu_seconds() {
   timespec t{};
