@@ -125,6 +125,14 @@ mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node) {
   spec.sample_per_feature =
       static_cast<int>(node.get_int("sample_per_feature", spec.sample_per_feature, 1, 4));
   spec.fem_max_volume = node.get_double("fem_max_volume", spec.fem_max_volume, 0.0);
+  // TetGen and the direct solve of the harmonic maps grow with |Ω0| / fem_max_volume.
+  if (const double smallest = 1e-7 * std::abs(spec.source->signed_volume());
+      spec.fem_max_volume > 0 && spec.fem_max_volume < smallest)
+    throw node.error(
+        "fem_max_volume",
+        "a volume bound of " + std::to_string(spec.fem_max_volume) +
+            " asks for more than ten million tetrahedra in the source",
+        "give at least " + std::to_string(smallest) + " (1e-7 of the source's volume), or 0 for |Ω0| / 5000");
   spec.fem_quality_ratio = node.get_double("fem_quality_ratio", spec.fem_quality_ratio, 1.2, 100.0);
   spec.harmonic_intermediate =
       node.get_choice("intermediate", spec.harmonic_intermediate, {"auto", "sphere"});

@@ -214,7 +214,6 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
   const auto& table = fem::mesh_parameters();
   if (dim == 3) spec.type = "tetgen";
   read_parameters(mesh, table, spec);
-  const std::vector<std::string> types_2d = {"delaunay", "quad_split", "structured", "gmsh", "pullback"};
   if (dim == 3 && spec.type != "tetgen" && spec.type != "structured")
     throw mesh.error("type",
                      "mesh type \"" + spec.type + "\" meshes polygons, but the source is a polyhedron" +

@@ -57,7 +57,7 @@ struct PolyhedronMapSpec {
   int sample_per_feature = 3;          ///< check sample: offsets per vertex, edge and face
   // Composite harmonic options (mapping/harmonic/polyhedron_harmonic_map.hpp); min_det bounds every cell's
   // det J_φ.
-  double fem_max_volume = 0;       ///< TetGen volume bound in Ω0 (Ω1's scaled); 0 = |Ω0| / 20000
+  double fem_max_volume = 0;       ///< TetGen volume bound in Ω0 (Ω1's scaled); 0 = |Ω0| / 5000
   double fem_quality_ratio = 2.0;  ///< TetGen radius-edge bound of both meshes
   std::string harmonic_intermediate = "auto";  ///< auto (the source if convex, else the sphere) | sphere
   std::string origin = "map";                  ///< where this spec came from (file name) for messages

@@ -416,17 +416,18 @@ void DofDistribution<dim>::pattern_by_row_cells(const DofMap<dim>& dofs,
     return std::array<PetscInt, 2>{static_cast<PetscInt>(rows * blk / blocks),
                                    static_cast<PetscInt>(rows * (blk + 1) / blocks)};
   };
-  // Calls take(global column) for each distinct column of row r, its diagonal first.
+  // Calls take(global column) for each distinct column of row r, its diagonal
+  // first. Marks are per mesh DOF, so a rank needs them only for the DOFs its
+  // mesh stores.
   const auto merge_row = [&](PetscInt r, std::vector<PetscInt>& mark, auto&& take) {
     const PetscInt diagonal = owned_begin_ + r;
-    mark[static_cast<std::size_t>(diagonal)] = r;
     take(diagonal);
     for (PetscInt m = cell_start[r]; m < cell_start[r + 1]; ++m) {
       const TableIndex* d = &cd(row_cells[static_cast<std::size_t>(m)], 0);
       for (int j = 0; j < nloc; ++j)
-        if (const PetscInt g = global_[d[j]]; mark[static_cast<std::size_t>(g)] != r) {
-          mark[static_cast<std::size_t>(g)] = r;
-          take(g);
+        if (mark[static_cast<std::size_t>(d[j])] != r) {
+          mark[static_cast<std::size_t>(d[j])] = r;
+          if (const PetscInt g = global_[d[j]]; g != diagonal) take(g);
         }
     }
   };
@@ -434,7 +435,7 @@ void DofDistribution<dim>::pattern_by_row_cells(const DofMap<dim>& dofs,
   row_ptr.assign(static_cast<std::size_t>(rows) + 1, 0);
   if (split) off_row_ptr->assign(static_cast<std::size_t>(rows) + 1, 0);
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
-    std::vector<PetscInt> mark(static_cast<std::size_t>(num_global_), -1);
+    std::vector<PetscInt> mark(global_.size(), -1);
     for (Index blk = first_block; blk < last_block; ++blk)
       for (auto [r, end] = row_range(blk); r < end; ++r) {
         PetscInt in = 0, off = 0;
@@ -451,7 +452,7 @@ void DofDistribution<dim>::pattern_by_row_cells(const DofMap<dim>& dofs,
     off_cols->resize(static_cast<std::size_t>(orp[rows]));
   }
   parallel_for(blocks, 1, [&](Index first_block, Index last_block) {
-    std::vector<PetscInt> mark(static_cast<std::size_t>(num_global_), -1);
+    std::vector<PetscInt> mark(global_.size(), -1);
     for (Index blk = first_block; blk < last_block; ++blk)
       for (auto [r, end] = row_range(blk); r < end; ++r) {
         PetscInt* const in_begin = cols.data() + row_ptr[r];

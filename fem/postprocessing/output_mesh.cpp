@@ -100,10 +100,11 @@ std::vector<Region> split(const Region& r, CellType type) {
 // their mapped vertices: x = c + t (f(x0) − c), with c the node's place on that
 // straight cell and t halved, down to 0, until no cell holding a pulled node
 // folds. Shared nodes move for every cell that holds them, so no crack opens;
-// the field values stay those at x0.
+// `frozen` nodes (on edges and faces another rank's cells share, whose copies
+// there would not move) stay put. The field values stay those at x0.
 template <int dim, class Tangled>
 void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int nvert, const Tangled& tangled,
-                             std::vector<Index> folded) {
+                             std::vector<Index> folded, const std::vector<char>& frozen) {
   const Index ncells = out.cells.rows(), nloc = out.cells.cols(), npoints = out.points.rows();
   const auto row = [&](Index c) {
     std::vector<Index> nodes(static_cast<std::size_t>(nloc));
@@ -139,6 +140,8 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
       straightened[static_cast<std::size_t>(c)] = 1;
       for (Index k = nvert; k < nloc; ++k) {
         const Index node = out.cells(c, k);
+        if (static_cast<std::size_t>(node) < frozen.size() && frozen[static_cast<std::size_t>(node)])
+          continue;
         auto [it, inserted] = straight.try_emplace(node, Point<dim>::Zero());
         if (inserted)
           for (int v = 0; v < nvert; ++v)
@@ -250,6 +253,21 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       return h;
     }
   };
+  // Vertices of other ranks' cells: edge and face nodes among them are never
+  // pulled (straighten_folded_cells), since each rank decides its pulls alone.
+  std::vector<char> foreign(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  {
+    std::vector<char> local(static_cast<std::size_t>(mesh.num_cells()), 0);
+    for (const Index c : cells) local[static_cast<std::size_t>(c)] = 1;
+    // A partial level stores only the cells of its present ranges.
+    const std::vector<std::array<Index, 2>> stored =
+        mesh.partial ? mesh.present_cells : std::vector<std::array<Index, 2>>{{0, mesh.num_cells()}};
+    for (const auto& [first, last] : stored)
+      for (Index c = first; c < last; ++c)
+        if (!local[static_cast<std::size_t>(c)])
+          for (int v = 0; v < nvert; ++v) foreign[static_cast<std::size_t>(mesh.cells(c, v))] = 1;
+  }
+  std::vector<char> frozen;  // per node
   std::unordered_map<Key, Index, KeyHash> index;
   index.reserve(cells.size() * static_cast<std::size_t>(nloc) / 2 + 1);
   std::vector<Point<dim>> positions;
@@ -284,6 +302,21 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       Point<dim> x = Point<dim>::Zero();
       for (int v = 0; v < nvert; ++v) x += geometry(k, v) * mesh.vertex(mesh.cells(c, v));
       positions.push_back(x);
+      bool shared = k >= nvert && k < face_nodes_end;
+      if (shared) {
+        Key key;  // the vertices of the edge or face the node lies on
+        key.fill(-1);
+        if (k < edge_nodes_end) {
+          const auto& e = edges[static_cast<std::size_t>(k - nvert)];
+          key[0] = mesh.cells(c, e[0]);
+          key[1] = mesh.cells(c, e[1]);
+        } else if constexpr (dim == 3) {
+          const auto& f = cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)];
+          for (std::size_t j = 0; j < f.size(); ++j) key[j] = mesh.cells(c, f[j]);
+        }
+        for (const Index v : key) shared = shared && (v < 0 || foreign[static_cast<std::size_t>(v)]);
+      }
+      frozen.push_back(shared ? 1 : 0);
       out.node_source_.push_back({c, element.nodes().row(k).transpose()});
       out.cells(static_cast<Index>(i), k) = node;
     }
@@ -446,7 +479,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       out.source_cells = std::move(kept_sources);
     }
   }
-  straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded));
+  straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), frozen);
   return out;
 }
 

@@ -191,8 +191,13 @@ TetHarmonicMap::TetHarmonicMap(const Polyhedron& domain, const Polyhedron& image
           (l[0] * image.vertex(t[0]) + l[1] * image.vertex(t[1]) + l[2] * image.vertex(t[2])).transpose();
     }
   }
-  // The cage's vertices are the mesh's first: their images exactly Λ's.
-  for (Index i = 0; i < domain.vertex_count(); ++i) values.row(i) = image.vertex(i).transpose();
+  // The cage's vertices are the mesh's first (TetGen keeps its input points in
+  // order): their images exactly Λ's.
+  for (Index i = 0; i < domain.vertex_count(); ++i) {
+    require(Point<3>(mesh_.vertex(i)) == Point<3>(domain.vertex(i)),
+            "polyhedron harmonic map: the mesh does not start with the cage's vertices");
+    values.row(i) = image.vertex(i).transpose();
+  }
   split_surface_chords(domain, mesh_, fixed, values);
   p1_harmonic_extension(mesh_, fixed, values);
   image_ = values;
