@@ -32,8 +32,9 @@ std::string cell_plural(CellType type) {
 
 /// The boundary parts of a polyhedron source, which the config's "faces" name.
 void log_boundary_parts(const Polyhedron& source) {
-  const fem::PolyhedronParts parts = fem::planar_face_groups(source);
-  log::info("boundary parts (\"faces\") of ", source.name(), ": ", parts.count(), " planar face groups");
+  const fem::PolyhedronParts parts = fem::boundary_parts(source);
+  log::info("boundary parts (\"faces\") of ", source.name(), ": ", parts.count(),
+            parts.given ? " given parts" : " planar face groups");
   for (int k = 0; k < parts.count(); ++k) {
     const auto i = static_cast<std::size_t>(k);
     log::debug("  face ", k, ": normal (", parts.normal[i].transpose(), "), centroid (",
@@ -65,7 +66,8 @@ RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options
       throw Error(e.message(), {.file = cfg.file, .key_path = "/mesh", .hint = e.context().hint});
     }
   }();
-  if constexpr (dim == 3) log_boundary_parts(*cfg.map.source);
+  if constexpr (dim == 3)
+    if (cfg.mesh.file_parts == 0) log_boundary_parts(*cfg.map.source);  // else the Gmsh file's groups
 
   // 4. The problem on the warped mesh: a fem::Problem<dim> on the finest level.
   const fem::Problem<dim>& problem = physics->set_up(std::move(coarse), cfg.mesh.refinements, map);

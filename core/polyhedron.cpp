@@ -119,6 +119,29 @@ Polyhedron Polyhedron::read(const std::string& path) {
   }
 }
 
+void Polyhedron::set_triangle_parts(std::vector<int> parts) {
+  if (static_cast<Index>(parts.size()) != triangle_count())
+    throw failure(name_ + ": " + std::to_string(parts.size()) + " boundary-part ids for " +
+                      std::to_string(triangle_count()) + " triangles",
+                  "give one part id per triangle, in the order of the triangles");
+  std::vector<bool> used;
+  for (std::size_t t = 0; t < parts.size(); ++t) {
+    if (parts[t] < 0 || static_cast<std::size_t>(parts[t]) >= parts.size())
+      throw failure(name_ + ": triangle " + std::to_string(t) + " has the part id " +
+                        std::to_string(parts[t]) + ", outside [0, " + std::to_string(parts.size() - 1) + "]",
+                    "number the parts 0, 1, ..., K-1 (at most one part per triangle)");
+    if (static_cast<std::size_t>(parts[t]) >= used.size())
+      used.resize(static_cast<std::size_t>(parts[t]) + 1);
+    used[static_cast<std::size_t>(parts[t])] = true;
+  }
+  for (std::size_t k = 0; k < used.size(); ++k)
+    if (!used[k])
+      throw failure(name_ + ": part " + std::to_string(k) + " has no triangle, but part " +
+                        std::to_string(used.size() - 1) + " has",
+                    "number the parts 0, 1, ..., K-1 without gaps");
+  triangle_parts_ = std::move(parts);
+}
+
 void Polyhedron::validate() const {
   const Index n = vertex_count(), m = triangle_count();
   if (n < 4 || m < 4)
@@ -268,7 +291,9 @@ Point<3> Polyhedron::bbox_max() const {
 Polyhedron Polyhedron::reversed() const {
   std::vector<Triangle> t = triangles_;
   for (auto& tr : t) std::swap(tr[1], tr[2]);
-  return Polyhedron(vertices_, std::move(t), name_);
+  Polyhedron r(vertices_, std::move(t), name_);
+  r.triangle_parts_ = triangle_parts_;
+  return r;
 }
 
 void require_same_triangulation(const Polyhedron& source, const Polyhedron& target) {

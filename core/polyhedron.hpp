@@ -45,6 +45,14 @@ class Polyhedron {
   const std::vector<Triangle>& triangles() const { return triangles_; }
   const std::string& name() const { return name_; }
 
+  /// Boundary-part id of each triangle, as the config or the surface file gave
+  /// them (ids 0..K-1, each used); empty when none were given, and the parts
+  /// are the planar face groups (fem/hierarchy/polyhedron_parts.hpp).
+  const std::vector<int>& triangle_parts() const { return triangle_parts_; }
+  /// Sets the parts; throws warpfem::Error naming the polyhedron unless there is
+  /// one id per triangle and the ids are 0..K-1, each used.
+  void set_triangle_parts(std::vector<int> parts);
+
   /// Enclosed volume (positive for outward orientation).
   Real signed_volume() const;
   Real surface_area() const;
@@ -58,6 +66,7 @@ class Polyhedron {
   std::vector<Point<3>> vertices_;
   std::vector<Triangle> triangles_;
   std::string name_ = "polyhedron";
+  std::vector<int> triangle_parts_;
 };
 
 /// Throws warpfem::Error unless `source` and `target` have the same vertex

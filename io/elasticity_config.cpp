@@ -166,8 +166,8 @@ ElasticityRunConfig<dim> parse_elasticity_config_for(const nlohmann::json& json,
   const ConfigNode root(json, file);
   cfg.verbosity = parse_verbosity(root);
   cfg.map = parse_required_map_for<dim>(root);
-  const Index num_parts = boundary_part_count<dim>(cfg.map);
-  cfg.mesh = parse_mesh_spec(root.child("mesh"), dim);
+  cfg.mesh = parse_mesh_spec_for<dim>(root.child("mesh"), cfg.map);
+  const Index num_parts = boundary_part_count<dim>(cfg.map, cfg.mesh);
 
   const ConfigNode problem = root.child("problem");
   problem.get_choice("type", "elasticity", {"elasticity"});

@@ -1,7 +1,12 @@
 #include "io/polyhedron_config.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+
+#include "core/log.hpp"
+#include "core/obj_face_groups.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;
@@ -58,19 +63,78 @@ std::vector<Polyhedron::Triangle> parse_triangles(const ConfigNode& node, std::s
   return out;
 }
 
+/// "face_parts": one boundary-part id per triangle, or "groups" (the g groups
+/// of an OBJ file, `obj_path`; empty for an inline surface).
+std::vector<int> parse_face_parts(const ConfigNode& node, Index triangles, const std::string& obj_path,
+                                  const std::string& surface) {
+  const nlohmann::json& f = node.raw("face_parts");
+  if (f.is_string() && f.get<std::string>() == "groups") {
+    if (obj_path.empty())
+      throw node.error("face_parts",
+                       "\"groups\" reads the g groups of an OBJ file, but " + surface + " has no groups",
+                       "list one part id per triangle, e.g. \"face_parts\": [0, 0, 1, 1, ...]");
+    const ObjFaceGroups groups = read_obj_face_groups(obj_path);
+    if (static_cast<Index>(groups.face_group.size()) != triangles)
+      throw node.error("face_parts",
+                       surface + " has " + std::to_string(groups.face_group.size()) +
+                           " faces in its groups but " + std::to_string(triangles) + " triangles were read",
+                       "write one \"f\" line per triangle");
+    std::string listing;
+    for (std::size_t k = 0; k < groups.names.size(); ++k)
+      listing += (k ? ", " : "") + std::to_string(k) + " = \"" + groups.names[k] + "\"";
+    log::info(surface, ": boundary parts from the file's groups: ", listing);
+    return groups.face_group;
+  }
+  if (!f.is_array())
+    throw node.error(
+        "face_parts",
+        "expected an array of boundary-part ids (one per triangle)" +
+            std::string(obj_path.empty() ? "" : " or \"groups\" (the OBJ file's g groups)") + ", got " +
+            json_excerpt(f),
+        "e.g. \"face_parts\": [0, 0, 1, 1, ...]; \"faces\" of boundary conditions name these ids");
+  if (static_cast<Index>(f.size()) != triangles)
+    throw node.error("face_parts",
+                     std::to_string(f.size()) + " part ids for the " + std::to_string(triangles) +
+                         " triangles of " + surface,
+                     "give one part id per triangle, in the order of the triangles");
+  std::vector<int> parts;
+  for (std::size_t t = 0; t < f.size(); ++t) {
+    if (!f[t].is_number_unsigned() || f[t].get<std::uint64_t>() >= static_cast<std::uint64_t>(triangles))
+      throw node.error("face_parts/" + std::to_string(t),
+                       "expected a part id in [0, " + std::to_string(triangles - 1) + "] for triangle " +
+                           std::to_string(t) + ", got " + json_excerpt(f[t]),
+                       "number the parts 0, 1, ..., K-1");
+    parts.push_back(f[t].get<int>());
+  }
+  return parts;
+}
+
+/// Sets the parts the config gave; errors name "face_parts".
+void set_face_parts(Polyhedron& p, const ConfigNode& node, std::vector<int> parts) {
+  try {
+    p.set_triangle_parts(std::move(parts));
+  } catch (const Error& e) {
+    throw node.error("face_parts", e.message(), e.context().hint);
+  }
+}
+
 }  // namespace
 
-Polyhedron parse_polyhedron(const ConfigNode& parent, const std::string& key, const std::string& name) {
+Polyhedron parse_polyhedron(const ConfigNode& parent, const std::string& key, const std::string& name,
+                            bool boundary_parts) {
   const nlohmann::json& raw = parent.raw(key);
   if (!raw.is_object())
     throw parent.error(key,
                        "expected a polyhedron {\"vertices\": [...], \"triangles\": [...]} or {\"file\": ...}",
                        "the source is a polyhedron, so the target must be one too");
   const ConfigNode node = parent.child(key);
+  if (node.has("face_parts") && !boundary_parts)
+    throw node.error("face_parts",
+                     "boundary parts belong to the source polyhedron; the " + name + " takes its triangles",
+                     "move \"face_parts\" to \"source\"");
   if (node.has("file")) {
     fs::path p(node.get_string("file", ""));
     if (p.is_relative()) p = fs::path(parent.file()).parent_path() / p;
-    node.finish();
     const Polyhedron read = [&] {
       try {
         return Polyhedron::read(p.string());
@@ -80,7 +144,16 @@ Polyhedron parse_polyhedron(const ConfigNode& parent, const std::string& key, co
                     {.file = e.context().file, .key_path = node.path_of("file"), .hint = e.context().hint});
       }
     }();
-    return Polyhedron(read.vertices(), read.triangles(), name + " (" + p.filename().string() + ")");
+    Polyhedron out(read.vertices(), read.triangles(), name + " (" + p.filename().string() + ")");
+    if (node.has("face_parts")) {
+      std::string ext = p.extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+      set_face_parts(out, node,
+                     parse_face_parts(node, out.triangle_count(), ext == ".obj" ? p.string() : "",
+                                      p.filename().string()));
+    }
+    node.finish();
+    return out;
   }
   if (!node.has("vertices") || !node.has("triangles"))
     throw node.error(
@@ -88,20 +161,26 @@ Polyhedron parse_polyhedron(const ConfigNode& parent, const std::string& key, co
         "add \"vertices\": [[x, y, z], ...], \"triangles\": [[i, j, k], ...] (0-based, outward)");
   const std::vector<Point<3>> v = parse_vertices(node);
   std::vector<Polyhedron::Triangle> t = parse_triangles(node, v.size());
+  std::vector<int> parts;
+  if (node.has("face_parts")) parts = parse_face_parts(node, static_cast<Index>(t.size()), "", "the surface");
+  Polyhedron out = [&] {
+    try {
+      return Polyhedron::checked(v, std::move(t), name);
+    } catch (const Error& e) {
+      throw Error(e.message(),
+                  {.file = parent.file(), .key_path = parent.path_of(key), .hint = e.context().hint});
+    }
+  }();
+  if (!parts.empty()) set_face_parts(out, node, std::move(parts));
   node.finish();
-  try {
-    return Polyhedron::checked(v, std::move(t), name);
-  } catch (const Error& e) {
-    throw Error(e.message(),
-                {.file = parent.file(), .key_path = parent.path_of(key), .hint = e.context().hint});
-  }
+  return out;
 }
 
 mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node) {
   mapping::PolyhedronMapSpec spec;
   spec.origin = node.file();
   spec.type = node.get_choice("type", "identity", {"identity", "composite_mean_value", "composite_harmonic"});
-  spec.source = parse_polyhedron(node, "source", "source polyhedron");
+  spec.source = parse_polyhedron(node, "source", "source polyhedron", true);
   if (spec.type != "identity") {
     if (!node.has("target"))
       throw node.error("target",

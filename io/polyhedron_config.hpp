@@ -16,8 +16,11 @@ namespace warpfem::io {
 bool is_polyhedron_map(const nlohmann::json& root);
 
 /// The polyhedron stored at `key`, validated; errors name the config (or the
-/// surface file) and the field.
-Polyhedron parse_polyhedron(const ConfigNode& node, const std::string& key, const std::string& name);
+/// surface file) and the field. With `boundary_parts` (the source), an optional
+/// "face_parts" gives each triangle's boundary part: an array of ids, one per
+/// triangle, or "groups" for the g groups of an OBJ file.
+Polyhedron parse_polyhedron(const ConfigNode& node, const std::string& key, const std::string& name,
+                            bool boundary_parts = false);
 
 /// Reads a "map" object between polyhedra.
 mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node);

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <system_error>
 
 #include "core/log.hpp"
+#include "core/mesh/gmsh_reader.hpp"
 #include "fem/hierarchy/mesh_parameters.hpp"
 #include "fem/hierarchy/polyhedron_parts.hpp"
 #include "io/expression.hpp"
@@ -22,6 +24,12 @@ namespace warpfem::io {
 namespace fs = std::filesystem;
 
 namespace {
+
+std::string number_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
 
 /// Parses all of `token` as a finite double (from_chars: no locale, no
 /// silent prefix parsing, and out-of-range values are reported, not clamped).
@@ -152,8 +160,9 @@ std::vector<int> parse_boundary_parts(const ConfigNode& item, Index num_parts) {
                      "rename \"" + other + "\" to \"" + key + "\"");
   const std::string what = dim == 2 ? "edge" : "face";
   const std::string hint = dim == 2 ? "edge i joins target vertices i and i+1"
-                                    : "face i is the i-th planar face group of the source polyhedron, "
-                                      "numbered by its first triangle (docs/config.md: boundary parts in 3D)";
+                                    : "face i is part i of \"face_parts\" of the source polyhedron, or "
+                                      "else its i-th planar face group, numbered by its first triangle "
+                                      "(docs/config.md: boundary parts in 3D)";
   std::vector<int> parts;
   if (!item.has(key)) return parts;
   const nlohmann::json& e = item.raw(key);
@@ -214,11 +223,11 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
   const auto& table = fem::mesh_parameters();
   if (dim == 3) spec.type = "tetgen";
   read_parameters(mesh, table, spec);
-  if (dim == 3 && spec.type != "tetgen" && spec.type != "structured")
+  if (dim == 3 && spec.type != "tetgen" && spec.type != "structured" && spec.type != "gmsh")
     throw mesh.error("type",
-                     "mesh type \"" + spec.type + "\" meshes polygons, but the source is a polyhedron" +
-                         (spec.type == "gmsh" ? " (the Gmsh reader reads 2D meshes only)" : ""),
-                     "use \"tetgen\" (tetrahedra of any polyhedron) or \"structured\" (a box)");
+                     "mesh type \"" + spec.type + "\" meshes polygons, but the source is a polyhedron",
+                     "use \"tetgen\" (tetrahedra of any polyhedron), \"structured\" (a box) or \"gmsh\" (a "
+                     ".msh file)");
   if (dim == 2 && spec.type == "tetgen")
     throw mesh.error("type", "TetGen meshes polyhedra, but the source is a polygon",
                      "use \"delaunay\", or give a polyhedron source {\"vertices\": ..., \"triangles\": ...}");
@@ -230,7 +239,8 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
   const auto& cell_type = table.at("cell_type");
   if (spec.type == "structured")
     spec.cell_type = dim == 2 ? warpfem::CellType::quadrilateral : warpfem::CellType::hexahedron;
-  if (spec.type == "tetgen") spec.cell_type = warpfem::CellType::tetrahedron;
+  if (spec.type == "tetgen" || (dim == 3 && spec.type == "gmsh"))
+    spec.cell_type = warpfem::CellType::tetrahedron;
   cell_type.set(spec,
                 mesh.get_choice("cell_type", std::get<std::string>(cell_type.get(spec)), cell_type.choices));
   const bool cell_3d =
@@ -269,6 +279,11 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
                        dim == 2 ? "e.g. \"cells\": [4, 4]" : "e.g. \"cells\": [4, 4, 4]");
     }
   }
+  if (spec.type == "tetgen" && spec.quality_ratio > 0 && spec.quality_ratio < 1.2)
+    throw mesh.error("quality_ratio",
+                     "a radius-edge ratio bound of " + number_text(spec.quality_ratio) +
+                         " cannot be used: TetGen may not terminate below 1.2",
+                     "use 0 (no quality bound) or a ratio of at least 1.2, e.g. 2");
   if (spec.type == "gmsh") {
     if (spec.file.empty())
       throw mesh.error("file", "mesh type \"gmsh\" needs a .msh file", "add \"file\": \"domain.msh\"");
@@ -276,6 +291,47 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
       spec.file = (fs::path(mesh.file()).parent_path() / spec.file).string();
   }
   mesh.finish();
+  return spec;
+}
+
+template <>
+MeshSpec parse_mesh_spec_for<2>(const ConfigNode& mesh, const mapping::MapSpec&) {
+  return parse_mesh_spec(mesh, 2);
+}
+template <>
+MeshSpec parse_mesh_spec_for<3>(const ConfigNode& mesh, const mapping::PolyhedronMapSpec& map) {
+  MeshSpec spec = parse_mesh_spec(mesh, 3);
+  const Polyhedron& source = *map.source;
+  if (spec.type == "gmsh") {
+    // Read now, so that a bad file is refused before the map is built and "faces"
+    // can be checked against the file's physical groups.
+    GmshVolumeMesh read;
+    try {
+      read = read_gmsh(spec.file, source);
+      fem::tag_facets_by_part(read.mesh, source, fem::boundary_parts(source));
+    } catch (const Error& e) {
+      throw Error(e.message(), {.file = e.context().file.empty() ? spec.file : e.context().file,
+                                .key_path = mesh.path_of("file"),
+                                .hint = e.context().hint});
+    }
+    if (mesh.has("cell_type") && spec.cell_type != read.mesh.cell_type)
+      throw mesh.error("cell_type",
+                       "\"" + warpfem::to_string(spec.cell_type) + "\" was asked for, but " +
+                           fs::path(spec.file).filename().string() + " holds " +
+                           warpfem::to_string(read.mesh.cell_type) + " cells",
+                       "remove \"cell_type\" (a Gmsh file brings its cells)");
+    spec.cell_type = read.mesh.cell_type;
+    spec.file_cells = read.mesh.num_cells();
+    spec.file_parts = static_cast<int>(read.physical_tags.size());
+  }
+  if (spec.type == "structured" && !fem::is_axis_aligned_box(source)) {
+    const Point<3> lo = source.bbox_min(), hi = source.bbox_max();
+    throw mesh.error("type",
+                     "mesh type \"structured\" grids a box, but " + source.name() +
+                         " is not an axis-aligned box (its volume is " + number_text(source.signed_volume()) +
+                         ", its bounding box's " + number_text((hi - lo).prod()) + ")",
+                     "use \"type\": \"tetgen\" for other polyhedra, or give the box's surface");
+  }
   return spec;
 }
 
@@ -322,8 +378,8 @@ PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std
   const ConfigNode root(json, file);
   cfg.verbosity = parse_verbosity(root);
   cfg.map = parse_required_map_for<dim>(root);
-  const Index num_parts = boundary_part_count<dim>(cfg.map);
-  cfg.mesh = parse_mesh_spec(root.child("mesh"), dim);
+  cfg.mesh = parse_mesh_spec_for<dim>(root.child("mesh"), cfg.map);
+  const Index num_parts = boundary_part_count<dim>(cfg.map, cfg.mesh);
 
   const ConfigNode problem = root.child("problem");
   problem.get_choice("type", "poisson", {"poisson"});
@@ -402,12 +458,12 @@ mapping::PolyhedronMapSpec parse_required_map_for<3>(const ConfigNode& root) {
 }
 
 template <>
-Index boundary_part_count<2>(const mapping::MapSpec& map) {
+Index boundary_part_count<2>(const mapping::MapSpec& map, const MeshSpec&) {
   return map.source->size();
 }
 template <>
-Index boundary_part_count<3>(const mapping::PolyhedronMapSpec& map) {
-  return fem::planar_face_groups(*map.source).count();
+Index boundary_part_count<3>(const mapping::PolyhedronMapSpec& map, const MeshSpec& mesh) {
+  return mesh.file_parts > 0 ? mesh.file_parts : fem::boundary_parts(*map.source).count();
 }
 
 template <>

@@ -31,8 +31,8 @@ struct MapSpecOfDim<3> {
 template <int dim>
 using MapSpecFor = typename MapSpecOfDim<dim>::type;
 
-/// A condition on boundary parts: source polygon edges in 2D ("edges"), planar
-/// face groups of the source polyhedron in 3D ("faces", fem/hierarchy/polyhedron_parts.hpp).
+/// A condition on boundary parts: source polygon edges in 2D ("edges"), boundary
+/// parts of the source polyhedron in 3D ("faces", fem/hierarchy/polyhedron_parts.hpp).
 struct BoundarySpec {
   std::vector<int> edges;  ///< the parts; empty: all
   std::string value;       ///< expression of x, y (, z) (physical coordinates), t
@@ -100,9 +100,10 @@ PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std
 template <int dim>
 MapSpecFor<dim> parse_required_map_for(const ConfigNode& root);
 
-/// Number of boundary parts of the map's source: polygon edges, or planar face groups.
+/// Number of boundary parts "edges" or "faces" name: the source polygon's edges, or
+/// the source polyhedron's parts (a 3D Gmsh file's physical groups, if it has them).
 template <int dim>
-Index boundary_part_count(const MapSpecFor<dim>& map);
+Index boundary_part_count(const MapSpecFor<dim>& map, const MeshSpec& mesh);
 
 /// The config key that lists boundary parts: "edges" in 2D, "faces" in 3D.
 template <int dim>
@@ -136,6 +137,11 @@ mapping::MapSpec parse_required_map(const ConfigNode& root);
 /// Reads the "mesh" object (shared by all run configs) of a `dim`-dimensional config
 /// (a polygon or a polyhedron source); refuses the mesh types and cell types of the other dimension.
 MeshSpec parse_mesh_spec(const ConfigNode& node, int dim = 2);
+
+/// The "mesh" object of a `dim`-dimensional config, checked against the map's
+/// source before anything is built (3D "structured" needs a box source).
+template <int dim>
+MeshSpec parse_mesh_spec_for(const ConfigNode& node, const MapSpecFor<dim>& map);
 
 /// Checks the "name", "vtk_order" and "cells" an "output" object gave (shared by
 /// `run` and elasticity configs); "cells": "linear" sets `vtk_order` to 1.

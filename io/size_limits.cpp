@@ -124,6 +124,8 @@ SizeEstimate estimate_size(const fem::MeshSpec& mesh, const Polyhedron& source, 
   if (mesh.type == "structured") {
     coarse_cells = static_cast<double>(mesh.nx) * mesh.ny * mesh.nz *
                    (mesh.cell_type == warpfem::CellType::tetrahedron ? 6 : 1);
+  } else if (mesh.type == "gmsh") {
+    coarse_cells = static_cast<double>(mesh.file_cells);
   } else {
     // Every surface triangle is a face of one tetrahedron, which has four faces.
     coarse_cells = static_cast<double>(source.triangle_count()) / 4;

@@ -54,9 +54,7 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const map
   return spec.cell_type == CellType::quadrilateral ? split_into_quadrilaterals(triangles) : triangles;
 }
 
-namespace {
-/// True if the polyhedron is its bounding box: every vertex on the box's
-/// surface and the same volume (extra vertices on the sides are allowed).
+// Extra vertices on the box's sides are allowed.
 bool is_axis_aligned_box(const Polyhedron& p) {
   const Point<3> lo = p.bbox_min(), hi = p.bbox_max();
   const double tolerance = 1e-12 * (hi - lo).norm();
@@ -69,13 +67,12 @@ bool is_axis_aligned_box(const Polyhedron& p) {
   const double box = (hi - lo).prod();
   return std::abs(p.signed_volume() - box) <= 1e-9 * box;
 }
-}  // namespace
 
 Mesh<3> make_coarse_mesh(const Polyhedron& source, const Polyhedron&, const mapping::Map<3>&,
                          const MeshSpec& spec) {
-  const PolyhedronParts parts = planar_face_groups(source);
+  const PolyhedronParts parts = boundary_parts(source);
   if (spec.type == "structured") {
-    if (!is_axis_aligned_box(source))
+    if (!is_axis_aligned_box(source))  // io::parse_mesh_spec_for refuses this first
       throw Error(
           "mesh type \"structured\" grids a box, but " + source.name() + " is not an axis-aligned box",
           {.file = "",
@@ -86,9 +83,28 @@ Mesh<3> make_coarse_mesh(const Polyhedron& source, const Polyhedron&, const mapp
     tag_facets_by_part(mesh, source, parts);
     return mesh;
   }
+  if (spec.type == "gmsh") {
+    GmshVolumeMesh read = read_gmsh(spec.file, source);
+    const std::vector<int> physical = read.mesh.facet_tags;
+    try {  // every boundary facet on the surface, also when the file names the parts
+      tag_facets_by_part(read.mesh, source, parts);
+    } catch (const Error& e) {
+      throw Error(e.message(), {.file = spec.file, .key_path = "mesh.file", .hint = e.context().hint});
+    }
+    if (!read.physical_tags.empty()) {
+      read.mesh.facet_tags = physical;
+      std::string listing;
+      for (std::size_t k = 0; k < read.physical_tags.size(); ++k)
+        listing += (k ? ", " : "") + std::to_string(k) + " = physical " +
+                   std::to_string(read.physical_tags[k]) +
+                   (read.names[k].empty() ? "" : " \"" + read.names[k] + "\"");
+      log::info("boundary parts (\"faces\") from the Gmsh file's physical groups: ", listing);
+    }
+    return read.mesh;
+  }
   if (spec.type != "tetgen")
     throw Error("mesh type \"" + spec.type + "\" does not mesh polyhedra",
-                {.file = "", .key_path = "/mesh/type", .hint = "use \"tetgen\" or \"structured\""});
+                {.file = "", .key_path = "/mesh/type", .hint = "use \"tetgen\", \"structured\" or \"gmsh\""});
   TetrahedralMeshOptions options;
   options.quality_ratio = spec.quality_ratio;
   options.max_volume = spec.max_volume;

@@ -20,7 +20,8 @@ struct MeshSpec {
   /// pullback: CGAL's Delaunay mesh of the *target* polygon pulled back through
   /// f⁻¹ (fem/pullback_mesher.hpp; triangles, or quadrilaterals by splitting).
   /// 3D — tetgen: TetGen's tetrahedra of the source polyhedron; structured: an
-  /// nx x ny x nz grid of a box-shaped source polyhedron.
+  /// nx x ny x nz grid of a box-shaped source polyhedron; gmsh: tetrahedra or
+  /// hexahedra read from `file`.
   std::string type = "delaunay";
   CellType cell_type = CellType::triangle;  ///< structured, pullback: the cells
   double max_edge_length = 0;  ///< delaunay/quad_split/pullback: 0 = meshed polygon's bbox diagonal / 10
@@ -31,6 +32,10 @@ struct MeshSpec {
   bool keep_surface = true;    ///< tetgen: boundary facets are the surface's triangles (-Y)
   std::string file;            ///< gmsh: path of the .msh file
   int refinements = 0;         ///< uniform refinements of the generated mesh
+  /// gmsh in 3D, found when the config is read: the file's cells and the
+  /// boundary parts its physical groups give (0: the source polyhedron's parts).
+  Index file_cells = 0;
+  int file_parts = 0;
 };
 
 /// The coarse mesh (before refinements) of a type that does not need the map.
@@ -40,9 +45,14 @@ Mesh<2> make_coarse_mesh(const Polygon& source, const MeshSpec& spec);
 Mesh<2> make_coarse_mesh(const Polygon& source, const Polygon& target, const mapping::Map<2>& map,
                          const MeshSpec& spec);
 
-/// The coarse mesh of a polyhedron: TetGen's tetrahedra or a structured grid of
-/// a box. Boundary facets are tagged with the planar face groups of `source`
-/// (fem/hierarchy/polyhedron_parts.hpp). `target` and `map` are not used by
+/// True if the polyhedron is its bounding box (every vertex on the box's
+/// surface, the same volume): what mesh type "structured" grids in 3D.
+bool is_axis_aligned_box(const Polyhedron& polyhedron);
+
+/// The coarse mesh of a polyhedron: TetGen's tetrahedra, a structured grid of
+/// a box, or a Gmsh file's cells. Boundary facets are tagged with the boundary
+/// parts of `source` (fem/hierarchy/polyhedron_parts.hpp), or with the Gmsh
+/// file's physical groups when it has them. `target` and `map` are not used by
 /// these types; they keep the call the same in both dimensions.
 Mesh<3> make_coarse_mesh(const Polyhedron& source, const Polyhedron& target, const mapping::Map<3>& map,
                          const MeshSpec& spec);

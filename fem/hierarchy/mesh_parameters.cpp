@@ -11,8 +11,9 @@ ParameterTable<MeshSpec> make_table() {
        "2D: CGAL constrained Delaunay triangles of the source polygon; the same split into 3 "
        "quadrilaterals each; an nx × ny grid of a rectangular source polygon; a Gmsh ASCII `.msh` (2.2 or "
        "4.1) file; CGAL's Delaunay mesh of the *target* polygon pulled back to Ω0 through f⁻¹ (below). "
-       "3D (a polyhedron source): `\"tetgen\"`, TetGen's tetrahedra of the source polyhedron, or "
-       "`\"structured\"`, an nx × ny × nz grid of a box-shaped source polyhedron")
+       "3D (a polyhedron source): `\"tetgen\"`, TetGen's tetrahedra of the source polyhedron, "
+       "`\"structured\"`, an nx × ny × nz grid of a box-shaped source polyhedron, or `\"gmsh\"`, the "
+       "tetrahedra or hexahedra of a Gmsh ASCII `.msh` (2.2 or 4.1) file")
       .with_default("`\"delaunay\"` in 2D, `\"tetgen\"` in 3D");
   t.choice("cell_type", &MeshSpec::cell_type,
            std::vector<std::pair<std::string, CellType>>{{"triangle", CellType::triangle},
@@ -27,7 +28,7 @@ ParameterTable<MeshSpec> make_table() {
   t.other("cells", "integer or `[nx, ny]` (3D: `[nx, ny, nz]`)", "4", "structured: cells per direction");
   t.text("file", &MeshSpec::file,
          "gmsh: the mesh file, relative to the config file's directory (it must cover the source polygon "
-         "exactly; 2D only)")
+         "or polyhedron exactly; in 3D it is read and checked when the config is read)")
       .with_default("—");
   t.number("max_edge_length", &MeshSpec::max_edge_length, 0.0, inf,
            "delaunay/quad_split: upper bound on triangle edge length; pullback: the same bound for the "

@@ -1,6 +1,7 @@
 #include "fem/hierarchy/polyhedron_parts.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -82,6 +83,32 @@ PolyhedronParts planar_face_groups(const Polyhedron& p) {
     }
     parts.normal.push_back(n);
     parts.centroid.push_back(weighted / area);
+  }
+  return parts;
+}
+
+PolyhedronParts boundary_parts(const Polyhedron& p) {
+  if (p.triangle_parts().empty()) return planar_face_groups(p);
+  PolyhedronParts parts;
+  parts.given = true;
+  parts.triangle_part = p.triangle_parts();
+  const int count = *std::max_element(parts.triangle_part.begin(), parts.triangle_part.end()) + 1;
+  std::vector<Point<3>> area_normal_sum(static_cast<std::size_t>(count), Point<3>::Zero());
+  std::vector<Point<3>> weighted(static_cast<std::size_t>(count), Point<3>::Zero());
+  std::vector<double> area(static_cast<std::size_t>(count), 0.0);
+  for (Index t = 0; t < p.triangle_count(); ++t) {
+    const auto k = static_cast<std::size_t>(parts.triangle_part[static_cast<std::size_t>(t)]);
+    const auto& tri = p.triangle(t);
+    const Point<3> n = area_normal(p, t);
+    area_normal_sum[k] += n;
+    area[k] += 0.5 * n.norm();
+    weighted[k] += 0.5 * n.norm() * (p.vertex(tri[0]) + p.vertex(tri[1]) + p.vertex(tri[2])) / 3.0;
+  }
+  for (std::size_t k = 0; k < static_cast<std::size_t>(count); ++k) {
+    // A closed part (the whole surface) has no mean normal; zero says so.
+    const double norm = area_normal_sum[k].norm();
+    parts.normal.push_back(norm > 1e-12 * area[k] ? Point<3>(area_normal_sum[k] / norm) : Point<3>::Zero());
+    parts.centroid.push_back(weighted[k] / area[k]);
   }
   return parts;
 }

@@ -115,7 +115,11 @@ TEST(RunRecipe3d, RefusalsNameTheFieldAndAFix) {
             std::string::npos);
   EXPECT_NE(error_text([&] {
               load("gmsh.json", cube_config(R"({"type": "gmsh", "file": "a.msh"})", dirichlet));
-            }).find("the Gmsh reader reads 2D meshes only"),
+            }).find("a.msh: /mesh/file: cannot open mesh file (fix: check the path)"),
+            std::string::npos);
+  EXPECT_NE(error_text([&] {
+              load("quality.json", cube_config(R"({"type": "tetgen", "quality_ratio": 1.1})", dirichlet));
+            }).find("/mesh/quality_ratio: a radius-edge ratio bound of 1.1 cannot be used"),
             std::string::npos);
   EXPECT_NE(error_text([&] {
               load("cells.json", cube_config(R"({"type": "structured", "cells": [2, 2]})", dirichlet));
@@ -136,13 +140,13 @@ TEST(RunRecipe3d, RefusalsNameTheFieldAndAFix) {
                      "gravity": [0, -9.81], "dirichlet": [{"faces": [0], "displacement": [0, 0, 0]}]})"));
             }).find("/problem/gravity: expected [gx, gy, gz]"),
             std::string::npos);
-  // A structured grid needs a box; the L-shaped prism is refused when the mesh is made.
+  // A structured grid needs a box; the L-shaped prism is refused before the map is built.
   const std::string prism = std::string(R"({"verbosity": "warning", "map": {"type": "identity", "source":
       {"file": ")") + kExamples +
                             R"(lshape_prism.off"}}, "mesh": {"type": "structured"}, "problem": )" +
                             dirichlet + "}";
   EXPECT_NE(error_text([&] {
-              apps::run(load("prism_grid.json", prism), MPI_COMM_SELF, {.write_output = false});
+              load("prism_grid.json", prism);
             }).find("/mesh/type: mesh type \"structured\" grids a box"),
             std::string::npos);
 }
