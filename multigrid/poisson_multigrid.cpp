@@ -21,7 +21,7 @@ double process_cpu_seconds() {
 /// DOFs, quadrilaterals and hexahedra get whole levels on a nested partition).
 template <int dim>
 fem::MeshHierarchy<dim> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<dim> coarse, int refinements,
-                                        bool partial_levels, double& seconds) {
+                                        bool partial_levels, Index base_cells_per_part, double& seconds) {
   if (refinements < 0)
     throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
                 {.file = "", .key_path = "mesh.refinements", .hint = "use 0 or more refinements"});
@@ -30,6 +30,7 @@ fem::MeshHierarchy<dim> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<dim> coarse
   MPI_Comm_size(comm, &partition.parts);
   MPI_Comm_rank(comm, &partition.rank);
   partition.partial_levels = partial_levels;
+  partition.min_cells_per_part = base_cells_per_part;
   fem::MeshHierarchy<dim> h(std::move(coarse), refinements, partition);
   seconds = watch.seconds();
   return h;
@@ -42,7 +43,7 @@ PoissonMultigridSolver<dim>::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh
                                                     int quadrature_degree, fem::PoissonData<dim> data,
                                                     const PoissonMultigridOptions& options)
     : hierarchy_(timed_hierarchy(comm, std::move(coarse), refinements, options.partial_levels && order == 1,
-                                 timings_.hierarchy)) {
+                                 options.base_cells_per_part, timings_.hierarchy)) {
   Stopwatch watch;
   MultigridTimings& t = timings_;
   const int levels = hierarchy_.num_levels();

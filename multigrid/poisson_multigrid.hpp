@@ -37,6 +37,8 @@ struct PoissonMultigridOptions {
   /// for quadrilaterals, hexahedra and P2: every rank holds every level whole
   /// (the levels' numbering and the solution are the same).
   bool partial_levels = true;
+  /// Cells per rank on the partitioned base level (HierarchyPartition).
+  Index base_cells_per_part = fem::kBaseCellsPerPart;
 
   static petsc::LinearSolveOptions default_linear() {
     petsc::LinearSolveOptions o;
