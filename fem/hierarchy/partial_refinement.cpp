@@ -8,7 +8,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <utility>
 
 #include "core/error.hpp"
@@ -365,22 +364,71 @@ void refine_triangles(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
 /// base + k (integers: every vertex of a uniform refinement sits there).
 using Bary = std::array<std::int32_t, 4>;
 
-/// A node (coarse vertex or edge midpoint) on the boundary of its base cell,
-/// named by the base vertices of its support (increasing) and its coordinates
-/// there, so that the cells of every base cell around it name it alike.
-struct SharedKey {
-  std::array<std::uint64_t, 3> part{~0ull, ~0ull, ~0ull};
-  bool operator==(const SharedKey&) const = default;
+/// splitmix64's finalizer: the hash of a 64-bit key.
+std::uint64_t mix(std::uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+struct MixHash {
+  std::size_t operator()(std::uint64_t k) const { return static_cast<std::size_t>(mix(k)); }
 };
-struct SharedKeyHash {
-  std::size_t operator()(const SharedKey& k) const {
-    std::uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (std::uint64_t x : k.part) {
-      h ^= x + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
-      h *= 0xBF58476D1CE4E5B9ull;
+
+/// Node number by key, open addressing with linear probing: one flat array
+/// (the node-based std::unordered_map spent most of the refinement chasing
+/// and allocating nodes). clear() keeps the capacity.
+template <class Key, class Hash>
+class FlatNumbering {
+ public:
+  /// The number stored for `key`, and whether it was absent (then kEmpty, to be set).
+  std::pair<TableIndex*, bool> find_or_insert(const Key& key) {
+    if (2 * (size_ + 1) > slots_.size()) grow();
+    std::size_t i = Hash{}(key) & (slots_.size() - 1);
+    for (;; i = (i + 1) & (slots_.size() - 1)) {
+      Slot& s = slots_[i];
+      if (s.value == kEmpty) {
+        s.key = key;
+        ++size_;
+        return {&s.value, true};
+      }
+      if (s.key == key) return {&s.value, false};
     }
-    return static_cast<std::size_t>(h ^ (h >> 31));
   }
+  /// The number stored for `key`, or nullptr.
+  const TableIndex* find(const Key& key) const {
+    if (slots_.empty()) return nullptr;
+    for (std::size_t i = Hash{}(key) & (slots_.size() - 1);; i = (i + 1) & (slots_.size() - 1)) {
+      const Slot& s = slots_[i];
+      if (s.value == kEmpty) return nullptr;
+      if (s.key == key) return &s.value;
+    }
+  }
+  template <class F>
+  void for_each(const F& f) const {
+    for (const Slot& s : slots_)
+      if (s.value != kEmpty) f(s.key, s.value);
+  }
+  void clear() {
+    if (size_ == 0) return;
+    for (Slot& s : slots_) s.value = kEmpty;
+    size_ = 0;
+  }
+  static constexpr TableIndex kEmpty = -2;
+
+ private:
+  struct Slot {
+    Key key{};
+    TableIndex value = kEmpty;
+  };
+  void grow() {
+    std::vector<Slot> old = std::move(slots_);
+    slots_.assign(std::max<std::size_t>(64, 2 * old.size()), Slot{});
+    size_ = 0;
+    for (const Slot& s : old)
+      if (s.value != kEmpty) *find_or_insert(s.key).first = s.value;
+  }
+  std::vector<Slot> slots_;
+  std::size_t size_ = 0;
 };
 
 int support_mask(const Bary& x) {
@@ -438,22 +486,51 @@ struct BaseSupports {
   }
 };
 
-/// The key of a node at coordinates `x` (support `mask`, not the whole cell)
-/// of base cell `cell`.
-SharedKey shared_key(const Mesh<3>& base, Index cell, const Bary& x, int mask) {
-  std::array<std::uint64_t, 3> parts{~0ull, ~0ull, ~0ull};
-  int n = 0;
+/// A node's coordinates in base cell `to` (16 bits each, in its vertex order)
+/// from those in base cell `from`, which shares the node's support with it:
+/// the key under which `to`, the node's owner, numbered it.
+std::uint64_t key_in(const Mesh<3>& base, Index from, Index to, const Bary& y) {
+  Bary z{};
   for (int j = 0; j < 4; ++j)
-    if (mask & (1 << j))
-      parts[static_cast<std::size_t>(n++)] = (static_cast<std::uint64_t>(base.cells(cell, j)) << 20) |
-                                             static_cast<std::uint64_t>(x[static_cast<std::size_t>(j)]);
-  // At most three entries (the support is a face or less): sorted by swaps.
-  const auto order = [&](std::size_t i, std::size_t j) {
-    if (parts[j] < parts[i]) std::swap(parts[i], parts[j]);
-  };
-  order(0, 1), order(1, 2), order(0, 1);
-  return SharedKey{parts};
+    if (y[static_cast<std::size_t>(j)] != 0)
+      for (int i = 0; i < 4; ++i)
+        if (base.cells(to, i) == base.cells(from, j))
+          z[static_cast<std::size_t>(i)] = y[static_cast<std::size_t>(j)];
+  std::uint64_t key = 0;
+  for (int d = 0; d < 4; ++d) key = key << 16 | static_cast<std::uint64_t>(z[static_cast<std::size_t>(d)]);
+  return key;
 }
+
+/// The edge midpoints on its boundary that each refined block numbered,
+/// sorted by key_in(owner) (read by the blocks after it).
+class BoundaryNodes {
+ public:
+  explicit BoundaryNodes(Index blocks) : range_(static_cast<std::size_t>(blocks), {0, 0}) {}
+  /// Keeps the boundary nodes of `block`, numbered in `numbers` (keys in its coordinates).
+  void keep(Index block, const FlatNumbering<std::uint64_t, MixHash>& numbers) {
+    const std::size_t begin = nodes_.size();
+    numbers.for_each([&](std::uint64_t key, TableIndex number) {
+      // Inside the block (all four coordinates non-zero) nobody else looks.
+      bool inside = true;
+      for (int d = 0; d < 4; ++d) inside = inside && ((key >> (16 * d)) & 0xFFFF) != 0;
+      if (!inside) nodes_.push_back({key, number});
+    });
+    std::sort(nodes_.begin() + static_cast<std::ptrdiff_t>(begin), nodes_.end());
+    range_[static_cast<std::size_t>(block)] = {begin, nodes_.size()};
+  }
+  /// The number `owner` gave the node with `key`, or kUnknown.
+  TableIndex find(Index owner, std::uint64_t key) const {
+    const auto [first, last] = range_[static_cast<std::size_t>(owner)];
+    const auto begin = nodes_.begin() + static_cast<std::ptrdiff_t>(first),
+               end = nodes_.begin() + static_cast<std::ptrdiff_t>(last);
+    const auto it = std::lower_bound(begin, end, std::pair<std::uint64_t, TableIndex>{key, kUnknown});
+    return it != end && it->first == key ? it->second : kUnknown;
+  }
+
+ private:
+  std::vector<std::pair<std::uint64_t, TableIndex>> nodes_;
+  std::vector<std::array<std::size_t, 2>> range_;
+};
 
 /// The coordinates (in the base cell, scale 2^k) of the vertices of the cells
 /// of one block on level base + k, walked in cell order: cell i's ancestors
@@ -637,13 +714,13 @@ void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, 
         std::fill(vertex_of.get() + at(coarse_first_vertex, b0),
                   vertex_of.get() + at(coarse_first_vertex, b1), kUnknown);
     }
-    // Edge midpoints numbered so far: on the base cells' boundaries (looked up
-    // by later blocks) and inside the current block.
-    std::unordered_map<SharedKey, TableIndex, SharedKeyHash> shared;
-    std::unordered_map<std::uint64_t, TableIndex> inside;
+    // Edge midpoints the current block numbers (keyed by their coordinates in
+    // its base cell), and those earlier blocks numbered on their boundaries.
+    FlatNumbering<std::uint64_t, MixHash> numbered;
+    BoundaryNodes boundary(nb);
     CellCoordinates coordinates(table, k, 4);
     for (const Index b : refined_blocks) {
-      inside.clear();
+      numbered.clear();
       TableIndex next = at(first_vertex, b);
       const Index c0 = b * per_block;
       for (Index i = 0; i < per_block; ++i) {
@@ -676,23 +753,18 @@ void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, 
                 fine.vertices(slot, d) =
                     p >= 0 && q >= 0 ? 0.5 * (coarse.vertices(p, d) + coarse.vertices(q, d)) : nan;
             };
-            if (mask == 15) {
+            if (owner == b) {
               std::uint64_t key = 0;
               for (int d = 0; d < 4; ++d)
                 key = key << 16 | static_cast<std::uint64_t>(y[static_cast<std::size_t>(d)]);
-              const auto [it, fresh] = inside.try_emplace(key, kUnknown);
-              if (fresh) create(it->second);
-              number = it->second;
-            } else if (owner == b) {
-              const auto [it, fresh] = shared.try_emplace(shared_key(base, b, y, mask), kUnknown);
-              if (fresh) create(it->second);
-              number = it->second;
+              const auto [slot, fresh] = numbered.find_or_insert(key);
+              if (fresh) create(*slot);
+              number = *slot;
             } else if (in(refined, owner)) {
-              const auto it = shared.find(shared_key(base, b, y, mask));
-              if (it == shared.end())
+              number = boundary.find(owner, key_in(base, b, owner, y));
+              if (number < 0)
                 throw Error(where + ": block " + std::to_string(b) + " found no number for a node of block " +
                             std::to_string(owner) + " (internal error)");
-              number = it->second;
             }
           }
           local[static_cast<std::size_t>(l)] = number;
@@ -706,6 +778,7 @@ void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, 
       if (next != at(first_vertex, b + 1))
         throw Error(where + ": block " + std::to_string(b) +
                     " numbered a different count of vertices than its closed form (internal error)");
+      boundary.keep(b, numbered);
     }
 
     // Boundary facets: fine facets 4f … 4f + 3 refine coarse facet f by the
@@ -748,8 +821,8 @@ void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, 
         if (in(refined, owner)) {
           if (l < 3) {
             number = vertex_of[static_cast<std::size_t>(coarse.boundary_facets(f, l))];
-          } else if (const auto it = shared.find(shared_key(base, b, y, mask)); it != shared.end()) {
-            number = it->second;
+          } else {
+            number = boundary.find(owner, key_in(base, b, owner, y));
           }
         }
         node[static_cast<std::size_t>(l)] = number;
