@@ -442,16 +442,18 @@ int support_mask(const Bary& x) {
 /// block that numbers a node lying inside that sub-simplex.
 struct BaseSupports {
   std::vector<std::array<Index, 16>> owner;  // [cell][mask of its local vertices]
-  std::vector<Index> first_cell_of_vertex;
+  // The cells around vertex v: around[start[v]] … around[start[v + 1] - 1], increasing.
+  std::vector<TableIndex> start;
+  std::vector<Index> around;
 
   explicit BaseSupports(const Mesh<3>& base) {
     const Index nc = base.num_cells(), nv = base.num_vertices();
-    std::vector<TableIndex> start(static_cast<std::size_t>(nv) + 1, 0);
+    start.assign(static_cast<std::size_t>(nv) + 1, 0);
     for (Index c = 0; c < nc; ++c)
       for (int j = 0; j < 4; ++j) ++start[static_cast<std::size_t>(base.cells(c, j)) + 1];
     for (Index v = 0; v < nv; ++v)
       start[static_cast<std::size_t>(v + 1)] += start[static_cast<std::size_t>(v)];
-    std::vector<Index> around(static_cast<std::size_t>(start.back()));
+    around.resize(static_cast<std::size_t>(start.back()));
     std::vector<TableIndex> fill(start.begin(), start.end() - 1);
     for (Index c = 0; c < nc; ++c)  // increasing cells: each vertex's list is sorted
       for (int j = 0; j < 4; ++j)
@@ -644,7 +646,11 @@ void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, 
   for (Index f = 0; f < nbf0; ++f) {
     // The face's first cell is the only one it bounds.
     const TableIndex* v = &base.boundary_facets(f, 0);
-    for (Index c = 0; c < nb && facet_cell[static_cast<std::size_t>(f)] < 0; ++c) {
+    for (TableIndex i = supports.start[static_cast<std::size_t>(v[0])];
+         i < supports.start[static_cast<std::size_t>(v[0]) + 1] &&
+         facet_cell[static_cast<std::size_t>(f)] < 0;
+         ++i) {
+      const Index c = supports.around[static_cast<std::size_t>(i)];
       std::array<int, 3> local{-1, -1, -1};
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 4; ++j)
