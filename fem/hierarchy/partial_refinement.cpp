@@ -394,15 +394,7 @@ class FlatNumbering {
       if (s.key == key) return {&s.value, false};
     }
   }
-  /// The number stored for `key`, or nullptr.
-  const TableIndex* find(const Key& key) const {
-    if (slots_.empty()) return nullptr;
-    for (std::size_t i = Hash{}(key) & (slots_.size() - 1);; i = (i + 1) & (slots_.size() - 1)) {
-      const Slot& s = slots_[i];
-      if (s.value == kEmpty) return nullptr;
-      if (s.key == key) return &s.value;
-    }
-  }
+  /// f(key, number) for every stored key.
   template <class F>
   void for_each(const F& f) const {
     for (const Slot& s : slots_)
