@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <ostream>
 #include <string>
 
 #include "multigrid/poisson_multigrid.hpp"
@@ -41,6 +42,10 @@ Solved solve(MPI_Comm comm, int order, bool partial_levels) {
 struct Case {
   int order;
   bool partial_levels;
+  // Printed field by field (not as raw bytes, which include the padding).
+  friend void PrintTo(const Case& c, std::ostream* os) {
+    *os << "P" << c.order << (c.partial_levels ? " partial" : " whole");
+  }
 };
 
 class MpiPartialHierarchy3d : public ::testing::TestWithParam<Case> {};
