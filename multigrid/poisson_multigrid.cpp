@@ -17,11 +17,11 @@ double process_cpu_seconds() {
 
 /// The hierarchy partitioned for `comm`'s ranks; with `partial_levels` the
 /// levels above the base are built only around this rank's cells
-/// (fem/partial_refinement.hpp; elements with edge DOFs need whole levels).
-/// 3D hierarchies are whole on every rank (no partitioned 3D hierarchy yet).
+/// (fem/partial_refinement.hpp: triangles and tetrahedra; elements with edge
+/// DOFs, quadrilaterals and hexahedra get whole levels on a nested partition).
 template <int dim>
 fem::MeshHierarchy<dim> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<dim> coarse, int refinements,
-                                        bool partial_levels, double& seconds) {
+                                        bool partial_levels, Index base_cells_per_part, double& seconds) {
   if (refinements < 0)
     throw Error("multigrid: negative number of refinements " + std::to_string(refinements),
                 {.file = "", .key_path = "mesh.refinements", .hint = "use 0 or more refinements"});
@@ -30,17 +30,10 @@ fem::MeshHierarchy<dim> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<dim> coarse
   MPI_Comm_size(comm, &partition.parts);
   MPI_Comm_rank(comm, &partition.rank);
   partition.partial_levels = partial_levels;
-  if constexpr (dim == 3) {
-    if (partition.parts > 1)
-      log::info("multigrid: 3D levels are built whole on every rank (partitioned hierarchies are 2D only)");
-    fem::MeshHierarchy<3> h(std::move(coarse), refinements);
-    seconds = watch.seconds();
-    return h;
-  } else {
-    fem::MeshHierarchy<2> h(std::move(coarse), refinements, partition);
-    seconds = watch.seconds();
-    return h;
-  }
+  partition.min_cells_per_part = base_cells_per_part;
+  fem::MeshHierarchy<dim> h(std::move(coarse), refinements, partition);
+  seconds = watch.seconds();
+  return h;
 }
 }  // namespace
 
@@ -50,7 +43,7 @@ PoissonMultigridSolver<dim>::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh
                                                     int quadrature_degree, fem::PoissonData<dim> data,
                                                     const PoissonMultigridOptions& options)
     : hierarchy_(timed_hierarchy(comm, std::move(coarse), refinements, options.partial_levels && order == 1,
-                                 timings_.hierarchy)) {
+                                 options.base_cells_per_part, timings_.hierarchy)) {
   Stopwatch watch;
   MultigridTimings& t = timings_;
   const int levels = hierarchy_.num_levels();
@@ -70,7 +63,7 @@ PoissonMultigridSolver<dim>::PoissonMultigridSolver(MPI_Comm comm, warpfem::Mesh
         l == levels - 1 ? options.finest_geometry : fem::GeometryStorage::streamed;
     const warpfem::Mesh<dim>& mesh = hierarchy_.levels[static_cast<std::size_t>(l)];
     const double cpu_before = process_cpu_seconds();
-    if (partitions.empty()) {  // whole 3D levels: each partitioned on its own
+    if (partitions.empty()) {  // not built for a partition: each level partitioned on its own
       problems_.push_back(std::make_unique<fem::PoissonProblem<dim>>(comm, mesh, map, order,
                                                                      quadrature_degree, data, storage));
     } else {

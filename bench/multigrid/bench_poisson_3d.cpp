@@ -6,9 +6,11 @@
 //
 //   bench_poisson_3d [-type hexahedron|tetrahedron] [-order 1|2] [-n 2] [-refinements 5]
 //                    [-qdeg 2 order + 1] [-geometry cached|streamed] [-rounds 1]
-//                    [-peers gmg,gamg,hypre]
+//                    [-peers gmg,gamg,hypre] [-partial_levels 1]
 //
 // -n: cells per side of the coarse mesh; the finest has n · 2^refinements.
+// -partial_levels 0: under MPI every rank stores every level whole (default 1:
+// P1 tetrahedral levels above the partition's base only around the rank's cells).
 // Every phase is reported in wall and in process CPU seconds (the CPU figure
 // counts the run's own work on a host shared with other jobs; one thread).
 // The AMG peers are charged the finest problem's construction and assembly
@@ -71,6 +73,7 @@ struct Case {
   CellType type = CellType::hexahedron;
   int order = 1, n = 2, refinements = 5, qdeg = 3;
   fem::GeometryStorage geometry = fem::GeometryStorage::cached;
+  bool partial_levels = true;
 };
 
 fem::PoissonData<3> poisson_data() {
@@ -141,6 +144,7 @@ void round_with_gmg(const Case& c, const std::vector<std::string>& amg, int roun
   multigrid::PoissonMultigridOptions options;
   options.linear.rtol = 1e-8;
   options.finest_geometry = c.geometry;
+  options.partial_levels = c.partial_levels;
   Meter setup_meter;
   multigrid::PoissonMultigridSolver<3> mg(PETSC_COMM_WORLD, coarse_mesh(c), c.refinements,
                                           std::make_shared<mapping::IdentityMap<3>>(), c.order, c.qdeg,
@@ -217,6 +221,7 @@ int run(int argc, char** argv) {
   c.qdeg = static_cast<int>(int_option("-qdeg", 2 * c.order + 1));
   c.geometry = string_option("-geometry", "cached") == "streamed" ? fem::GeometryStorage::streamed
                                                                   : fem::GeometryStorage::cached;
+  c.partial_levels = int_option("-partial_levels", 1) != 0;
   const int rounds = static_cast<int>(int_option("-rounds", 1));
   const std::string peers = "," + string_option("-peers", "gmg,gamg,hypre") + ",";
   const bool with_gmg = peers.find(",gmg,") != std::string::npos;
@@ -237,7 +242,9 @@ int run(int argc, char** argv) {
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  std::printf("peak RSS %.0f MB\n", static_cast<double>(usage.ru_maxrss) / 1024.0);
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  std::printf("peak RSS %.0f MB (rank %d)\n", static_cast<double>(usage.ru_maxrss) / 1024.0, rank);
   return 0;
 }
 

@@ -80,10 +80,11 @@ std::vector<int> partition_cells(const Mesh<dim>& mesh, int num_parts) {
 template std::vector<int> partition_cells(const Mesh<2>&, int);
 template std::vector<int> partition_cells(const Mesh<3>&, int);
 
-std::vector<int> inherit_partition(const std::vector<int>& coarse_owner) {
-  std::vector<int> owner(coarse_owner.size() * RefinedMesh<2>::children_per_cell);
+std::vector<int> inherit_partition(const std::vector<int>& coarse_owner, Index children_per_cell) {
+  require(children_per_cell > 0, "inherit_partition: no children per cell");
+  std::vector<int> owner(coarse_owner.size() * static_cast<std::size_t>(children_per_cell));
   for (std::size_t c = 0; c < owner.size(); ++c)
-    owner[c] = coarse_owner[static_cast<std::size_t>(RefinedMesh<2>::parent_of(static_cast<Index>(c)))];
+    owner[c] = coarse_owner[c / static_cast<std::size_t>(children_per_cell)];
   return owner;
 }
 

@@ -14,11 +14,11 @@ namespace warpfem::fem {
 template <int dim>
 std::vector<int> partition_cells(const Mesh<dim>& mesh, int num_parts);
 
-/// Owner rank of every fine cell of a 2D uniform refinement (refine_uniformly: the
-/// children of coarse cell c are fine cells 4c … 4c+3): the owner of the coarse
-/// cell it lies in. A partition inherited this way is nested: a rank's fine
-/// cells cover exactly its coarse cells, so transfers between the two levels
-/// stay on the rank except along the interface.
-std::vector<int> inherit_partition(const std::vector<int>& coarse_owner);
+/// Owner rank of every fine cell of a uniform refinement (refine_uniformly: the
+/// children of coarse cell c are fine cells n c … n c + n − 1, n =
+/// `children_per_cell`, 4 in 2D and 8 in 3D): the owner of the coarse cell it lies in. A partition inherited
+/// this way is nested: a rank's fine cells cover exactly its coarse cells, so transfers between the two
+/// levels stay on the rank except along the interface.
+std::vector<int> inherit_partition(const std::vector<int>& coarse_owner, Index children_per_cell = 4);
 
 }  // namespace warpfem::fem

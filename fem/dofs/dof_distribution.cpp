@@ -56,9 +56,6 @@ DofDistribution<dim>::DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, cons
     : comm_(comm), dofs_(&dofs) {
   MPI_Comm_rank(comm, &rank_);
   MPI_Comm_size(comm, &size_);
-  require(dim == 2,
-          "DofDistribution: nested blocks come from 2D uniform refinement; distribute a 3D mesh by a list of "
-          "cell owners (or partition_cells)");
   require(blocks.num_cells() == mesh.num_cells(), "DofDistribution: " + std::to_string(blocks.num_blocks()) +
                                                       " blocks of " + std::to_string(blocks.cells_per_block) +
                                                       " cells for a mesh of " +

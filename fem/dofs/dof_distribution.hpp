@@ -33,7 +33,6 @@ class DofDistribution {
   /// on every rank), e.g. a nested partition of a hierarchy (nested_partitions()).
   DofDistribution(MPI_Comm comm, const Mesh<dim>& mesh, const DofMap<dim>& dofs,
                   const std::vector<int>& cell_owner);
-  /// 2D only (nested blocks come from 2D uniform refinement).
   /// Cells partitioned by `blocks` (a level above the base of
   /// nested_level_partitions(), or of a MeshHierarchy built for a partition).
   /// The same distribution as with every cell's owner listed, but P1/Q1 owners

@@ -34,14 +34,16 @@ namespace {
 /// coarser level is cut too, every finer one inherits): the coarsest with at
 /// least `min_cells_per_part` cells per part, else the finest.
 /// Owners of a level cut along its Morton curve (all rank 0's for one part).
-std::vector<int> cut_level(const Mesh<2>& mesh, int num_parts) {
+template <int dim>
+std::vector<int> cut_level(const Mesh<dim>& mesh, int num_parts) {
   return num_parts == 1 ? std::vector<int>(static_cast<std::size_t>(mesh.num_cells()), 0)
                         : partition_cells(mesh, num_parts);
 }
 
-int partition_base_level(const MeshHierarchy<2>& h, int num_parts, Index min_cells_per_part) {
+template <int dim>
+int partition_base_level(const MeshHierarchy<dim>& h, int num_parts, Index min_cells_per_part) {
   require(num_parts >= 1, "nested_partitions: need at least one part");
-  for (const Mesh<2>& level : h.levels)
+  for (const Mesh<dim>& level : h.levels)
     level.require_whole(
         "nested_partitions (a hierarchy built for a partition has its own: MeshHierarchy::partitions)");
   for (int l = 0; l < h.num_levels(); ++l)
@@ -52,16 +54,6 @@ int partition_base_level(const MeshHierarchy<2>& h, int num_parts, Index min_cel
 
 template <int dim>
 MeshHierarchy<dim>::MeshHierarchy(Mesh<dim> coarse, int refinements, const HierarchyPartition& partition) {
-  if constexpr (dim != 2)
-    throw Error("MeshHierarchy: a hierarchy partitioned over ranks is 2D only so far",
-                {.file = "", .key_path = "", .hint = "build the 3D hierarchy without a partition"});
-  else
-    build_partitioned(std::move(coarse), refinements, partition);
-}
-
-template <int dim>
-void MeshHierarchy<dim>::build_partitioned(Mesh<dim> coarse, int refinements,
-                                           const HierarchyPartition& partition) requires(dim == 2) {
   const int parts = partition.parts;
   require(parts >= 1 && partition.rank >= 0 && partition.rank < parts,
           "MeshHierarchy: rank " + std::to_string(partition.rank) + " is not in a partition of " +
@@ -73,10 +65,11 @@ void MeshHierarchy<dim>::build_partitioned(Mesh<dim> coarse, int refinements,
   int base = 0;
   if (parts > 1) {
     Index cells = coarse.num_cells();
-    while (base < refinements && cells < partition.min_cells_per_part * parts) cells *= 4, ++base;
+    while (base < refinements && cells < partition.min_cells_per_part * parts)
+      cells *= RefinedMesh<dim>::children_per_cell, ++base;
   }
-  const bool partial =
-      partition.partial_levels && parts > 1 && base < refinements && coarse.cell_type == CellType::triangle;
+  const bool simplices = coarse.cell_type == CellType::triangle || coarse.cell_type == CellType::tetrahedron;
+  const bool partial = partition.partial_levels && parts > 1 && base < refinements && simplices;
   const int whole = partial ? base : refinements;  // levels 0 … whole are whole meshes
   levels.reserve(static_cast<std::size_t>(refinements) + 1);
   transfers.reserve(static_cast<std::size_t>(refinements));
@@ -84,7 +77,7 @@ void MeshHierarchy<dim>::build_partitioned(Mesh<dim> coarse, int refinements,
   std::optional<EdgeNumbering> edges = refine_whole(whole, refinements);
   partitions.resize(static_cast<std::size_t>(refinements) + 1);
   for (int l = 0; l <= base; ++l) {
-    const Mesh<2>& mesh = levels[static_cast<std::size_t>(l)];
+    const Mesh<dim>& mesh = levels[static_cast<std::size_t>(l)];
     partitions[static_cast<std::size_t>(l)].cell_owner = cut_level(mesh, parts);
   }
   const std::vector<int>& base_owner = partitions[static_cast<std::size_t>(base)].cell_owner;
@@ -93,36 +86,37 @@ void MeshHierarchy<dim>::build_partitioned(Mesh<dim> coarse, int refinements,
       partitions[static_cast<std::size_t>(l)].blocks = nested_blocks(*this, base, l, base_owner);
     return;
   }
-  if (!edges) edges.emplace(levels.back());  // the base is the coarse mesh itself
   std::vector<NestedBlocks> blocks;
-  refine_partially(*this, *edges, base_owner, partition.rank, refinements - base, blocks);
+  refine_partially(*this, base_owner, partition.rank, refinements - base, blocks, edges ? &*edges : nullptr);
   for (std::size_t k = 0; k < blocks.size(); ++k)
     partitions[static_cast<std::size_t>(base) + 1 + k].blocks = std::move(blocks[k]);
 }
 
-std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<2>& h, int num_parts,
+template <int dim>
+std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<dim>& h, int num_parts,
                                                 Index min_cells_per_part) {
   const int base = partition_base_level(h, num_parts, min_cells_per_part);
   std::vector<std::vector<int>> owners(static_cast<std::size_t>(h.num_levels()));
   for (int l = 0; l < h.num_levels(); ++l) {
-    const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];
+    const Mesh<dim>& mesh = h.levels[static_cast<std::size_t>(l)];
     auto& owner = owners[static_cast<std::size_t>(l)];
     if (num_parts == 1)
       owner.assign(static_cast<std::size_t>(mesh.num_cells()), 0);
     else if (l <= base)
       owner = partition_cells(mesh, num_parts);
     else
-      owner = inherit_partition(owners[static_cast<std::size_t>(l - 1)]);
+      owner = inherit_partition(owners[static_cast<std::size_t>(l - 1)], RefinedMesh<dim>::children_per_cell);
   }
   return owners;
 }
 
-std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<2>& h, int num_parts,
+template <int dim>
+std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<dim>& h, int num_parts,
                                                     Index min_cells_per_part) {
   const int base = partition_base_level(h, num_parts, num_parts == 1 ? 0 : min_cells_per_part);
   std::vector<LevelPartition> levels(static_cast<std::size_t>(h.num_levels()));
   for (int l = 0; l <= base; ++l) {
-    const Mesh<2>& mesh = h.levels[static_cast<std::size_t>(l)];
+    const Mesh<dim>& mesh = h.levels[static_cast<std::size_t>(l)];
     levels[static_cast<std::size_t>(l)].cell_owner = cut_level(mesh, num_parts);
   }
   for (int l = base + 1; l < h.num_levels(); ++l)
@@ -133,5 +127,9 @@ std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<2>& h, i
 
 template struct MeshHierarchy<2>;
 template struct MeshHierarchy<3>;
+template std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<2>&, int, Index);
+template std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<3>&, int, Index);
+template std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<2>&, int, Index);
+template std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<3>&, int, Index);
 
 }  // namespace warpfem::fem

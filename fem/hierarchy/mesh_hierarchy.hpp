@@ -25,8 +25,8 @@ struct HierarchyPartition {
   int rank = 0;   ///< the rank the levels are built for
   /// The base level: the coarsest with this many cells per part.
   Index min_cells_per_part = kBaseCellsPerPart;
-  /// Build the levels above the base only around the rank's cells (triangles;
-  /// fit for P1: elements with edge DOFs need whole levels).
+  /// Build the levels above the base only around the rank's cells (triangles
+  /// and tetrahedra; fit for P1: elements with edge DOFs need whole levels).
   bool partial_levels = true;
 };
 
@@ -42,8 +42,8 @@ struct MeshHierarchy {
   /// The same levels, partitioned as nested_level_partitions() partitions
   /// them (kept in `partitions`), with the levels above the base built only
   /// around `partition.rank`'s cells (partial meshes, fem/partial_refinement.hpp)
-  /// when there are several parts and the cells are triangles; otherwise whole.
-  /// 2D only (the partition and its blocks are 2D): throws for dim = 3.
+  /// when there are several parts and the cells are triangles or tetrahedra;
+  /// otherwise whole (quadrilaterals, hexahedra, or partial_levels off).
   MeshHierarchy(Mesh<dim> coarse, int refinements, const HierarchyPartition& partition);
   // Movable, not copyable: `partitions` point into `levels` (a moved vector keeps its elements).
   MeshHierarchy(MeshHierarchy&&) = default;
@@ -59,8 +59,6 @@ struct MeshHierarchy {
   /// Appends `count` whole refinements of the finest level, of `total` to come;
   /// returns the last new level's edge numbering if a further refinement needs it.
   std::optional<EdgeNumbering> refine_whole(int count, int total);
-  void build_partitioned(Mesh<dim> coarse, int refinements,
-                         const HierarchyPartition& partition) requires(dim == 2);
 };
 
 /// Cell owners for every level of `h` (the same on every rank, no communication):
@@ -71,13 +69,15 @@ struct MeshHierarchy {
 /// only prolongation rows along the interface read other ranks' coarse DOFs)
 /// and balanced to one base cell's descendants; the per-level Morton sort of
 /// the large levels is skipped.
-std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<2>& h, int num_parts,
+template <int dim>
+std::vector<std::vector<int>> nested_partitions(const MeshHierarchy<dim>& h, int num_parts,
                                                 Index min_cells_per_part = kBaseCellsPerPart);
 
 /// The same partition, with the levels above the base described as
 /// NestedBlocks (no per-cell owner lists for the large levels). One part: the
 /// base is level 0.
-std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<2>& h, int num_parts,
+template <int dim>
+std::vector<LevelPartition> nested_level_partitions(const MeshHierarchy<dim>& h, int num_parts,
                                                     Index min_cells_per_part = kBaseCellsPerPart);
 
 }  // namespace warpfem::fem

@@ -9,16 +9,17 @@
 
 namespace warpfem::fem {
 
-std::vector<char> blocks_sharing_a_vertex(const Mesh<2>& base, const std::vector<char>& seed) {
-  std::vector<char> touched(static_cast<std::size_t>(base.num_vertices()), 0);
-  const Index nb = base.num_cells(), nv = base.cells.cols();
+std::vector<char> blocks_sharing_a_vertex(const IndexTable& base_cells, const std::vector<char>& seed) {
+  const Index nb = base_cells.rows(), nv = base_cells.cols();
+  const Index vertices = nb == 0 ? 0 : Index{base_cells.maxCoeff()} + 1;
+  std::vector<char> touched(static_cast<std::size_t>(vertices), 0);
   for (Index b = 0; b < nb; ++b)
     if (seed[static_cast<std::size_t>(b)])
-      for (Index k = 0; k < nv; ++k) touched[static_cast<std::size_t>(base.cells(b, k))] = 1;
+      for (Index k = 0; k < nv; ++k) touched[static_cast<std::size_t>(base_cells(b, k))] = 1;
   std::vector<char> out(static_cast<std::size_t>(nb), 0);
   for (Index b = 0; b < nb; ++b)
     for (Index k = 0; k < nv; ++k)
-      if (touched[static_cast<std::size_t>(base.cells(b, k))]) out[static_cast<std::size_t>(b)] = 1;
+      if (touched[static_cast<std::size_t>(base_cells(b, k))]) out[static_cast<std::size_t>(b)] = 1;
   return out;
 }
 
@@ -34,32 +35,34 @@ std::vector<std::array<Index, 2>> block_cell_ranges(const std::vector<Index>& bl
 }
 
 std::vector<Index> NestedBlocks::blocks_near(int rank) const {
-  require(base && base->num_cells() == num_blocks(), "NestedBlocks: the base mesh does not match the blocks");
+  require(base_cells && base_cells->rows() == num_blocks(),
+          "NestedBlocks: the base mesh does not match the blocks");
   std::vector<char> own(owner.size(), 0);
   for (std::size_t b = 0; b < owner.size(); ++b) own[b] = owner[b] == rank;
-  const std::vector<char> near = blocks_sharing_a_vertex(*base, own);
+  const std::vector<char> near = blocks_sharing_a_vertex(*base_cells, own);
   std::vector<Index> list;
   for (Index b = 0; b < num_blocks(); ++b)
     if (near[static_cast<std::size_t>(b)]) list.push_back(b);
   return list;
 }
 
-NestedBlocks nested_blocks(const MeshHierarchy<2>& h, int base, int level, std::vector<int> base_owner) {
+template <int dim>
+NestedBlocks nested_blocks(const MeshHierarchy<dim>& h, int base, int level, std::vector<int> base_owner) {
   require(base >= 0 && base < level && level < h.num_levels(),
           "nested_blocks: level " + std::to_string(level) + " is not above base level " +
               std::to_string(base) + " in a hierarchy of " + std::to_string(h.num_levels()) + " levels");
-  const Mesh<2>& base_mesh = h.levels[static_cast<std::size_t>(base)];
+  const Mesh<dim>& base_mesh = h.levels[static_cast<std::size_t>(base)];
   require(static_cast<Index>(base_owner.size()) == base_mesh.num_cells(),
           "nested_blocks: " + std::to_string(base_owner.size()) + " owners for " +
               std::to_string(base_mesh.num_cells()) + " base cells");
   NestedBlocks blocks;
-  blocks.base = &base_mesh;
+  blocks.base_cells = &base_mesh.cells;
   blocks.owner = std::move(base_owner);
-  // The blocks' first coarse cells on level - 1 are 4^(k-1) apart; the
+  // The blocks' first coarse cells on level - 1 are 2^(dim (k-1)) apart; the
   // refinement into `level` recorded where each coarse cell's new vertices start.
   Index coarse_per_block = 1;
-  for (int l = base; l + 1 < level; ++l) coarse_per_block *= RefinedMesh<2>::children_per_cell;
-  blocks.cells_per_block = coarse_per_block * RefinedMesh<2>::children_per_cell;
+  for (int l = base; l + 1 < level; ++l) coarse_per_block *= RefinedMesh<dim>::children_per_cell;
+  blocks.cells_per_block = coarse_per_block * RefinedMesh<dim>::children_per_cell;
   const std::vector<TableIndex>& first_new =
       h.transfers[static_cast<std::size_t>(level - 1)].first_new_vertex;
   const Index nb = blocks.num_blocks();
@@ -72,5 +75,8 @@ NestedBlocks nested_blocks(const MeshHierarchy<2>& h, int base, int level, std::
         first_new[static_cast<std::size_t>(b * coarse_per_block)];
   return blocks;
 }
+
+template NestedBlocks nested_blocks(const MeshHierarchy<2>&, int, int, std::vector<int>);
+template NestedBlocks nested_blocks(const MeshHierarchy<3>&, int, int, std::vector<int>);
 
 }  // namespace warpfem::fem

@@ -2,10 +2,10 @@
 // The partition of a refined level that descends from a partitioned base level.
 //
 // refine_uniformly orders cells hierarchically (the children of coarse cell c
-// are fine cells 4c … 4c+3) and numbers vertices by first use in that order.
-// On level base + k, the descendants of base cell b are therefore the
-// contiguous cells [b 4^k, (b + 1) 4^k), and the vertices they use first are
-// contiguous too. A partition inherited from the base level (every cell takes
+// are fine cells 2^dim c … 2^dim c + 2^dim − 1) and numbers vertices by first
+// use in that order. On level base + k, the descendants of base cell b are
+// therefore the contiguous cells [b 2^(dim k), (b + 1) 2^(dim k)), and the
+// vertices they use first are contiguous too. A partition inherited from the base level (every cell takes
 // the owner of its base cell) is then described per *block* (base cell)
 // instead of per cell: the owner of every cell, the rank's cells and, for
 // vertex DOFs, the owner and PETSc number of every DOF follow from a few
@@ -23,11 +23,12 @@ template <int dim>
 struct MeshHierarchy;
 
 struct NestedBlocks {
-  /// The partitioned base level (its cell adjacency gives the blocks next to a rank's).
-  const Mesh<2>* base = nullptr;
+  /// The cells of the partitioned base level (their shared vertices give the
+  /// blocks next to a rank's); any dimension.
+  const IndexTable* base_cells = nullptr;
   /// Owner rank of every base cell (block).
   std::vector<int> owner;
-  /// 4^k for a level k refinements above the base.
+  /// 2^(dim k) for a level k refinements above the base.
   Index cells_per_block = 1;
   /// first_vertex[b] … first_vertex[b + 1]: the vertices block b's cells use
   /// first (blocks + 1 entries); vertices from first_vertex.back() on lie in no cell.
@@ -43,7 +44,7 @@ struct NestedBlocks {
 
 /// Base cells sharing a vertex with a cell of `seed` (masks over the base cells;
 /// the seed's own cells included).
-std::vector<char> blocks_sharing_a_vertex(const Mesh<2>& base, const std::vector<char>& seed);
+std::vector<char> blocks_sharing_a_vertex(const IndexTable& base_cells, const std::vector<char>& seed);
 
 /// The cells of `blocks` (increasing) on a level of `cells_per_block` cells per
 /// block, as ranges [first, last), consecutive blocks merged.
@@ -58,6 +59,7 @@ struct LevelPartition {
 
 /// The blocks of level `level` of `h` over the partitioned level `base` < `level`
 /// (`base_owner`: one rank per cell of level `base`).
-NestedBlocks nested_blocks(const MeshHierarchy<2>& h, int base, int level, std::vector<int> base_owner);
+template <int dim>
+NestedBlocks nested_blocks(const MeshHierarchy<dim>& h, int base, int level, std::vector<int> base_owner);
 
 }  // namespace warpfem::fem

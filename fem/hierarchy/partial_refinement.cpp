@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "core/prefault.hpp"
 #include "fem/hierarchy/mesh_factory.hpp"
 #include "fem/hierarchy/mesh_hierarchy.hpp"
@@ -69,9 +73,7 @@ struct CoarseLevel {
 
 constexpr TableIndex kUnknown = -1;
 
-}  // namespace
-
-void refine_partially(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
+void refine_triangles(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
                       const std::vector<int>& base_owner, int rank, int levels_above,
                       std::vector<NestedBlocks>& blocks) {
   const int base_level = h.num_levels() - 1;
@@ -111,8 +113,8 @@ void refine_partially(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
   std::vector<char> own(static_cast<std::size_t>(nb), 0);
   for (Index b = 0; b < nb; ++b)
     own[static_cast<std::size_t>(b)] = base_owner[static_cast<std::size_t>(b)] == rank;
-  const std::vector<char> near = blocks_sharing_a_vertex(base, own),
-                          refined = blocks_sharing_a_vertex(base, near);
+  const std::vector<char> near = blocks_sharing_a_vertex(base.cells, own),
+                          refined = blocks_sharing_a_vertex(base.cells, near);
   std::vector<Index> near_blocks, refined_blocks;
   for (Index b = 0; b < nb; ++b) {
     if (near[static_cast<std::size_t>(b)]) near_blocks.push_back(b);
@@ -332,7 +334,7 @@ void refine_partially(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
     fine.present_cells = block_cell_ranges(near_blocks, fine_per_block);
 
     NestedBlocks nested;
-    nested.base = &h.levels[static_cast<std::size_t>(base_level)];
+    nested.base_cells = &h.levels[static_cast<std::size_t>(base_level)].cells;
     nested.owner = base_owner;
     nested.cells_per_block = fine_per_block;
     nested.first_vertex = first_vertex;
@@ -355,5 +357,518 @@ void refine_partially(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
     per_block = fine_per_block;
   }
 }
+
+// ---- Tetrahedra: nodes identified by their position in the base cell -------
+
+/// Barycentric coordinates of a point in its base cell, scaled by 2^k on level
+/// base + k (integers: every vertex of a uniform refinement sits there).
+using Bary = std::array<std::int32_t, 4>;
+
+/// splitmix64's finalizer: the hash of a 64-bit key.
+std::uint64_t mix(std::uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+struct MixHash {
+  std::size_t operator()(std::uint64_t k) const { return static_cast<std::size_t>(mix(k)); }
+};
+
+/// Node number by key, open addressing with linear probing: one flat array
+/// (the node-based std::unordered_map spent most of the refinement chasing
+/// and allocating nodes). clear() keeps the capacity.
+template <class Key, class Hash>
+class FlatNumbering {
+ public:
+  /// The number stored for `key`, and whether it was absent (then kEmpty, to be set).
+  std::pair<TableIndex*, bool> find_or_insert(const Key& key) {
+    if (2 * (size_ + 1) > slots_.size()) grow();
+    std::size_t i = Hash{}(key) & (slots_.size() - 1);
+    for (;; i = (i + 1) & (slots_.size() - 1)) {
+      Slot& s = slots_[i];
+      if (s.value == kEmpty) {
+        s.key = key;
+        ++size_;
+        return {&s.value, true};
+      }
+      if (s.key == key) return {&s.value, false};
+    }
+  }
+  /// f(key, number) for every stored key.
+  template <class F>
+  void for_each(const F& f) const {
+    for (const Slot& s : slots_)
+      if (s.value != kEmpty) f(s.key, s.value);
+  }
+  void clear() {
+    if (size_ == 0) return;
+    for (Slot& s : slots_) s.value = kEmpty;
+    size_ = 0;
+  }
+  static constexpr TableIndex kEmpty = -2;
+
+ private:
+  struct Slot {
+    Key key{};
+    TableIndex value = kEmpty;
+  };
+  void grow() {
+    std::vector<Slot> old = std::move(slots_);
+    slots_.assign(std::max<std::size_t>(64, 2 * old.size()), Slot{});
+    size_ = 0;
+    for (const Slot& s : old)
+      if (s.value != kEmpty) *find_or_insert(s.key).first = s.value;
+  }
+  std::vector<Slot> slots_;
+  std::size_t size_ = 0;
+};
+
+int support_mask(const Bary& x) {
+  int mask = 0;
+  for (int j = 0; j < 4; ++j) mask |= x[static_cast<std::size_t>(j)] != 0 ? 1 << j : 0;
+  return mask;
+}
+
+/// What refine_tetrahedra needs of the base level: the first cell around every
+/// sub-simplex (vertex, edge, face, the cell itself) of every base cell, the
+/// block that numbers a node lying inside that sub-simplex.
+struct BaseSupports {
+  std::vector<std::array<Index, 16>> owner;  // [cell][mask of its local vertices]
+  // The cells around vertex v: around[start[v]] … around[start[v + 1] - 1], increasing.
+  std::vector<TableIndex> start;
+  std::vector<Index> around;
+
+  explicit BaseSupports(const Mesh<3>& base) {
+    const Index nc = base.num_cells(), nv = base.num_vertices();
+    start.assign(static_cast<std::size_t>(nv) + 1, 0);
+    for (Index c = 0; c < nc; ++c)
+      for (int j = 0; j < 4; ++j) ++start[static_cast<std::size_t>(base.cells(c, j)) + 1];
+    for (Index v = 0; v < nv; ++v)
+      start[static_cast<std::size_t>(v + 1)] += start[static_cast<std::size_t>(v)];
+    around.resize(static_cast<std::size_t>(start.back()));
+    std::vector<TableIndex> fill(start.begin(), start.end() - 1);
+    for (Index c = 0; c < nc; ++c)  // increasing cells: each vertex's list is sorted
+      for (int j = 0; j < 4; ++j)
+        around[static_cast<std::size_t>(fill[static_cast<std::size_t>(base.cells(c, j))]++)] = c;
+    const auto contains = [&](Index c, Index v) {
+      for (int j = 0; j < 4; ++j)
+        if (base.cells(c, j) == v) return true;
+      return false;
+    };
+    owner.resize(static_cast<std::size_t>(nc));
+    for (Index c = 0; c < nc; ++c)
+      for (int mask = 1; mask < 16; ++mask) {
+        const int lowest = std::countr_zero(static_cast<unsigned>(mask));
+        const Index v0 = base.cells(c, lowest);
+        Index first = c;
+        for (TableIndex i = start[static_cast<std::size_t>(v0)]; i < start[static_cast<std::size_t>(v0 + 1)];
+             ++i) {
+          const Index d = around[static_cast<std::size_t>(i)];
+          bool all = true;
+          for (int j = lowest + 1; j < 4 && all; ++j)
+            if (mask & (1 << j)) all = contains(d, base.cells(c, j));
+          if (all) {
+            first = d;
+            break;
+          }
+        }
+        owner[static_cast<std::size_t>(c)][static_cast<std::size_t>(mask)] = first;
+      }
+  }
+  Index of(Index cell, int mask) const {
+    return owner[static_cast<std::size_t>(cell)][static_cast<std::size_t>(mask)];
+  }
+};
+
+/// A node's coordinates in base cell `to` (16 bits each, in its vertex order)
+/// from those in base cell `from`, which shares the node's support with it:
+/// the key under which `to`, the node's owner, numbered it.
+std::uint64_t key_in(const Mesh<3>& base, Index from, Index to, const Bary& y) {
+  Bary z{};
+  for (int j = 0; j < 4; ++j)
+    if (y[static_cast<std::size_t>(j)] != 0)
+      for (int i = 0; i < 4; ++i)
+        if (base.cells(to, i) == base.cells(from, j))
+          z[static_cast<std::size_t>(i)] = y[static_cast<std::size_t>(j)];
+  std::uint64_t key = 0;
+  for (int d = 0; d < 4; ++d) key = key << 16 | static_cast<std::uint64_t>(z[static_cast<std::size_t>(d)]);
+  return key;
+}
+
+/// The edge midpoints on its boundary that each refined block numbered,
+/// sorted by key_in(owner) (read by the blocks after it).
+class BoundaryNodes {
+ public:
+  explicit BoundaryNodes(Index blocks) : range_(static_cast<std::size_t>(blocks), {0, 0}) {}
+  /// Keeps the boundary nodes of `block`, numbered in `numbers` (keys in its coordinates).
+  void keep(Index block, const FlatNumbering<std::uint64_t, MixHash>& numbers) {
+    const std::size_t begin = nodes_.size();
+    numbers.for_each([&](std::uint64_t key, TableIndex number) {
+      // Inside the block (all four coordinates non-zero) nobody else looks.
+      bool inside = true;
+      for (int d = 0; d < 4; ++d) inside = inside && ((key >> (16 * d)) & 0xFFFF) != 0;
+      if (!inside) nodes_.push_back({key, number});
+    });
+    std::sort(nodes_.begin() + static_cast<std::ptrdiff_t>(begin), nodes_.end());
+    range_[static_cast<std::size_t>(block)] = {begin, nodes_.size()};
+  }
+  /// The number `owner` gave the node with `key`, or kUnknown.
+  TableIndex find(Index owner, std::uint64_t key) const {
+    const auto [first, last] = range_[static_cast<std::size_t>(owner)];
+    const auto begin = nodes_.begin() + static_cast<std::ptrdiff_t>(first),
+               end = nodes_.begin() + static_cast<std::ptrdiff_t>(last);
+    const auto it = std::lower_bound(begin, end, std::pair<std::uint64_t, TableIndex>{key, kUnknown});
+    return it != end && it->first == key ? it->second : kUnknown;
+  }
+
+ private:
+  std::vector<std::pair<std::uint64_t, TableIndex>> nodes_;
+  std::vector<std::array<std::size_t, 2>> range_;
+};
+
+/// The coordinates (in the base cell, scale 2^k) of the vertices of the cells
+/// of one block on level base + k, walked in cell order: cell i's ancestors
+/// are given by the base-`children` digits of i, and only the digits that
+/// changed since the last cell are redone.
+class CellCoordinates {
+ public:
+  CellCoordinates(const RefinementTable& t, int depth, int facet_vertices)
+      : t_(t),
+        depth_(depth),
+        n_(facet_vertices),
+        digits_(static_cast<std::size_t>(depth), -1),
+        stack_(static_cast<std::size_t>(depth) + 1) {
+    for (int j = 0; j < 4; ++j) {
+      stack_[0][static_cast<std::size_t>(j)].fill(0);
+      if (j < n_) stack_[0][static_cast<std::size_t>(j)][static_cast<std::size_t>(j)] = 1;
+    }
+  }
+  /// Cell i of its block (i in [0, children^depth)): its vertices' coordinates.
+  const std::array<Bary, 4>& at(Index i) {
+    int changed = depth_;
+    for (int d = depth_ - 1; d >= 0; --d, i /= t_.children) {
+      const int q = static_cast<int>(i % t_.children);
+      if (digits_[static_cast<std::size_t>(d)] != q) changed = d, digits_[static_cast<std::size_t>(d)] = q;
+    }
+    for (int d = changed; d < depth_; ++d) {
+      const auto& parent = stack_[static_cast<std::size_t>(d)];
+      auto& child = stack_[static_cast<std::size_t>(d) + 1];
+      const int q = digits_[static_cast<std::size_t>(d)];
+      for (int j = 0; j < n_; ++j)
+        child[static_cast<std::size_t>(j)] =
+            node(parent, t_.child_nodes[static_cast<std::size_t>(q)][static_cast<std::size_t>(j)]);
+    }
+    return stack_[static_cast<std::size_t>(depth_)];
+  }
+  /// Local node `l` (vertex or edge midpoint) of a cell with vertices at `x`,
+  /// at twice the scale.
+  Bary node(const std::array<Bary, 4>& x, int l) const {
+    Bary out{};
+    if (l < t_.vertices) {
+      for (int d = 0; d < 4; ++d)
+        out[static_cast<std::size_t>(d)] = 2 * x[static_cast<std::size_t>(l)][static_cast<std::size_t>(d)];
+    } else {
+      const auto& e =
+          cell_edges(t_.vertices == 3 ? CellType::triangle
+                                      : CellType::tetrahedron)[static_cast<std::size_t>(l - t_.vertices)];
+      for (int d = 0; d < 4; ++d)
+        out[static_cast<std::size_t>(d)] = x[static_cast<std::size_t>(e[0])][static_cast<std::size_t>(d)] +
+                                           x[static_cast<std::size_t>(e[1])][static_cast<std::size_t>(d)];
+    }
+    return out;
+  }
+
+ private:
+  const RefinementTable& t_;
+  int depth_, n_;
+  std::vector<int> digits_;
+  std::vector<std::array<Bary, 4>> stack_;
+};
+
+/// Bey's refinement of the levels above a whole tetrahedral base level, only
+/// around `rank`'s blocks. Unlike refine_triangles, no edge numbering is
+/// carried from level to level: a node (coarse vertex or edge midpoint) is
+/// named by its integer barycentric coordinates in its base cell, which every
+/// cell can compute from its place in the hierarchy alone. The block that
+/// numbers it first is the first base cell around the sub-simplex holding it
+/// (its descendants come first in cell order). Counts per block follow from
+/// the base level: new vertices V' = V + E, edges E' = 2E + 3F + C (halves,
+/// three inside each face, Bey's interior diagonal), faces F' = 4F + 8C.
+void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, int rank, int levels_above,
+                       std::vector<NestedBlocks>& blocks) {
+  const int base_level = h.num_levels() - 1;
+  const Mesh<3>& base = h.levels.back();
+  require(base.cell_type == CellType::tetrahedron && !base.partial,
+          "refine_partially: the base level must be a whole tetrahedral mesh");
+  require(levels_above <= 15, "refine_partially: at most 15 levels above the base level");
+  const Index nb = base.num_cells();
+  require(static_cast<Index>(base_owner.size()) == nb,
+          "refine_partially: owners do not belong to the base level");
+  h.levels.reserve(h.levels.size() + static_cast<std::size_t>(levels_above));  // references stay valid
+  h.transfers.reserve(h.transfers.size() + static_cast<std::size_t>(levels_above));
+  const RefinementTable& table = refinement_table(CellType::tetrahedron);
+  const RefinementTable& facet_table = refinement_table(CellType::triangle);
+  const auto& tet_edges = cell_edges(CellType::tetrahedron);
+  const auto& tri_edges = cell_edges(CellType::triangle);
+  // The local nodes in the order a cell's children first use them.
+  std::vector<int> first_use;
+  {
+    std::array<bool, RefinementTable::kMaxNodes> seen{};
+    for (int k = 0; k < table.children; ++k)
+      for (int j = 0; j < table.vertices; ++j)
+        if (const int n = table.child_nodes[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
+            !seen[static_cast<std::size_t>(n)])
+          seen[static_cast<std::size_t>(n)] = true, first_use.push_back(n);
+  }
+
+  // 1. Who numbers what on the base level, and how much each block numbers.
+  const BaseSupports supports(base);
+  std::vector<Index> new_vertices(static_cast<std::size_t>(nb), 0),
+      new_edges(static_cast<std::size_t>(nb), 0), new_faces(static_cast<std::size_t>(nb), 0);
+  for (Index b = 0; b < nb; ++b)
+    for (int mask = 1; mask < 15; ++mask) {
+      if (supports.of(b, mask) != b) continue;
+      const int count = std::popcount(static_cast<unsigned>(mask));
+      (count == 1 ? new_vertices : count == 2 ? new_edges : new_faces)[static_cast<std::size_t>(b)] += 1;
+    }
+  // Every base boundary facet: the cell it bounds and its vertices' places there.
+  const Index nbf0 = base.num_boundary_facets();
+  std::vector<Index> facet_cell(static_cast<std::size_t>(nbf0), -1);
+  std::vector<std::array<int, 3>> facet_local(static_cast<std::size_t>(nbf0));
+  for (Index f = 0; f < nbf0; ++f) {
+    // The face's first cell is the only one it bounds.
+    const TableIndex* v = &base.boundary_facets(f, 0);
+    for (TableIndex i = supports.start[static_cast<std::size_t>(v[0])];
+         i < supports.start[static_cast<std::size_t>(v[0]) + 1] &&
+         facet_cell[static_cast<std::size_t>(f)] < 0;
+         ++i) {
+      const Index c = supports.around[static_cast<std::size_t>(i)];
+      std::array<int, 3> local{-1, -1, -1};
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j)
+          if (base.cells(c, j) == v[i]) local[static_cast<std::size_t>(i)] = j;
+      if (local[0] >= 0 && local[1] >= 0 && local[2] >= 0)
+        facet_cell[static_cast<std::size_t>(f)] = c, facet_local[static_cast<std::size_t>(f)] = local;
+    }
+    require(facet_cell[static_cast<std::size_t>(f)] >= 0,
+            "refine_partially: boundary facet " + std::to_string(f) + " is not a face of a cell");
+  }
+
+  // 2. The blocks this rank refines (as refine_triangles).
+  std::vector<char> own(static_cast<std::size_t>(nb), 0);
+  for (Index b = 0; b < nb; ++b)
+    own[static_cast<std::size_t>(b)] = base_owner[static_cast<std::size_t>(b)] == rank;
+  const std::vector<char> near = blocks_sharing_a_vertex(base.cells, own),
+                          refined = blocks_sharing_a_vertex(base.cells, near);
+  std::vector<Index> near_blocks, refined_blocks;
+  for (Index b = 0; b < nb; ++b) {
+    if (near[static_cast<std::size_t>(b)]) near_blocks.push_back(b);
+    if (refined[static_cast<std::size_t>(b)]) refined_blocks.push_back(b);
+  }
+  const std::vector<std::array<Index, 2>> refined_runs = block_cell_ranges(refined_blocks, 1);
+  const auto in = [](const std::vector<char>& mask, Index b) {
+    return b >= 0 && mask[static_cast<std::size_t>(b)];
+  };
+  const auto at = [](const std::vector<TableIndex>& first, Index b) {
+    return first[static_cast<std::size_t>(b)];
+  };
+
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<TableIndex> coarse_first_vertex;  // empty on the base level (all its vertices are known)
+  Index per_block = 1;
+  for (int k = 0; k < levels_above; ++k) {
+    const Mesh<3>& coarse = h.levels.back();
+    const Index nv = coarse.num_vertices(), nc = coarse.num_cells();
+    const std::string where = "refine_partially: level " + std::to_string(base_level + k + 1);
+    std::vector<Index> fine_vertices(static_cast<std::size_t>(nb)), fine_edges(static_cast<std::size_t>(nb)),
+        fine_faces(static_cast<std::size_t>(nb));
+    for (std::size_t b = 0; b < static_cast<std::size_t>(nb); ++b) {
+      fine_vertices[b] = new_vertices[b] + new_edges[b];
+      fine_edges[b] = 2 * new_edges[b] + 3 * new_faces[b] + per_block;
+      fine_faces[b] = 4 * new_faces[b] + 8 * per_block;
+    }
+    std::vector<TableIndex> first_vertex = offsets(fine_vertices, where + " vertices");
+    Index edges_total = 0;
+    for (Index e : new_edges) edges_total += e;
+    const Index fine_nv = checked_table_size(nv + edges_total, where + " vertices");
+    const Index fine_nc = checked_table_size(8 * nc, where + " cells");
+    require(first_vertex.back() <= fine_nv, where + ": block vertex counts exceed the level's vertices");
+
+    Mesh<3> fine;
+    fine.cell_type = CellType::tetrahedron;
+    fine.partial = true;
+    fine.cells.resize(fine_nc, 4);     // rows of the refined blocks only are written
+    fine.vertices.resize(fine_nv, 3);  // rows of their vertices only
+    // Fine vertex of every coarse vertex numbered by a refined block.
+    const auto vertex_of = std::make_unique_for_overwrite<TableIndex[]>(static_cast<std::size_t>(nv));
+    if (coarse_first_vertex.empty()) std::fill(vertex_of.get(), vertex_of.get() + nv, kUnknown);
+    for (const auto& [b0, b1] : refined_runs) {
+      prefault(fine.cells.data() + 32 * b0 * per_block,
+               static_cast<std::size_t>(32 * (b1 - b0) * per_block) * sizeof(TableIndex));
+      for (int d = 0; d < 3; ++d)
+        prefault(fine.vertices.data() + d * fine_nv + at(first_vertex, b0),
+                 static_cast<std::size_t>(at(first_vertex, b1) - at(first_vertex, b0)) * sizeof(double));
+      if (!coarse_first_vertex.empty())
+        std::fill(vertex_of.get() + at(coarse_first_vertex, b0),
+                  vertex_of.get() + at(coarse_first_vertex, b1), kUnknown);
+    }
+    // Edge midpoints the current block numbers (keyed by their coordinates in
+    // its base cell), and those earlier blocks numbered on their boundaries.
+    FlatNumbering<std::uint64_t, MixHash> numbered;
+    BoundaryNodes boundary(nb);
+    CellCoordinates coordinates(table, k, 4);
+    for (const Index b : refined_blocks) {
+      numbered.clear();
+      TableIndex next = at(first_vertex, b);
+      const Index c0 = b * per_block;
+      for (Index i = 0; i < per_block; ++i) {
+        const Index c = c0 + i;
+        const std::array<Bary, 4>& x = coordinates.at(i);
+        const TableIndex* v = &coarse.cells(c, 0);
+        std::array<TableIndex, RefinementTable::kMaxNodes> local{};
+        for (const int l : first_use) {
+          const Bary y = coordinates.node(x, l);
+          const int mask = support_mask(y);
+          const Index owner = supports.of(b, mask);
+          TableIndex number = kUnknown;
+          if (l < 4) {  // a coarse vertex: its number is known where its owner was refined
+            if (owner == b) {
+              TableIndex& slot = vertex_of[static_cast<std::size_t>(v[l])];
+              if (slot < 0) {
+                slot = next++;
+                for (int d = 0; d < 3; ++d) fine.vertices(slot, d) = coarse.vertices(v[l], d);
+              }
+              number = slot;
+            } else if (in(refined, owner)) {
+              number = vertex_of[static_cast<std::size_t>(v[l])];
+            }
+          } else {  // an edge midpoint
+            const auto& e = tet_edges[static_cast<std::size_t>(l - 4)];
+            const auto create = [&](TableIndex& slot) {
+              slot = next++;
+              const Index p = v[e[0]], q = v[e[1]];
+              for (int d = 0; d < 3; ++d)
+                fine.vertices(slot, d) =
+                    p >= 0 && q >= 0 ? 0.5 * (coarse.vertices(p, d) + coarse.vertices(q, d)) : nan;
+            };
+            if (owner == b) {
+              std::uint64_t key = 0;
+              for (int d = 0; d < 4; ++d)
+                key = key << 16 | static_cast<std::uint64_t>(y[static_cast<std::size_t>(d)]);
+              const auto [slot, fresh] = numbered.find_or_insert(key);
+              if (fresh) create(*slot);
+              number = *slot;
+            } else if (in(refined, owner)) {
+              number = boundary.find(owner, key_in(base, b, owner, y));
+              if (number < 0)
+                throw Error(where + ": block " + std::to_string(b) + " found no number for a node of block " +
+                            std::to_string(owner) + " (internal error)");
+            }
+          }
+          local[static_cast<std::size_t>(l)] = number;
+        }
+        TableIndex* out = &fine.cells(8 * c, 0);
+        for (int ch = 0; ch < 8; ++ch)
+          for (int j = 0; j < 4; ++j)
+            out[4 * ch + j] = local[static_cast<std::size_t>(
+                table.child_nodes[static_cast<std::size_t>(ch)][static_cast<std::size_t>(j)])];
+      }
+      if (next != at(first_vertex, b + 1))
+        throw Error(where + ": block " + std::to_string(b) +
+                    " numbered a different count of vertices than its closed form (internal error)");
+      boundary.keep(b, numbered);
+    }
+
+    // Boundary facets: fine facets 4f … 4f + 3 refine coarse facet f by the
+    // triangle table; those outside the present blocks are rows of -1.
+    const Index nbf = coarse.num_boundary_facets();
+    fine.boundary_facets.resize(4 * nbf, 3);
+    fine.boundary_facets.setConstant(kUnknown);
+    fine.facet_tags.resize(static_cast<std::size_t>(4 * nbf));
+    Index facets_per_base = 1;
+    for (int d = 0; d < k; ++d) facets_per_base *= 4;
+    CellCoordinates facet_coordinates(facet_table, k, 3);
+    for (Index f = 0; f < nbf; ++f) {
+      for (int ch = 0; ch < 4; ++ch)
+        fine.facet_tags[static_cast<std::size_t>(4 * f + ch)] =
+            coarse.facet_tags[static_cast<std::size_t>(f)];
+      const Index f0 = f / facets_per_base, b = facet_cell[static_cast<std::size_t>(f0)];
+      if (!in(near, b) || !coarse.has_facet(f)) continue;
+      // The facet's vertices in its base facet, then in the base cell.
+      const std::array<Bary, 4>& xf = facet_coordinates.at(f % facets_per_base);
+      const std::array<int, 3>& place = facet_local[static_cast<std::size_t>(f0)];
+      std::array<Bary, 4> x{};
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+          x[static_cast<std::size_t>(j)][static_cast<std::size_t>(place[static_cast<std::size_t>(i)])] =
+              xf[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)];
+      std::array<TableIndex, 6> node{};
+      bool complete = true;
+      for (int l = 0; l < 6 && complete; ++l) {
+        Bary y{};
+        for (int d = 0; d < 4; ++d)
+          y[static_cast<std::size_t>(d)] =
+              l < 3 ? 2 * x[static_cast<std::size_t>(l)][static_cast<std::size_t>(d)]
+                    : x[static_cast<std::size_t>(tri_edges[static_cast<std::size_t>(l - 3)][0])]
+                       [static_cast<std::size_t>(d)] +
+                          x[static_cast<std::size_t>(tri_edges[static_cast<std::size_t>(l - 3)][1])]
+                           [static_cast<std::size_t>(d)];
+        const int mask = support_mask(y);
+        const Index owner = supports.of(b, mask);
+        TableIndex number = kUnknown;
+        if (in(refined, owner)) {
+          if (l < 3) {
+            number = vertex_of[static_cast<std::size_t>(coarse.boundary_facets(f, l))];
+          } else {
+            number = boundary.find(owner, key_in(base, b, owner, y));
+          }
+        }
+        node[static_cast<std::size_t>(l)] = number;
+        complete = number >= 0;
+      }
+      if (!complete) continue;
+      for (int ch = 0; ch < 4; ++ch)
+        for (int j = 0; j < 3; ++j)
+          fine.boundary_facets(4 * f + ch, j) = node[static_cast<std::size_t>(
+              facet_table.child_nodes[static_cast<std::size_t>(ch)][static_cast<std::size_t>(j)])];
+    }
+
+    const Index fine_per_block = 8 * per_block;
+    fine.present_cells = block_cell_ranges(near_blocks, fine_per_block);
+    NestedBlocks nested;
+    nested.base_cells = &h.levels[static_cast<std::size_t>(base_level)].cells;
+    nested.owner = base_owner;
+    nested.cells_per_block = fine_per_block;
+    nested.first_vertex = first_vertex;
+    blocks.push_back(std::move(nested));
+    h.transfers.emplace_back();  // the parent layout only (RefinedMesh::parent_of)
+    h.levels.push_back(std::move(fine));
+
+    coarse_first_vertex = std::move(first_vertex);
+    new_vertices = std::move(fine_vertices);
+    new_edges = std::move(fine_edges);
+    new_faces = std::move(fine_faces);
+    per_block = fine_per_block;
+  }
+}
+
+}  // namespace
+
+template <int dim>
+void refine_partially(MeshHierarchy<dim>& h, const std::vector<int>& base_owner, int rank, int levels_above,
+                      std::vector<NestedBlocks>& blocks, const EdgeNumbering* base_edges) {
+  if constexpr (dim == 2) {
+    std::optional<EdgeNumbering> own;
+    if (!base_edges) base_edges = &own.emplace(h.levels.back());
+    refine_triangles(h, *base_edges, base_owner, rank, levels_above, blocks);
+  } else {
+    refine_tetrahedra(h, base_owner, rank, levels_above, blocks);
+  }
+}
+
+template void refine_partially(MeshHierarchy<2>&, const std::vector<int>&, int, int,
+                               std::vector<NestedBlocks>&, const EdgeNumbering*);
+template void refine_partially(MeshHierarchy<3>&, const std::vector<int>&, int, int,
+                               std::vector<NestedBlocks>&, const EdgeNumbering*);
 
 }  // namespace warpfem::fem

@@ -19,7 +19,10 @@
 // outside the refined ring can only lie in that ring's outer cells (they keep
 // -1 there and are never read).
 //
-// Triangles only (quadrilateral levels are built whole).
+// Tetrahedra (Bey's red refinement) follow the same block layout with
+// 8^k cells per block; their nodes are identified by their barycentric
+// coordinates in the base cell instead of by a carried edge numbering (see
+// the .cpp). Quadrilateral and hexahedral levels are built whole.
 
 #include <vector>
 
@@ -32,13 +35,15 @@ template <int dim>
 struct MeshHierarchy;
 
 /// Appends `levels_above` levels to `h`, whose finest level is the partitioned
-/// base level (triangles, whole, with its edge numbering `base_edges`),
-/// refined for rank `rank` of `base_owner` (one rank per base cell); appends
-/// their NestedBlocks to `blocks`. The new levels are partial meshes (their
-/// present_cells: the rank's blocks and their neighbours); h.transfers get the
-/// parent layout only (no fine_vertex_of_node / first_new_vertex).
-void refine_partially(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
-                      const std::vector<int>& base_owner, int rank, int levels_above,
-                      std::vector<NestedBlocks>& blocks);
+/// base level (whole triangles or tetrahedra), refined for rank `rank` of
+/// `base_owner` (one rank per base cell); appends their NestedBlocks to
+/// `blocks`. The new levels are partial meshes (their present_cells: the
+/// rank's blocks and their neighbours) with the numbers the whole refinement
+/// gives; h.transfers get the parent layout only (no fine_vertex_of_node /
+/// first_new_vertex). `base_edges`: the base level's EdgeNumbering if the
+/// caller has it (triangles; built here otherwise, unused for tetrahedra).
+template <int dim>
+void refine_partially(MeshHierarchy<dim>& h, const std::vector<int>& base_owner, int rank, int levels_above,
+                      std::vector<NestedBlocks>& blocks, const EdgeNumbering* base_edges = nullptr);
 
 }  // namespace warpfem::fem

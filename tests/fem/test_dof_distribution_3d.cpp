@@ -139,7 +139,7 @@ TEST_P(DofDistribution3d, SparsityRowsAreTheDofsSharingACellAndSplitRowsTheSame)
   }
 }
 
-TEST(DofDistribution3d, Partitions3dMeshesAndRefusesNestedBlocks) {
+TEST(DofDistribution3d, Partitions3dMeshesAndRefusesBlocksOfAnotherMesh) {
   const Mesh<3> mesh =
       structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 1, 1), {4, 4, 4}, CellType::hexahedron);
   const std::vector<int> owner = fem::partition_cells(mesh, 4);
@@ -156,7 +156,7 @@ TEST(DofDistribution3d, Partitions3dMeshesAndRefusesNestedBlocks) {
     EXPECT_NEAR((hi - lo).prod(), 0.5 * 0.5 * 1.0, 1e-12) << "part " << p;
   }
   const fem::DofMap<3> dofs(mesh, fem::LagrangeElement<3>(mesh.cell_type, 1));
-  fem::NestedBlocks blocks;
+  fem::NestedBlocks blocks;  // no blocks: not this mesh's 64 cells
   EXPECT_THROW(fem::DofDistribution<3>(MPI_COMM_SELF, mesh, dofs, blocks), warpfem::Error);
 }
 

@@ -81,11 +81,11 @@ TEST(NestedBlocks, NearBlocksShareABaseVertexWithTheRanksBlocks) {
   const MeshHierarchy<2> h(lshape_triangles(), 2);
   const std::vector<LevelPartition> parts = nested_level_partitions(h, 3, kCellsPerPart);
   const NestedBlocks& blocks = *parts.back().blocks;
-  const Mesh<2>& base = *blocks.base;
+  const IndexTable& base = *blocks.base_cells;
   const auto share_vertex = [&](Index a, Index b) {
-    for (Index i = 0; i < base.cells.cols(); ++i)
-      for (Index j = 0; j < base.cells.cols(); ++j)
-        if (base.cells(a, i) == base.cells(b, j)) return true;
+    for (Index i = 0; i < base.cols(); ++i)
+      for (Index j = 0; j < base.cols(); ++j)
+        if (base(a, i) == base(b, j)) return true;
     return false;
   };
   for (int rank = 0; rank < 3; ++rank) {
