@@ -66,12 +66,14 @@ class PoissonPhysics final : public Physics<dim> {
   int order() const override { return cfg_.poisson.order; }
 
   void solve(RunOutput<dim>*, RunResult& result) override {
-    std::string levels;  // "(3 levels: 125, 729, 4913 DOFs)", coarse to fine
+    std::string levels;
     if (mg_) {
       const auto report = mg_->solve();
       result.solve = report.linear;
-      for (const Index n : report.level_dofs) levels += (levels.empty() ? "" : ", ") + std::to_string(n);
-      levels = " (" + std::to_string(report.levels) + " levels: " + levels + " DOFs)";
+      levels = " (" + std::to_string(report.levels) + " levels)";
+      std::string dofs;
+      for (const Index n : report.level_dofs) dofs += (dofs.empty() ? "" : ", ") + std::to_string(n);
+      log::info("multigrid levels, coarse to fine: ", dofs, " DOFs");
     } else {
       petsc::LinearSolveOptions linear = cfg_.solver.linear;
       if (linear.pc_type == "mg") linear.pc_type = "gamg";  // one level: nothing to build a hierarchy from
