@@ -66,16 +66,21 @@ class PoissonPhysics final : public Physics<dim> {
   int order() const override { return cfg_.poisson.order; }
 
   void solve(RunOutput<dim>*, RunResult& result) override {
+    std::string levels;
     if (mg_) {
-      result.solve = mg_->solve().linear;
+      const auto report = mg_->solve();
+      result.solve = report.linear;
+      levels = " (" + std::to_string(report.levels) + " levels)";
+      std::string dofs;
+      for (const Index n : report.level_dofs) dofs += (dofs.empty() ? "" : ", ") + std::to_string(n);
+      log::info("multigrid levels, coarse to fine: ", dofs, " DOFs");
     } else {
       petsc::LinearSolveOptions linear = cfg_.solver.linear;
       if (linear.pc_type == "mg") linear.pc_type = "gamg";  // one level: nothing to build a hierarchy from
       result.solve = single_->solve(linear);
     }
     result.solve_seconds = result.solve.solve_seconds;
-    log::info("solved with ", result.solve.ksp_type, "/", result.solve.pc_type,
-              mg_ ? " (" + std::to_string(cfg_.mesh.refinements + 1) + " levels)" : std::string(), ": ",
+    log::info("solved with ", result.solve.ksp_type, "/", result.solve.pc_type, levels, ": ",
               result.solve.iterations, " iterations, residual ", std::scientific, std::setprecision(2),
               result.solve.residual_norm, " (setup ", format_seconds(result.solve.setup_seconds), ", solve ",
               format_seconds(result.solve.solve_seconds), ")");

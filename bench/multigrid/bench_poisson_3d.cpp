@@ -1,12 +1,14 @@
-// 3D Poisson on the unit cube (identity map, −Δu = 1, u = 0 on the boundary):
-// the geometric multigrid solver (hierarchy, per-level problems and assembly,
+// 3D Poisson −Δu = 1, u = 0 on the boundary, on the unit cube (identity map)
+// or on the unit ball (-domain ball: the box [-1,1]³ under the analytic map of
+// cube_to_ball_map.hpp, the domain of bench/dealii/poisson_ball.cc): the
+// geometric multigrid solver (hierarchy, per-level problems and assembly,
 // prolongations, PCMG set-up, CG solve to 1e-8 relative) against PETSc GAMG
 // and hypre BoomerAMG (through PETSc) on the same finest matrix and
 // right-hand side, in the same process, in alternated rounds.
 //
 //   bench_poisson_3d [-type hexahedron|tetrahedron] [-order 1|2] [-n 2] [-refinements 5]
 //                    [-qdeg 2 order + 1] [-geometry cached|streamed] [-rounds 1]
-//                    [-peers gmg,gamg,hypre] [-partial_levels 1]
+//                    [-peers gmg,gamg,hypre] [-partial_levels 1] [-domain cube|ball]
 //
 // -n: cells per side of the coarse mesh; the finest has n · 2^refinements.
 // -partial_levels 0: under MPI every rank stores every level whole (default 1:
@@ -22,6 +24,11 @@
 // its options go through the prefix <name>_ (-gamg_pc_gamg_threshold 0.02,
 // -hypre_pc_hypre_boomeramg_strong_threshold 0.5, ...), so that variants run
 // side by side (-peers gmg,hypre,hypre_hmis -hypre_hmis_pc_hypre_boomeramg_...).
+// On the ball, the map is first checked on probes (det J_f > 0 up to the
+// cube's edges and corners, J_f against differences, faces onto the sphere),
+// and after each round the L2 error against the exact u = (1 − |x|²)/6 and
+// max u (1/6 exactly) are printed, outside the timed phases, to compare with
+// deal.II's solution of the same problem.
 
 #include <sys/resource.h>
 #include <time.h>
@@ -30,10 +37,12 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "bench/bench_options.hpp"
+#include "bench/multigrid/cube_to_ball_map.hpp"
 #include "core/environment.hpp"
 #include "core/log.hpp"
 #include "core/mesh/structured_mesher.hpp"
@@ -74,7 +83,13 @@ struct Case {
   int order = 1, n = 2, refinements = 5, qdeg = 3;
   fem::GeometryStorage geometry = fem::GeometryStorage::cached;
   bool partial_levels = true;
+  bool ball = false;  ///< the box [-1,1]³ mapped onto the unit ball, else the unit cube
 };
+
+mapping::MapPtr<3> domain_map(const Case& c) {
+  if (c.ball) return std::make_shared<bench::CubeToBallMap>();
+  return std::make_shared<mapping::IdentityMap<3>>();
+}
 
 fem::PoissonData<3> poisson_data() {
   fem::PoissonData<3> data;
@@ -84,7 +99,8 @@ fem::PoissonData<3> poisson_data() {
 }
 
 Mesh<3> coarse_mesh(const Case& c) {
-  return structured_box_mesh(Point<3>(0, 0, 0), Point<3>(1, 1, 1), {c.n, c.n, c.n}, c.type);
+  const double low = c.ball ? -1 : 0;
+  return structured_box_mesh(Point<3>(low, low, low), Point<3>(1, 1, 1), {c.n, c.n, c.n}, c.type);
 }
 
 /// CG with `pc` ("gamg" or "hypre") on A x = b from zero; returns false if it did not converge.
@@ -139,6 +155,16 @@ double relative_difference(Vec x, Vec y) {
   return nx > 0 ? nd / nx : nd;
 }
 
+/// The ball's solution against the exact u = (1 − |x|²)/6 (after the timed phases).
+void report_ball_solution(const fem::PoissonProblem<3>& p) {
+  const auto e = p.errors([](const Point<3>& x, double) { return (1 - x.squaredNorm()) / 6; },
+                          [](const Point<3>& x, double) -> Point<3> { return -x / 3; });
+  PetscReal max_u = 0;
+  WARPFEM_PETSC_CHECK(VecMax(p.solution(), nullptr, &max_u));
+  std::printf("ball : L2 error %.4e, H1-seminorm error %.4e against (1 - |x|^2)/6; max u %.6e (exact %.6e)\n",
+              e.l2, e.h1_semi, max_u, 1.0 / 6);
+}
+
 /// One round: the geometric multigrid end to end, then the AMG peers on its finest matrix.
 void round_with_gmg(const Case& c, const std::vector<std::string>& amg, int round) {
   multigrid::PoissonMultigridOptions options;
@@ -146,9 +172,8 @@ void round_with_gmg(const Case& c, const std::vector<std::string>& amg, int roun
   options.finest_geometry = c.geometry;
   options.partial_levels = c.partial_levels;
   Meter setup_meter;
-  multigrid::PoissonMultigridSolver<3> mg(PETSC_COMM_WORLD, coarse_mesh(c), c.refinements,
-                                          std::make_shared<mapping::IdentityMap<3>>(), c.order, c.qdeg,
-                                          poisson_data(), options);
+  multigrid::PoissonMultigridSolver<3> mg(PETSC_COMM_WORLD, coarse_mesh(c), c.refinements, domain_map(c),
+                                          c.order, c.qdeg, poisson_data(), options);
   const Meter::Reading setup = setup_meter.read();
   Meter solve_meter;
   const auto report = mg.solve();
@@ -156,6 +181,7 @@ void round_with_gmg(const Case& c, const std::vector<std::string>& amg, int roun
   const auto& t = report.timings;
   const Index dofs = report.level_dofs.back();
   const fem::PoissonProblem<3>& p = mg.finest();
+  if (c.ball) report_ball_solution(p);
   if (round == 0)
     std::printf("%s order %d, quadrature degree %d, %d levels, %lld DOFs, %lld cells, %s finest geometry\n",
                 to_string(c.type).c_str(), c.order, c.qdeg, report.levels, static_cast<long long>(dofs),
@@ -195,8 +221,8 @@ void round_without_gmg(const Case& c, const std::vector<std::string>& amg, int r
     fem::MeshHierarchy<3> h(coarse_mesh(c), c.refinements);
     return std::move(h.levels.back());
   }();
-  fem::PoissonProblem<3> p(PETSC_COMM_WORLD, fine, std::make_shared<mapping::IdentityMap<3>>(), c.order,
-                           c.qdeg, poisson_data(), c.geometry);
+  fem::PoissonProblem<3> p(PETSC_COMM_WORLD, fine, domain_map(c), c.order, c.qdeg, poisson_data(),
+                           c.geometry);
   p.assemble();
   const Meter::Reading assembly = meter.read();
   const Index dofs = p.dofs().num_dofs();
@@ -222,6 +248,16 @@ int run(int argc, char** argv) {
   c.geometry = string_option("-geometry", "cached") == "streamed" ? fem::GeometryStorage::streamed
                                                                   : fem::GeometryStorage::cached;
   c.partial_levels = int_option("-partial_levels", 1) != 0;
+  c.ball = string_option("-domain", "cube") == "ball";
+  if (c.ball) {
+    const bench::CubeToBallCheck check = bench::check_cube_to_ball(bench::CubeToBallMap());
+    std::printf(
+        "cube-to-ball map: min det J %.3e on the grid 0.05 inside, %.3e on probes 1e-6..1e-1 from corners, "
+        "edges and faces; J vs differences %.1e; | |f| - 1 | on the faces %.1e\n",
+        check.min_det_interior, check.min_det_near_boundary, check.max_jacobian_error,
+        check.max_sphere_error);
+    if (!check.ok) throw std::runtime_error("the cube-to-ball map failed its check");
+  }
   const int rounds = static_cast<int>(int_option("-rounds", 1));
   const std::string peers = "," + string_option("-peers", "gmg,gamg,hypre") + ",";
   const bool with_gmg = peers.find(",gmg,") != std::string::npos;
