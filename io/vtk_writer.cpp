@@ -60,8 +60,9 @@ vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
   a->SetName(field.name.c_str());
   a->SetNumberOfComponents(field.components);
-  a->SetArray(const_cast<double*>(field.values.data()), static_cast<vtkIdType>(field.values.size()),
-              /*save=*/1);
+  const std::span<const double> values =
+      field.view.empty() ? std::span<const double>(field.values) : field.view;
+  a->SetArray(const_cast<double*>(values.data()), static_cast<vtkIdType>(values.size()), /*save=*/1);
   return a;
 }
 

@@ -320,12 +320,12 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       return h;
     }
   };
-  std::vector<Index> vertex_node;
-  filled(vertex_node, static_cast<std::size_t>(mesh.num_vertices()), Index{-1});
+  std::vector<TableIndex> vertex_node;
+  filled(vertex_node, static_cast<std::size_t>(mesh.num_vertices()), TableIndex{-1});
   const LocalEdges local_edges = edge_nodes_end > nvert ? LocalEdges(mesh, cells) : LocalEdges();
-  std::vector<Index> edge_node;
-  filled(edge_node, static_cast<std::size_t>(local_edges.slots()), Index{-1});
-  std::unordered_map<FaceKey, Index, FaceKeyHash> face_node;
+  std::vector<TableIndex> edge_node;
+  filled(edge_node, static_cast<std::size_t>(local_edges.slots()), TableIndex{-1});
+  std::unordered_map<FaceKey, TableIndex, FaceKeyHash> face_node;
   const auto face_key = [&](Index c, int k) {
     FaceKey key;
     key.fill(-1);
@@ -341,7 +341,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
   for (Index i = 0; i < ncells; ++i) {
     const Index c = cells[static_cast<std::size_t>(i)];
     for (int k = 0; k < nloc; ++k) {
-      Index* slot = nullptr;
+      TableIndex* slot = nullptr;
       if (k < nvert) {
         slot = &vertex_node[static_cast<std::size_t>(mesh.cells(c, k))];
       } else if (k < edge_nodes_end) {
@@ -351,21 +351,23 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       } else if (k < face_nodes_end) {
         slot = &face_node.try_emplace(face_key(c, k), -1).first->second;
       }
-      Index node = slot ? *slot : -1;
+      TableIndex node = slot ? *slot : -1;
       if (node < 0) {
-        node = n++;
+        require(n < std::numeric_limits<TableIndex>::max(),
+                "make_output_mesh: too many output nodes on one rank");
+        node = static_cast<TableIndex>(n++);
         if (slot) *slot = node;
       }
-      out.cells(i, k) = static_cast<TableIndex>(node);
+      out.cells(i, k) = node;
     }
   }
-  require(n <= std::numeric_limits<TableIndex>::max(), "make_output_mesh: too many output nodes on one rank");
-  std::vector<Index>().swap(vertex_node);
-  std::vector<Index>().swap(edge_node);
+  std::vector<TableIndex>().swap(vertex_node);
+  std::vector<TableIndex>().swap(edge_node);
   // Positions in Ω0 and sources of the nodes, visited in the order they were numbered.
   out.reference_points.resize(n, dim);
   prefault(out.reference_points.data(), static_cast<std::size_t>(n * dim) * sizeof(double));
-  resize_prefaulted(out.node_source_, static_cast<std::size_t>(n));
+  out.node_in_cell_.reserve(static_cast<std::size_t>(n));
+  prefault(out.node_in_cell_.data(), static_cast<std::size_t>(n) * sizeof(Index));
   std::vector<char> frozen;  // per node
   if (!foreign.empty()) filled(frozen, static_cast<std::size_t>(n), char{0});
   for (Index i = 0, next = 0; i < ncells; ++i) {
@@ -377,7 +379,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       Point<dim> x = Point<dim>::Zero();
       for (int v = 0; v < nvert; ++v) x += geometry(k, v) * mesh.vertex(mesh.cells(c, v));
       out.reference_points.row(node) = x.transpose();
-      out.node_source_[static_cast<std::size_t>(node)] = {c, element.nodes().row(k).transpose()};
+      out.node_in_cell_.push_back(c * nloc + k);
       if (!foreign.empty() && k >= nvert && k < face_nodes_end) {
         bool shared = true;  // every vertex of the node's edge or face is a foreign one
         if (k < edge_nodes_end) {
@@ -489,7 +491,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       out.points.bottomRows(added) = placed.x1;
       out.map_det.tail(added) = placed.det;
       for (const auto& source : sources)
-        out.node_source_.push_back({cells[static_cast<std::size_t>(source.first)], source.second});
+        out.added_node_source_.push_back({cells[static_cast<std::size_t>(source.first)], source.second});
     };
     const auto keep = [&](const Region& region, std::vector<Index> nodes) {
       kept.push_back(std::move(nodes));
@@ -587,28 +589,38 @@ std::vector<double> OutputMesh<dim>::cell_values(const VectorX& per_local_cell) 
 template <int dim>
 VectorX OutputMesh<dim>::interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
                                      const VectorX& relevant_values) const {
-  VectorX values(static_cast<Index>(node_source_.size()));
+  const Index nmesh = static_cast<Index>(node_in_cell_.size());
+  VectorX values(nmesh + static_cast<Index>(added_node_source_.size()));
   prefault(values.data(), static_cast<std::size_t>(values.size()) * sizeof(double));
-  // In blocks, so the matrix of basis values stays small on large meshes.
-  constexpr Index block = 4096;
-  const Index nblocks = (values.size() + block - 1) / block;
-  parallel_for(nblocks, 4, [&](Index first_block, Index last_block) {
-    for (Index start = first_block * block; start < std::min(values.size(), last_block * block);
-         start += block) {
-      const Index count = std::min(block, values.size() - start);
-      Points<dim> xi(count, dim);
-      for (Index p = 0; p < count; ++p)
-        xi.row(p) = node_source_[static_cast<std::size_t>(start + p)].xi.transpose();
-      const MatrixX phi = dofs.element().values(xi);  // nodes x element dofs
-      for (Index p = 0; p < count; ++p) {
-        const Index c = node_source_[static_cast<std::size_t>(start + p)].cell;
-        double v = 0;
-        for (Index j = 0; j < phi.cols(); ++j)
-          v += phi(p, j) * relevant_values(dist.relevant_index(dofs.cell_dofs()(c, j)));
-        values(start + p) = v;
-      }
+  const Index ndofs = dofs.cell_dofs().cols();
+  const auto value = [&](const auto& phi, Index row, Index cell) {
+    double v = 0;
+    for (Index j = 0; j < ndofs; ++j)
+      v += phi(row, j) * relevant_values(dist.relevant_index(dofs.cell_dofs()(cell, j)));
+    return v;
+  };
+  // Nodes of the mesh cells: the basis at the output element's nodes, once.
+  const LagrangeElement<dim> output_element(cell_type, order);
+  const Index nloc = output_element.num_dofs();
+  const MatrixX phi_nodes = dofs.element().values(output_element.nodes());  // nodes x element dofs
+  parallel_for(nmesh, 1 << 14, [&](Index first, Index last) {
+    for (Index p = first; p < last; ++p) {
+      const Index code = node_in_cell_[static_cast<std::size_t>(p)];
+      values(p) = value(phi_nodes, code % nloc, code / nloc);
     }
   });
+  // Nodes added by subdivision: the basis at their points, in blocks.
+  constexpr Index block = 4096;
+  const Index nadded = static_cast<Index>(added_node_source_.size());
+  for (Index start = 0; start < nadded; start += block) {
+    const Index count = std::min(block, nadded - start);
+    Points<dim> xi(count, dim);
+    for (Index p = 0; p < count; ++p)
+      xi.row(p) = added_node_source_[static_cast<std::size_t>(start + p)].xi.transpose();
+    const MatrixX phi = dofs.element().values(xi);  // nodes x element dofs
+    for (Index p = 0; p < count; ++p)
+      values(nmesh + start + p) = value(phi, p, added_node_source_[static_cast<std::size_t>(start + p)].cell);
+  }
   return values;
 }
 
