@@ -16,6 +16,7 @@ std::string RunOutput<dim>::write(const std::string& name, Vec state) {
   if (!mesh_) {
     mesh_ = fem::make_output_mesh(problem_.mesh(), problem_.nodes(), map_, settings_.order);
     fem::log_untangling(comm_, *mesh_);
+    mesh_->reference_points.resize(0, dim);  // placed already; later writes only interpolate
   }
   io::VtkOutput<dim> vtk;
   vtk.mesh = &*mesh_;
