@@ -16,6 +16,7 @@ std::string RunOutput<dim>::write(const std::string& name, Vec state) {
   if (!mesh_) {
     mesh_ = fem::make_output_mesh(problem_.mesh(), problem_.nodes(), map_, settings_.order);
     fem::log_untangling(comm_, *mesh_);
+    mesh_->reference_points.resize(0, dim);  // placed already; later writes only interpolate
   }
   io::VtkOutput<dim> vtk;
   vtk.mesh = &*mesh_;
@@ -23,8 +24,10 @@ std::string RunOutput<dim>::write(const std::string& name, Vec state) {
   physics_.add_fields(*mesh_, state, vtk);
   // Every physics' output carries the map's Jacobian determinant and the partition.
   vtk.point_fields.push_back(
-      {"det_Jf", 1,
-       std::vector<double>(mesh_->map_det.data(), mesh_->map_det.data() + mesh_->map_det.size())});
+      {"det_Jf",
+       1,
+       {},
+       std::span<const double>(mesh_->map_det.data(), static_cast<std::size_t>(mesh_->map_det.size()))});
   int rank = 0;
   MPI_Comm_rank(comm_, &rank);
   vtk.cell_fields.push_back(

@@ -12,13 +12,17 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkTypeInt32Array.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPUnstructuredGridWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <filesystem>
+#include <limits>
+#include <type_traits>
 
 #include "core/error.hpp"
+#include "core/prefault.hpp"
 #include "io/atomic_file.hpp"
 #include "io/collective_error.hpp"
 
@@ -50,12 +54,15 @@ int compressor_type(VtkCompression compression) {
   return vtkXMLWriterBase::NONE;
 }
 
+// The field's values are lent to VTK, not copied: the grid lives only while
+// write_vtk runs, and the writers only read them.
 vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
   a->SetName(field.name.c_str());
   a->SetNumberOfComponents(field.components);
-  a->SetNumberOfTuples(static_cast<vtkIdType>(field.values.size()) / field.components);
-  std::copy(field.values.begin(), field.values.end(), a->GetPointer(0));
+  const std::span<const double> values =
+      field.view.empty() ? std::span<const double>(field.values) : field.view;
+  a->SetArray(const_cast<double*>(values.data()), static_cast<vtkIdType>(values.size()), /*save=*/1);
   return a;
 }
 
@@ -64,21 +71,32 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const Inde
                                                warpfem::CellType type, int order,
                                                const VtkOutput<dim>& output) {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  constexpr int cols = PointTable::ColsAtCompileTime;
+  const Index npoints = xyz.rows(), ncells = table.rows(), nodes_per_cell = table.cols();
+  vtkNew<vtkDoubleArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(npoints);
+  double* xyz_out = coordinates->GetPointer(0);
+  prefault(xyz_out, static_cast<std::size_t>(3 * npoints) * sizeof(double));
+  for (Index i = 0; i < npoints; ++i)
+    for (int d = 0; d < 3; ++d) xyz_out[3 * i + d] = d < cols ? xyz(i, d) : 0.0;
   vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(xyz.rows());
-  for (Index i = 0; i < xyz.rows(); ++i)
-    if constexpr (PointTable::ColsAtCompileTime == 3)
-      points->SetPoint(i, xyz(i, 0), xyz(i, 1), xyz(i, 2));
-    else
-      points->SetPoint(i, xyz(i, 0), xyz(i, 1), 0.0);
+  points->SetData(coordinates);
   grid->SetPoints(points);
+  // Every cell has the same number of nodes, so the offsets are a ramp; the
+  // connectivity is the row-major node table itself, lent to VTK like the
+  // fields, and written as 32-bit integers.
+  static_assert(std::is_same_v<IndexTable::Scalar, vtkTypeInt32> && IndexTable::IsRowMajor);
+  require(ncells * nodes_per_cell < std::numeric_limits<vtkTypeInt32>::max(),
+          "write_vtk: too many cells for one piece (more than 2^31 node references)");
+  vtkNew<vtkTypeInt32Array> offsets, connectivity;
+  offsets->SetNumberOfTuples(ncells + 1);
+  vtkTypeInt32* offset = offsets->GetPointer(0);
+  prefault(offset, static_cast<std::size_t>(ncells + 1) * sizeof(vtkTypeInt32));
+  for (Index c = 0; c <= ncells; ++c) offset[c] = static_cast<vtkTypeInt32>(c * nodes_per_cell);
+  connectivity->SetArray(const_cast<vtkTypeInt32*>(table.data()), ncells * nodes_per_cell, /*save=*/1);
   vtkNew<vtkCellArray> cells;
-  std::vector<vtkIdType> ids(static_cast<std::size_t>(table.cols()));
-  for (Index c = 0; c < table.rows(); ++c) {
-    for (Index k = 0; k < table.cols(); ++k) ids[static_cast<std::size_t>(k)] = table(c, k);
-    cells->InsertNextCell(static_cast<vtkIdType>(ids.size()), ids.data());
-  }
+  cells->SetData(offsets, connectivity);
   grid->SetCells(vtk_cell_type(type, order), cells);
   for (const auto& f : output.point_fields) grid->GetPointData()->AddArray(make_array(f));
   for (const auto& f : output.cell_fields) grid->GetCellData()->AddArray(make_array(f));

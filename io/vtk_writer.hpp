@@ -6,6 +6,7 @@
 
 #include <mpi.h>
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct VtkField {
   std::string name;
   int components = 1;
   std::vector<double> values;  ///< components * count, interleaved
+  /// Instead of `values` (when set): values owned elsewhere that outlive the write.
+  std::span<const double> view = {};
 };
 
 /// Plain cells with 3D points, for output that is no fem::OutputMesh (such as

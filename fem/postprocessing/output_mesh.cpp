@@ -5,44 +5,92 @@
 #include <array>
 #include <cstring>
 #include <functional>
+#include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 #include <unordered_map>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/prefault.hpp"
+#include "core/threads.hpp"
 #include "fem/geometry/warped_geometry.hpp"
+#include "fem/postprocessing/fold_check.hpp"
 #include "fem/reference/lagrange_element.hpp"
 
 namespace warpfem::fem {
 
 namespace {
 
-// Where the geometric Jacobian of an output cell is checked: its nodes and a
-// lattice of step 1/8 on the reference cell (which contains the 5×5 lattice a
-// viewer samples).
+// x = f(x0) and det J_f at x0, in chunks: the Jacobians of all nodes at once
+// would be the largest array of the output.
 template <int dim>
-Points<dim> jacobian_check_points(const LagrangeElement<dim>& element) {
-  constexpr int steps = 8;
-  std::vector<Point<dim>> pts;
-  for (Index k = 0; k < element.nodes().rows(); ++k) pts.push_back(element.nodes().row(k).transpose());
-  const bool simplex =
-      element.cell_type() == CellType::triangle || element.cell_type() == CellType::tetrahedron;
-  if constexpr (dim == 2) {
-    for (int i = 0; i <= steps; ++i)
-      for (int j = 0; j <= (simplex ? steps - i : steps); ++j)
-        pts.push_back(Point<2>(static_cast<double>(i) / steps, static_cast<double>(j) / steps));
-  } else {
-    for (int i = 0; i <= steps; ++i)
-      for (int j = 0; j <= (simplex ? steps - i : steps); ++j)
-        for (int k = 0; k <= (simplex ? steps - i - j : steps); ++k)
-          pts.push_back(Point<3>(static_cast<double>(i) / steps, static_cast<double>(j) / steps,
-                                 static_cast<double>(k) / steps));
+void warp_in_chunks(const mapping::Map<dim>& map, const Points<dim>& x0, Points<dim>& x, VectorX& det) {
+  const Index n = x0.rows();
+  x.resize(n, dim);
+  det.resize(n);
+  prefault(x.data(), static_cast<std::size_t>(n * dim) * sizeof(double));
+  prefault(det.data(), static_cast<std::size_t>(n) * sizeof(double));
+  constexpr Index chunk = Index{1} << 16;
+  for (Index first = 0; first < n; first += chunk) {
+    const Index count = std::min(chunk, n - first);
+    VectorX chunk_det;
+    x.middleRows(first, count) = warp_nodes(map, Points<dim>(x0.middleRows(first, count)), &chunk_det);
+    det.segment(first, count) = chunk_det;
   }
-  Points<dim> out(static_cast<Index>(pts.size()), dim);
-  for (std::size_t p = 0; p < pts.size(); ++p) out.row(static_cast<Index>(p)) = pts[p].transpose();
-  return out;
 }
+
+// v = n copies of `value`, its pages populated in one call (large fresh arrays).
+template <class T>
+void filled(std::vector<T>& v, std::size_t n, T value) {
+  v.clear();
+  resize_prefaulted(v, n);
+  std::fill(v.begin(), v.end(), value);
+}
+
+// The edges of the local cells, each once: per smaller vertex number, the
+// sorted larger vertex numbers of its edges (a compressed row, searched
+// linearly: a vertex has a handful of edges). An edge's position in these rows
+// is its slot.
+class LocalEdges {
+ public:
+  LocalEdges() = default;
+  template <int dim>
+  LocalEdges(const Mesh<dim>& mesh, const std::vector<Index>& cells) {
+    const auto& edges = cell_edges(mesh.cell_type);
+    filled(start_, static_cast<std::size_t>(mesh.num_vertices()) + 1, Index{0});
+    for (const Index c : cells)
+      for (const auto& e : edges)
+        ++start_[static_cast<std::size_t>(std::min(mesh.cells(c, e[0]), mesh.cells(c, e[1]))) + 1];
+    for (std::size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+    resize_prefaulted(other_, static_cast<std::size_t>(start_.back()));
+    filled(count_, static_cast<std::size_t>(mesh.num_vertices()), TableIndex{0});
+    for (const Index c : cells)
+      for (const auto& e : edges) {
+        const TableIndex p = mesh.cells(c, e[0]), q = mesh.cells(c, e[1]);
+        const auto a = static_cast<std::size_t>(std::min(p, q));
+        other_[static_cast<std::size_t>(start_[a] + count_[a]++)] = std::max(p, q);
+      }
+    for (std::size_t a = 0; a < count_.size(); ++a) {
+      const auto first = other_.begin() + start_[a], last = first + count_[a];
+      std::sort(first, last);
+      count_[a] = static_cast<TableIndex>(std::unique(first, last) - first);
+    }
+  }
+  Index slots() const { return static_cast<Index>(other_.size()); }
+  Index slot(TableIndex p, TableIndex q) const {
+    const auto a = static_cast<std::size_t>(std::min(p, q));
+    const TableIndex b = std::max(p, q);
+    for (Index j = start_[a]; j < start_[a] + count_[a]; ++j)
+      if (other_[static_cast<std::size_t>(j)] == b) return j;
+    throw Error("make_output_mesh: an edge of a local cell is missing from the edge table");
+  }
+
+ private:
+  std::vector<Index> start_;
+  std::vector<TableIndex> count_, other_;
+};
 
 // A sub-region of mesh cell `cell_index` (index into the local cells), given
 // by its vertices in that cell's reference coordinates.
@@ -235,28 +283,17 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
   // Node positions in Ω0: the straight cell geometry at the element's nodes.
   const MatrixX geometry = linear.values(element.nodes());  // nodes x vertices
   const auto& cells = dist.local_cells();
-  out.cells.resize(static_cast<Index>(cells.size()), nloc);
+  const Index ncells = static_cast<Index>(cells.size());
+  out.cells.resize(ncells, nloc);
+  prefault(out.cells.data(), static_cast<std::size_t>(out.cells.size()) * sizeof(TableIndex));
   out.cell_ids = cells;
   out.source_cells.resize(cells.size());
-  for (std::size_t i = 0; i < cells.size(); ++i) out.source_cells[i] = static_cast<Index>(i);
-  // Nodes the local cells share: vertices by their number, edge nodes by their
-  // edge's two vertex numbers, face nodes (Q2 hexahedra) by their face's sorted
-  // vertex numbers (no mesh-wide numbering of edges or faces, so the output of
-  // a level stored only around this rank's cells works too); interior nodes
-  // belong to one cell.
-  using Key = std::array<Index, dim == 2 ? 2 : 4>;
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      std::size_t h = std::hash<Index>()(k[0]);
-      for (std::size_t i = 1; i < k.size(); ++i)
-        h ^= std::hash<Index>()(k[i]) * (i == 1 ? 0x9E3779B97F4A7C15ULL : 0xC2B2AE3D27D4EB4FULL * i);
-      return h;
-    }
-  };
+  std::iota(out.source_cells.begin(), out.source_cells.end(), Index{0});
   // Vertices of other ranks' cells: edge and face nodes among them are never
   // pulled (straighten_folded_cells), since each rank decides its pulls alone.
-  std::vector<char> foreign(static_cast<std::size_t>(mesh.num_vertices()), 0);
-  {
+  // A rank that holds every cell has none.
+  std::vector<char> foreign;
+  if (mesh.partial || ncells < mesh.num_cells()) {
     std::vector<char> local(static_cast<std::size_t>(mesh.num_cells()), 0);
     for (const Index c : cells) local[static_cast<std::size_t>(c)] = 1;
     // A partial level stores only the cells of its present ranges.
@@ -264,103 +301,134 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
         mesh.partial ? mesh.present_cells : std::vector<std::array<Index, 2>>{{0, mesh.num_cells()}};
     for (const auto& [first, last] : stored)
       for (Index c = first; c < last; ++c)
-        if (!local[static_cast<std::size_t>(c)])
+        if (!local[static_cast<std::size_t>(c)]) {
+          if (foreign.empty()) foreign.assign(static_cast<std::size_t>(mesh.num_vertices()), 0);
           for (int v = 0; v < nvert; ++v) foreign[static_cast<std::size_t>(mesh.cells(c, v))] = 1;
+        }
   }
-  std::vector<char> frozen;  // per node
-  std::unordered_map<Key, Index, KeyHash> index;
-  index.reserve(cells.size() * static_cast<std::size_t>(nloc) / 2 + 1);
-  std::vector<Point<dim>> positions;
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const Index c = cells[i];
+  // Nodes the local cells share: vertices by their number, edge nodes by their
+  // edge's two vertex numbers, face nodes (Q2 hexahedra) by their face's sorted
+  // vertex numbers (no mesh-wide numbering of edges or faces, so the output of
+  // a level stored only around this rank's cells works too); interior nodes
+  // belong to one cell. Nodes are numbered in the order the cells first reach
+  // them.
+  using FaceKey = std::array<Index, 4>;
+  struct FaceKeyHash {
+    std::size_t operator()(const FaceKey& k) const {
+      std::size_t h = std::hash<Index>()(k[0]);
+      for (std::size_t i = 1; i < k.size(); ++i) h ^= std::hash<Index>()(k[i]) * (0xC2B2AE3D27D4EB4FULL * i);
+      return h;
+    }
+  };
+  std::vector<TableIndex> vertex_node;
+  filled(vertex_node, static_cast<std::size_t>(mesh.num_vertices()), TableIndex{-1});
+  const LocalEdges local_edges = edge_nodes_end > nvert ? LocalEdges(mesh, cells) : LocalEdges();
+  std::vector<TableIndex> edge_node;
+  filled(edge_node, static_cast<std::size_t>(local_edges.slots()), TableIndex{-1});
+  std::unordered_map<FaceKey, TableIndex, FaceKeyHash> face_node;
+  const auto face_key = [&](Index c, int k) {
+    FaceKey key;
+    key.fill(-1);
+    if constexpr (dim == 3) {
+      const auto& f = cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)];
+      for (std::size_t j = 0; j < f.size(); ++j) key[j] = mesh.cells(c, f[j]);
+      for (std::size_t a = 1; a < f.size(); ++a)  // sorted: insertion into at most four
+        for (std::size_t b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
+    }
+    return key;
+  };
+  Index n = 0;
+  for (Index i = 0; i < ncells; ++i) {
+    const Index c = cells[static_cast<std::size_t>(i)];
     for (int k = 0; k < nloc; ++k) {
-      Index node = -1;
-      if (k < face_nodes_end) {
-        Key key;
-        key.fill(-1);
-        if (k < nvert) {
-          key[0] = mesh.cells(c, k);
-        } else if (k < edge_nodes_end) {
-          const auto& e = edges[static_cast<std::size_t>(k - nvert)];
-          const Index p = mesh.cells(c, e[0]), q = mesh.cells(c, e[1]);
-          key[0] = std::min(p, q);
-          key[1] = std::max(p, q);
-        } else if constexpr (dim == 3) {
-          const auto& f = cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)];
-          for (std::size_t j = 0; j < f.size(); ++j) key[j] = mesh.cells(c, f[j]);
-          for (std::size_t a = 1; a < f.size(); ++a)  // sorted: insertion into at most four
-            for (std::size_t b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
-        }
-        const auto [it, inserted] = index.try_emplace(key, static_cast<Index>(positions.size()));
-        node = it->second;
-        if (!inserted) {
-          out.cells(static_cast<Index>(i), k) = node;
-          continue;
-        }
+      TableIndex* slot = nullptr;
+      if (k < nvert) {
+        slot = &vertex_node[static_cast<std::size_t>(mesh.cells(c, k))];
+      } else if (k < edge_nodes_end) {
+        const auto& e = edges[static_cast<std::size_t>(k - nvert)];
+        slot =
+            &edge_node[static_cast<std::size_t>(local_edges.slot(mesh.cells(c, e[0]), mesh.cells(c, e[1])))];
+      } else if (k < face_nodes_end) {
+        slot = &face_node.try_emplace(face_key(c, k), -1).first->second;
       }
-      if (node < 0) node = static_cast<Index>(positions.size());
-      Point<dim> x = Point<dim>::Zero();
-      for (int v = 0; v < nvert; ++v) x += geometry(k, v) * mesh.vertex(mesh.cells(c, v));
-      positions.push_back(x);
-      bool shared = k >= nvert && k < face_nodes_end;
-      if (shared) {
-        Key key;  // the vertices of the edge or face the node lies on
-        key.fill(-1);
-        if (k < edge_nodes_end) {
-          const auto& e = edges[static_cast<std::size_t>(k - nvert)];
-          key[0] = mesh.cells(c, e[0]);
-          key[1] = mesh.cells(c, e[1]);
-        } else if constexpr (dim == 3) {
-          const auto& f = cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)];
-          for (std::size_t j = 0; j < f.size(); ++j) key[j] = mesh.cells(c, f[j]);
-        }
-        for (const Index v : key) shared = shared && (v < 0 || foreign[static_cast<std::size_t>(v)]);
+      TableIndex node = slot ? *slot : -1;
+      if (node < 0) {
+        require(n < std::numeric_limits<TableIndex>::max(),
+                "make_output_mesh: too many output nodes on one rank");
+        node = static_cast<TableIndex>(n++);
+        if (slot) *slot = node;
       }
-      frozen.push_back(shared ? 1 : 0);
-      out.node_source_.push_back({c, element.nodes().row(k).transpose()});
-      out.cells(static_cast<Index>(i), k) = node;
+      out.cells(i, k) = node;
     }
   }
-  const Index n = static_cast<Index>(positions.size());
+  std::vector<TableIndex>().swap(vertex_node);
+  std::vector<TableIndex>().swap(edge_node);
+  // Positions in Ω0 and sources of the nodes, visited in the order they were numbered.
   out.reference_points.resize(n, dim);
-  for (Index i = 0; i < n; ++i)
-    out.reference_points.row(i) = positions[static_cast<std::size_t>(i)].transpose();
-  out.points = warp_nodes(map, out.reference_points, &out.map_det);
-  out.num_mesh_cells = static_cast<Index>(cells.size());
+  prefault(out.reference_points.data(), static_cast<std::size_t>(n * dim) * sizeof(double));
+  out.node_in_cell_.reserve(static_cast<std::size_t>(n));
+  prefault(out.node_in_cell_.data(), static_cast<std::size_t>(n) * sizeof(Index));
+  std::vector<char> frozen;  // per node
+  if (!foreign.empty()) filled(frozen, static_cast<std::size_t>(n), char{0});
+  for (Index i = 0, next = 0; i < ncells; ++i) {
+    const Index c = cells[static_cast<std::size_t>(i)];
+    for (int k = 0; k < nloc; ++k) {
+      const Index node = out.cells(i, k);
+      if (node != next) continue;
+      ++next;
+      Point<dim> x = Point<dim>::Zero();
+      for (int v = 0; v < nvert; ++v) x += geometry(k, v) * mesh.vertex(mesh.cells(c, v));
+      out.reference_points.row(node) = x.transpose();
+      out.node_in_cell_.push_back(c * nloc + k);
+      if (!foreign.empty() && k >= nvert && k < face_nodes_end) {
+        bool shared = true;  // every vertex of the node's edge or face is a foreign one
+        if (k < edge_nodes_end) {
+          for (const int v : edges[static_cast<std::size_t>(k - nvert)])
+            shared = shared && foreign[static_cast<std::size_t>(mesh.cells(c, v))];
+        } else if constexpr (dim == 3) {
+          for (const int v : cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)])
+            shared = shared && foreign[static_cast<std::size_t>(mesh.cells(c, v))];
+        }
+        frozen[static_cast<std::size_t>(node)] = shared ? 1 : 0;
+      }
+    }
+  }
+  warp_in_chunks(map, out.reference_points, out.points, out.map_det);
+  out.num_mesh_cells = ncells;
 
   // The quadratic interpolant of f can fold a cell even where det J_f > 0 (a
   // strongly curved cell near a reentrant vertex of Ω1): in 2D such cells are
   // replaced by four children whose nodes are again placed by f, recursively.
-  const Points<dim> check = jacobian_check_points(element);
-  const auto check_gradients = element.gradients(check);
-  // True if the cell whose k-th node lies at node_position(k) folds somewhere.
-  const auto folds = [&](const auto& node_position) {
-    for (Index p = 0; p < check.rows(); ++p) {
-      Eigen::Matrix<double, dim, dim> J = Eigen::Matrix<double, dim, dim>::Zero();
-      for (int k = 0; k < nloc; ++k) {
-        const Point<dim> x = node_position(k);
-        for (int d = 0; d < dim; ++d) J.col(d) += check_gradients[static_cast<std::size_t>(d)](p, k) * x;
-      }
-      if constexpr (dim == 2) {
-        if (!(J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0) > 0)) return true;
-      } else {
-        if (!(J.determinant() > 0)) return true;
-      }
-    }
-    return false;
-  };
+  const FoldCheck<dim> fold_check(element);
   const auto tangled = [&](const std::vector<Index>& nodes) {
-    return folds(
-        [&](int k) -> Point<dim> { return out.points.row(nodes[static_cast<std::size_t>(k)]).transpose(); });
+    std::array<Point<dim>, FoldCheck<dim>::max_nodes> x;
+    for (int k = 0; k < nloc; ++k)
+      x[static_cast<std::size_t>(k)] = out.points.row(nodes[static_cast<std::size_t>(k)]).transpose();
+    return fold_check.folds(x.data());
   };
+  // The cells as numbered: checked in parallel, each independently.
+  std::vector<char> folded_cell(static_cast<std::size_t>(ncells), 0);
+  parallel_for(ncells, 1024, [&](Index first, Index last) {
+    std::array<Point<dim>, FoldCheck<dim>::max_nodes> x;
+    for (Index i = first; i < last; ++i) {
+      for (int k = 0; k < nloc; ++k)
+        x[static_cast<std::size_t>(k)] = out.points.row(out.cells(i, k)).transpose();
+      folded_cell[static_cast<std::size_t>(i)] = fold_check.folds(x.data()) ? 1 : 0;
+    }
+  });
   std::vector<Index> folded;  // output cells still folded
   if constexpr (dim == 3) {
-    for (Index c = 0; c < out.cells.rows(); ++c) {
-      std::vector<Index> nodes(static_cast<std::size_t>(nloc));
-      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(c, k);
-      if (tangled(nodes)) folded.push_back(c);
-    }
+    for (Index c = 0; c < ncells; ++c)
+      if (folded_cell[static_cast<std::size_t>(c)]) folded.push_back(c);
   } else {
+    // Cells that do not fold keep their rows (in order); the pieces of the
+    // others follow them.
+    const auto row = [&](Index i) {
+      std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(i, k);
+      return nodes;
+    };
+    std::vector<Index> unfolded_rows;
     std::vector<std::vector<Index>> kept;
     std::vector<Index> kept_ids, kept_sources;
     std::vector<Region> pending;
@@ -368,18 +436,14 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     std::array<Point<2>, 4> reference_vertices{};
     for (int v = 0; v < nvert; ++v)
       reference_vertices[static_cast<std::size_t>(v)] = linear.nodes().row(v).transpose();
-    for (Index i = 0; i < out.cells.rows(); ++i) {
-      std::vector<Index> nodes(static_cast<std::size_t>(nloc));
-      for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(i, k);
-      if (tangled(nodes)) {
+    for (Index i = 0; i < ncells; ++i)
+      if (folded_cell[static_cast<std::size_t>(i)]) {
         pending.push_back({i, reference_vertices});
-        pending_nodes.push_back(std::move(nodes));
-      } else {
-        kept.push_back(std::move(nodes));
-        kept_ids.push_back(cells[static_cast<std::size_t>(i)]);
-        kept_sources.push_back(i);
+        pending_nodes.push_back(row(i));
       }
-    }
+    if (!pending.empty())
+      for (Index i = 0; i < ncells; ++i)
+        if (!folded_cell[static_cast<std::size_t>(i)]) unfolded_rows.push_back(i);
     std::unordered_map<XiKey, Index, XiKeyHash> by_xi;
     std::vector<char> subdivided(cells.size(), 0);
     const auto node_xi = [&](const Region& region, int k) {
@@ -427,7 +491,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       out.points.bottomRows(added) = placed.x1;
       out.map_det.tail(added) = placed.det;
       for (const auto& source : sources)
-        out.node_source_.push_back({cells[static_cast<std::size_t>(source.first)], source.second});
+        out.added_node_source_.push_back({cells[static_cast<std::size_t>(source.first)], source.second});
     };
     const auto keep = [&](const Region& region, std::vector<Index> nodes) {
       kept.push_back(std::move(nodes));
@@ -466,17 +530,31 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       }
     }
     for (std::size_t r = 0; r < pending.size(); ++r) {
-      folded.push_back(static_cast<Index>(kept.size()));
+      folded.push_back(static_cast<Index>(unfolded_rows.size() + kept.size()));
       keep(pending[r], std::move(pending_nodes[r]));
     }
     out.num_subdivided_cells = static_cast<Index>(std::count(subdivided.begin(), subdivided.end(), 1));
     if (out.num_subdivided_cells > 0) {
-      out.cells.resize(static_cast<Index>(kept.size()), nloc);
-      for (std::size_t r = 0; r < kept.size(); ++r)
+      const Index nkept = static_cast<Index>(unfolded_rows.size() + kept.size());
+      IndexTable table(nkept, nloc);
+      std::vector<Index> ids, sources;
+      ids.reserve(static_cast<std::size_t>(nkept));
+      sources.reserve(static_cast<std::size_t>(nkept));
+      for (std::size_t r = 0; r < unfolded_rows.size(); ++r) {
+        table.row(static_cast<Index>(r)) = out.cells.row(unfolded_rows[r]);
+        ids.push_back(cells[static_cast<std::size_t>(unfolded_rows[r])]);
+        sources.push_back(unfolded_rows[r]);
+      }
+      for (std::size_t r = 0; r < kept.size(); ++r) {
         for (int k = 0; k < nloc; ++k)
-          out.cells(static_cast<Index>(r), k) = kept[r][static_cast<std::size_t>(k)];
-      out.cell_ids = std::move(kept_ids);
-      out.source_cells = std::move(kept_sources);
+          table(static_cast<Index>(unfolded_rows.size() + r), k) =
+              static_cast<TableIndex>(kept[r][static_cast<std::size_t>(k)]);
+        ids.push_back(kept_ids[r]);
+        sources.push_back(kept_sources[r]);
+      }
+      out.cells = std::move(table);
+      out.cell_ids = std::move(ids);
+      out.source_cells = std::move(sources);
     }
   }
   straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), frozen);
@@ -511,22 +589,37 @@ std::vector<double> OutputMesh<dim>::cell_values(const VectorX& per_local_cell) 
 template <int dim>
 VectorX OutputMesh<dim>::interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
                                      const VectorX& relevant_values) const {
-  VectorX values(static_cast<Index>(node_source_.size()));
-  // In blocks, so the matrix of basis values stays small on large meshes.
+  const Index nmesh = static_cast<Index>(node_in_cell_.size());
+  VectorX values(nmesh + static_cast<Index>(added_node_source_.size()));
+  prefault(values.data(), static_cast<std::size_t>(values.size()) * sizeof(double));
+  const Index ndofs = dofs.cell_dofs().cols();
+  const auto value = [&](const auto& phi, Index row, Index cell) {
+    double v = 0;
+    for (Index j = 0; j < ndofs; ++j)
+      v += phi(row, j) * relevant_values(dist.relevant_index(dofs.cell_dofs()(cell, j)));
+    return v;
+  };
+  // Nodes of the mesh cells: the basis at the output element's nodes, once.
+  const LagrangeElement<dim> output_element(cell_type, order);
+  const Index nloc = output_element.num_dofs();
+  const MatrixX phi_nodes = dofs.element().values(output_element.nodes());  // nodes x element dofs
+  parallel_for(nmesh, 1 << 14, [&](Index first, Index last) {
+    for (Index p = first; p < last; ++p) {
+      const Index code = node_in_cell_[static_cast<std::size_t>(p)];
+      values(p) = value(phi_nodes, code % nloc, code / nloc);
+    }
+  });
+  // Nodes added by subdivision: the basis at their points, in blocks.
   constexpr Index block = 4096;
-  for (Index start = 0; start < values.size(); start += block) {
-    const Index count = std::min(block, values.size() - start);
+  const Index nadded = static_cast<Index>(added_node_source_.size());
+  for (Index start = 0; start < nadded; start += block) {
+    const Index count = std::min(block, nadded - start);
     Points<dim> xi(count, dim);
     for (Index p = 0; p < count; ++p)
-      xi.row(p) = node_source_[static_cast<std::size_t>(start + p)].xi.transpose();
+      xi.row(p) = added_node_source_[static_cast<std::size_t>(start + p)].xi.transpose();
     const MatrixX phi = dofs.element().values(xi);  // nodes x element dofs
-    for (Index p = 0; p < count; ++p) {
-      const Index c = node_source_[static_cast<std::size_t>(start + p)].cell;
-      double v = 0;
-      for (Index j = 0; j < phi.cols(); ++j)
-        v += phi(p, j) * relevant_values(dist.relevant_index(dofs.cell_dofs()(c, j)));
-      values(start + p) = v;
-    }
+    for (Index p = 0; p < count; ++p)
+      values(nmesh + start + p) = value(phi, p, added_node_source_[static_cast<std::size_t>(start + p)].cell);
   }
   return values;
 }

@@ -45,7 +45,12 @@ struct OutputMesh {
     Index cell;     ///< mesh cell the node lies in
     Point<dim> xi;  ///< its reference coordinates in that cell
   };
-  std::vector<NodeSource> node_source_;  ///< where the FE function is evaluated for each node
+  /// Where the FE function is evaluated: for the nodes of the mesh cells,
+  /// mesh cell × nodes per cell + the node's place in that cell (the first
+  /// cell that reaches it); for the nodes that subdivision adds after them,
+  /// their cell and reference point.
+  std::vector<Index> node_in_cell_;
+  std::vector<NodeSource> added_node_source_;
 };
 
 /// Builds the output mesh of the cells owned by this rank. `order` 0 picks
