@@ -26,6 +26,9 @@ struct NewtonOptions {
   double rtol = 1e-9;       ///< stop when |R| <= rtol |R_0| ...
   double atol = 1e-10;      ///< ... or |R| <= atol
   int max_iterations = 25;  ///< Newton iterations per load or time step
+  /// ... or when the full Newton correction is below step_tolerance |u|: the residual has reached
+  /// its round-off floor, which rtol |R_0| (small after a good predictor) and atol may lie below.
+  double step_tolerance = 1e-10;
   std::string ksp_type = "preonly";
   std::string pc_type = "lu";
   std::string factor_solver = "mumps";  ///< for pc_type lu/cholesky; "" keeps PETSc's default
@@ -51,6 +54,7 @@ struct NewtonContext {
   int step_halvings = 0;               ///< line-search halvings of Newton steps
   bool log_iterations = true;
   int max_halvings = 20;
+  double step_tolerance = 0;
   /// Potential energy whose gradient is the residual (nullopt: inadmissible); may be empty.
   std::function<std::optional<double>(Vec)> objective;
   bool in_line_search = false;

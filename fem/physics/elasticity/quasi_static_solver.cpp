@@ -1,6 +1,7 @@
 #include "fem/physics/elasticity/quasi_static_solver.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <numeric>
 #include <optional>
@@ -78,11 +79,54 @@ PetscErrorCode QuasiStaticSolver<dim>::form_jacobian(SNES, Vec u, Mat, Mat P, vo
 }
 
 template <int dim>
+std::optional<TangentStability> QuasiStaticSolver<dim>::stability_at(Vec u) {
+  op_.jacobian(u, 0.0, J_.get());
+  // A start vector with a component along every eigenvector (a fixed hash of the global
+  // index, so the same on any number of ranks), zero on the constrained DOFs.
+  petsc::Vector start = op_.space().create_vector();
+  PetscInt first = 0, end = 0;
+  WARPFEM_PETSC_CHECK(VecGetOwnershipRange(start.get(), &first, &end));
+  PetscScalar* a = nullptr;
+  WARPFEM_PETSC_CHECK(VecGetArray(start.get(), &a));
+  for (PetscInt i = first; i < end; ++i) a[i - first] = std::sin(12.9898 * static_cast<double>(i) + 0.5);
+  WARPFEM_PETSC_CHECK(VecRestoreArray(start.get(), &a));
+  op_.zero_constrained(start.get());
+  return tangent_stability(J_.get(), start.get());
+}
+
+template <int dim>
+void QuasiStaticSolver<dim>::check_stability(Vec u, double load, double increment, int reason) {
+  stability_summary_.clear();
+  if (!reference_) {
+    petsc::Vector zero = op_.space().create_vector();
+    reference_ = stability_at(zero.get());
+    if (!reference_) return;
+  }
+  const std::optional<TangentStability> st = stability_at(u);
+  if (!st) return;
+  std::ostringstream summary;
+  summary << "the equilibrium at s = " << load << " is "
+          << (st->negative > 0 ? "unstable: its tangent stiffness has " + std::to_string(st->negative) +
+                                     " negative eigenvalue(s), a buckling or bifurcation point lies behind"
+                               : std::string("stable: its tangent stiffness is positive definite"))
+          << "; lowest eigenvalue " << st->lowest_eigenvalue
+          << " (at s = 0: " << reference_->lowest_eigenvalue << "), min det F = " << op_.min_det_F(u)
+          << "; the step to s = " << load + increment << " failed with "
+          << reason_text(static_cast<SNESConvergedReason>(reason));
+  stability_summary_ = summary.str();
+  if (st->negative > 0)
+    log::warning(stability_summary_);
+  else
+    log::info("  ", stability_summary_);
+}
+
+template <int dim>
 QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
                                                 const std::function<void(const LoadStep&, Vec)>& on_step) {
   QuasiStaticReport report;
   const double nominal = 1.0 / stepping_.steps;
   double s = 0, ds = nominal;
+  double stability_checked_at = -1;
   petsc::Vector trial;
   WARPFEM_PETSC_CHECK(VecDuplicate(u, trial.out()));
   while (s < 1.0 - 1e-14) {
@@ -117,6 +161,10 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
       continue;
     }
     ++report.rejected_steps;
+    if (stability_checked_at != s) {
+      stability_checked_at = s;
+      check_stability(u, s, ds, reason);
+    }
     const double next = ds / 2;
     log::warning("load step to s = ", load_, " failed (", reason_text(reason),
                  "); retrying with Δs = ", next);
@@ -125,6 +173,7 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
       os << "quasi-static solve failed: Newton did not converge from load factor s = " << s
          << " even with the "
          << "increment reduced to " << ds << " (" << reason_text(reason) << ")";
+      if (!stability_summary_.empty()) os << "; " << stability_summary_;
       throw Error(os.str(),
                   {.file = "",
                    .key_path = "",

@@ -8,9 +8,12 @@
 // fails with a warpfem::Error; the displacement keeps the last converged state.
 
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "fem/physics/elasticity/newton.hpp"
+#include "fem/physics/elasticity/tangent_inertia.hpp"
 
 namespace warpfem::fem {
 
@@ -53,12 +56,19 @@ class QuasiStaticSolver {
   /// Initial guess of a load step: the prescribed-displacement increment plus its linearized
   /// response (one Newton step about the converged state), if that is admissible.
   void predict(Vec u, double load, Vec trial);
+  /// After the first failed increment from the converged state `u` at `load`: is that equilibrium
+  /// stable (tangent positive definite)? An unstable one is warned about; either way the
+  /// answer is kept for the error message should the load step never succeed.
+  void check_stability(Vec u, double load, double increment, int reason);
+  std::optional<TangentStability> stability_at(Vec u);
 
   const HyperelasticOperator<dim>& op_;
   NewtonOptions newton_;
   LoadSteppingOptions stepping_;
   NewtonContext context_;
   double load_ = 0;
+  std::optional<TangentStability> reference_;  ///< of the tangent at u = 0
+  std::string stability_summary_;              ///< of the last stability check
   petsc::Vector r_, delta_, rhs_;
   petsc::Matrix J_;
   petsc::NonlinearSolver snes_;
