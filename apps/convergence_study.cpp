@@ -63,13 +63,24 @@ std::string fixed(double v, int precision = 2) {
   return os.str();
 }
 
-fem::PoissonData<2> poisson_data(const io::RunConfig& cfg) {
-  fem::PoissonData<2> data;
-  data.source = io::Expression(cfg.poisson.source, cfg.file, "/problem/source").as_function_2d();
-  data.dirichlet = io::make_boundary_conditions(cfg.poisson.dirichlet, cfg.file);
-  data.neumann = io::make_boundary_conditions(cfg.poisson.neumann, cfg.file);
-  data.boundary_polygon = *cfg.map.source;
+template <int dim>
+fem::PoissonData<dim> poisson_data(const io::PoissonRunConfig<dim>& cfg) {
+  fem::PoissonData<dim> data;
+  data.source = io::expression_function<dim>(cfg.poisson.source, cfg.file, "/problem/source");
+  data.dirichlet = io::make_boundary_conditions<dim>(cfg.poisson.dirichlet, cfg.file);
+  data.neumann = io::make_boundary_conditions<dim>(cfg.poisson.neumann, cfg.file);
+  if constexpr (dim == 2) data.boundary_polygon = *cfg.map.source;
   return data;
+}
+
+/// Area (2D) or volume (3D) of the exact domain.
+template <int dim>
+double exact_measure(const io::PoissonRunConfig<dim>& cfg) {
+  const auto& domain = cfg.map.target ? *cfg.map.target : *cfg.map.source;
+  if constexpr (dim == 2)
+    return domain.signed_area();
+  else
+    return domain.signed_volume();
 }
 
 /// The gnuplot script of the error plot. Paths are not written into it: gnuplot receives
@@ -137,37 +148,53 @@ void write_plot(const StudySpec& spec, bool exact, const std::string& dir, std::
 
 }  // namespace
 
-StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm comm, bool write_files) {
+template <int dim>
+StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spec, MPI_Comm comm,
+                      bool write_files) {
   StudyResult result;
-  const mapping::MapPtr<2> f = mapping::make_map(cfg.map);
+  const mapping::MapPtr<dim> f = mapping::make_map(cfg.map);
   log::info("map: ", f->describe());
   const bool exact = !cfg.poisson.exact_solution.empty();
-  const Polygon& domain = cfg.map.target ? *cfg.map.target : *cfg.map.source;
-  const double exact_area = domain.signed_area();
+  const auto& domain = cfg.map.target ? *cfg.map.target : *cfg.map.source;
+  const double exact_area = exact_measure(cfg);
   const int order = cfg.poisson.order;
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
                                                      : warpfem::default_quadrature_degree(order);
-  const fem::PoissonData<2> data = poisson_data(cfg);
+  const fem::PoissonData<dim> data = poisson_data(cfg);
   petsc::LinearSolveOptions linear = cfg.solver.linear;
   if (linear.pc_type == "mg") linear.pc_type = "gamg";  // the study solves each level on its own
   const int first = cfg.mesh.refinements;
   const int finest = first + spec.levels - 1;
-  const fem::MeshHierarchy<2> hierarchy(fem::make_coarse_mesh(*cfg.map.source, domain, *f, cfg.mesh),
-                                        finest + (exact ? 0 : spec.reference_levels));
+  const fem::MeshHierarchy<dim> hierarchy(fem::make_coarse_mesh(*cfg.map.source, domain, *f, cfg.mesh),
+                                          finest + (exact ? 0 : spec.reference_levels));
+
+  if constexpr (dim == 3) {
+    // Standard geometries and reference solutions locate points of one level in another.
+    bool locates = !exact;
+    for (const std::string& d : spec.discretizations) locates = locates || d != "warped";
+    if (locates && hierarchy.levels[0].cell_type != CellType::tetrahedron)
+      throw Error("a 3D study with standard discretizations or a reference solution needs tetrahedra",
+                  {.file = cfg.file,
+                   .key_path = "/mesh/cell_type",
+                   .hint = "use \"cell_type\": \"tetrahedron\", or give /problem/exact_solution and study "
+                           "only the \"warped\" discretization"});
+  }
 
   std::optional<io::Expression> u_exact;
   if (exact) u_exact.emplace(cfg.poisson.exact_solution, cfg.file, "/problem/exact_solution");
-  const fem::ScalarFunction<2> u_fn = exact ? u_exact->as_function_2d() : fem::ScalarFunction<2>{};
-  const fem::GradientFunction<2> grad_fn = [&u_exact](const Point<2>& x, double t) {
-    return u_exact->gradient<2>(x, t);
+  const fem::ScalarFunction<dim> u_fn = [&u_exact](const Point<dim>& x, double t) {
+    return u_exact->template at<dim>(x, t);
+  };
+  const fem::GradientFunction<dim> grad_fn = [&u_exact](const Point<dim>& x, double t) {
+    return u_exact->template gradient<dim>(x, t);
   };
 
   // Reference: ‖u‖ from the exact solution, or the warped solution on the reference level.
-  std::unique_ptr<fem::PoissonProblem<2>> reference;
+  std::unique_ptr<fem::PoissonProblem<dim>> reference;
   double reference_norm = 0;
   if (!exact) {
     Stopwatch w;
-    reference = std::make_unique<fem::PoissonProblem<2>>(comm, hierarchy.finest(), f, order, qdeg, data);
+    reference = std::make_unique<fem::PoissonProblem<dim>>(comm, hierarchy.finest(), f, order, qdeg, data);
     reference->assemble();
     reference->solve(linear);
     reference_norm = reference->solution_l2_norm();
@@ -180,26 +207,26 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
     MPI_Comm_size(comm, &size);
     std::vector<Index> cells;
     for (Index c = rank; c < hierarchy.finest().num_cells(); c += size) cells.push_back(c);
-    const fem::WarpedGeometry<2> g(hierarchy.finest(), cells,
-                                   warpfem::cell_quadrature<2>(hierarchy.finest().cell_type, qdeg), *f);
-    const double local = fem::integrate(g, [&](const Point<2>& x) { return std::pow(u_fn(x, 0.0), 2); });
+    const fem::WarpedGeometry<dim> g(hierarchy.finest(), cells,
+                                     warpfem::cell_quadrature<dim>(hierarchy.finest().cell_type, qdeg), *f);
+    const double local = fem::integrate(g, [&](const Point<dim>& x) { return std::pow(u_fn(x, 0.0), 2); });
     MPI_Allreduce(&local, &reference_norm, 1, MPI_DOUBLE, MPI_SUM, comm);
     reference_norm = std::sqrt(reference_norm);
   }
 
   for (const std::string& d : spec.discretizations) {
-    std::shared_ptr<const mapping::Map<2>> coarse_interpolant;
+    std::shared_ptr<const mapping::Map<dim>> coarse_interpolant;
     if (d == "standard")
-      coarse_interpolant = std::make_shared<fem::InterpolatedMap>(hierarchy.levels[first], *f);
+      coarse_interpolant = std::make_shared<fem::InterpolatedMap<dim>>(hierarchy.levels[first], *f);
     for (int level = first; level <= finest; ++level) {
       Stopwatch w;
-      const warpfem::Mesh<2>& mesh = hierarchy.levels[level];
-      mapping::MapPtr<2> map = f;
+      const warpfem::Mesh<dim>& mesh = hierarchy.levels[level];
+      mapping::MapPtr<dim> map = f;
       if (d == "standard") map = coarse_interpolant;
-      if (d == "standard_recovered") map = std::make_shared<fem::InterpolatedMap>(mesh, *f);
-      std::unique_ptr<fem::PoissonProblem<2>> owned;
+      if (d == "standard_recovered") map = std::make_shared<fem::InterpolatedMap<dim>>(mesh, *f);
+      std::unique_ptr<fem::PoissonProblem<dim>> owned;
       try {
-        owned = std::make_unique<fem::PoissonProblem<2>>(comm, mesh, map, order, qdeg, data);
+        owned = std::make_unique<fem::PoissonProblem<dim>>(comm, mesh, map, order, qdeg, data);
       } catch (const Error& e) {
         // Straight elements through mapped vertices can be inverted on coarse meshes of
         // strongly curved domains: the standard discretization does not exist on this level.
@@ -212,7 +239,7 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
         result.rows.push_back(row);
         continue;
       }
-      fem::PoissonProblem<2>& problem = *owned;
+      fem::PoissonProblem<dim>& problem = *owned;
       problem.assemble();
       const auto solve = problem.solve(linear);
       StudyRow row;
@@ -244,8 +271,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
       row.seconds = w.seconds();
       log::info(std::setw(18), d, " level ", level, ": ", std::setw(8), row.dofs, " DOFs  L2 ", sci(row.l2),
                 " (", fixed(row.l2_rate), ")  H1 ", sci(row.h1), " (", fixed(row.h1_rate), ")  r(u_h) ",
-                sci(row.norm_ratio_error), "  area err ", sci(row.area_error), "  cond ",
-                row.condition_number > 0 ? sci(row.condition_number, 2) : std::string("-"), "  (",
+                sci(row.norm_ratio_error), (dim == 2 ? "  area err " : "  volume err "), sci(row.area_error),
+                "  cond ", row.condition_number > 0 ? sci(row.condition_number, 2) : std::string("-"), "  (",
                 format_seconds(row.seconds), ")");
       result.rows.push_back(row);
     }
@@ -272,13 +299,19 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
 
     std::ostringstream md;
     md << "# Convergence study: " << cfg.file << "\n\n"
-       << "Map: " << f->describe()
-       << ". Elements: " << (hierarchy.levels[0].cell_type == warpfem::CellType::triangle ? "P" : "Q")
+       << "Map: " << f->describe() << ". Elements: "
+       << (hierarchy.levels[0].cell_type == warpfem::CellType::triangle ||
+                   hierarchy.levels[0].cell_type == warpfem::CellType::tetrahedron
+               ? "P"
+               : "Q")
        << order << ". Errors against "
        << (exact ? "the exact solution `" + cfg.poisson.exact_solution + "`"
                  : "the warped solution on level " + std::to_string(hierarchy.num_levels() - 1))
-       << ". Exact area of the domain: " << exact_area << ".\n\n"
-       << "| discretization | level | h | DOFs | L2 error | rate | H1 error | rate | r(u_h) | area error | "
+       << (dim == 2 ? ". Exact area of the domain: " : ". Exact volume of the domain: ") << exact_area
+       << ".\n\n"
+       << "| discretization | level | h | DOFs | L2 error | rate | H1 error | rate | r(u_h) | "
+       << (dim == 2 ? "area" : "volume")
+       << " error | "
           "cond(L) | CG its |\n"
        << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : result.rows)
@@ -288,13 +321,10 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
          << sci(r.area_error) << " | " << (r.condition_number > 0 ? sci(r.condition_number, 2) : "-") << " | "
          << r.iterations << " |\n";
     md << "\nWarped: elements of the simple mesh warped by f (exact geometry). Standard: straight elements "
-          "through the "
-          "mapped coarse vertices, kept under refinement (the domain stays the coarse polygonal "
-          "approximation). "
-          "Standard recovered: straight elements through the mapped vertices of each level (boundary "
-          "vertices "
-          "moved "
-          "onto the exact boundary).\n";
+          "through the mapped coarse vertices, kept under refinement (the domain stays the coarse "
+       << (dim == 2 ? "polygonal" : "polyhedral")
+       << " approximation). Standard recovered: straight elements through the mapped vertices of each "
+          "level (boundary vertices moved onto the exact boundary).\n";
     result.markdown_file = (fs::path(dir) / "study.md").string();
     if (spec.plot) write_plot(spec, exact, dir, result.plot_file);
     if (!result.plot_file.empty()) md << "\n![errors](study_errors.png)\n";
@@ -304,5 +334,8 @@ StudyResult run_study(const io::RunConfig& cfg, const StudySpec& spec, MPI_Comm 
   });
   return result;
 }
+
+template StudyResult run_study(const io::PoissonRunConfig<2>&, const StudySpec&, MPI_Comm, bool);
+template StudyResult run_study(const io::PoissonRunConfig<3>&, const StudySpec&, MPI_Comm, bool);
 
 }  // namespace warpfem::apps

@@ -29,9 +29,9 @@ struct StudyRow {
   Index dofs = 0;
   double l2 = 0, h1 = 0;  ///< errors (exact solution, or the reference solution for "warped")
   double l2_rate = 0, h1_rate = 0;
-  double norm_ratio_error = 0;  ///< r(u_h) = | ‖u_h‖ / ‖u_ref‖ − 1 |
-  double area = 0, area_error = 0;
-  double condition_number = 0;  ///< 0 if not computed
+  double norm_ratio_error = 0;      ///< r(u_h) = | ‖u_h‖ / ‖u_ref‖ − 1 |
+  double area = 0, area_error = 0;  ///< of the discrete domain (a volume in 3D), relative error
+  double condition_number = 0;      ///< 0 if not computed
   int iterations = 0;
   double seconds = 0;
 };
@@ -44,8 +44,11 @@ struct StudyResult {
 /// Parses the "study" object of a study config.
 StudySpec parse_study_spec(const io::ConfigNode& node);
 
-/// Runs the study; writes CSV, Markdown and (if gnuplot is available) PNG plots into config.output.directory.
-StudyResult run_study(const io::RunConfig& config, const StudySpec& spec, MPI_Comm comm,
+/// Runs the study on polygons (dim 2) or polyhedra (dim 3; the standard
+/// discretizations and reference solutions then need tetrahedra); writes CSV,
+/// Markdown and (if gnuplot is available) PNG plots into config.output.directory.
+template <int dim>
+StudyResult run_study(const io::PoissonRunConfig<dim>& config, const StudySpec& spec, MPI_Comm comm,
                       bool write_files = true);
 
 }  // namespace warpfem::apps

@@ -13,6 +13,34 @@
 
 namespace warpfem::apps {
 
+namespace {
+
+template <int dim>
+void run_study_config(io::PoissonRunConfig<dim> cfg, const StudySpec& spec, const nlohmann::json& json,
+                      const std::string& path, const std::string& output_dir) {
+  // The study refines levels - 1 times more, and the reference solution further.
+  const io::Discretization finest =
+      io::poisson_discretization(cfg, cfg.mesh.refinements + spec.levels - 1 + spec.reference_levels);
+  if constexpr (dim == 2)
+    io::check_discretization_size(io::ConfigNode(json, path), cfg.mesh, cfg.map, finest, cfg.limits,
+                                  "/study/levels");
+  else
+    io::check_discretization_size(io::ConfigNode(json, path), cfg.mesh, *cfg.map.source, finest, cfg.limits,
+                                  "/study/levels");
+  if (!output_dir.empty()) cfg.output.directory = output_dir;
+  log::set_level(log::parse_level(cfg.verbosity));
+  Environment::insert_petsc_options(cfg.solver.petsc_options, path + ": /solver/petsc_options");
+  log::info("warpfem study ", path, ": ", spec.levels, " levels on ", Environment::size(), " rank(s)",
+            dim == 3 ? " (polyhedra)" : "");
+  try {
+    run_study(cfg, spec, PETSC_COMM_WORLD);
+  } catch (const Error& e) {
+    throw io::in_config(e, path);  // errors that name a config field come from this config
+  }
+}
+
+}  // namespace
+
 int study_command(const std::vector<std::string>& args) {
   const ConfigArguments arguments = parse_config_arguments(
       args, "study config", "usage: warpfem study <study.json> [--output-dir DIR] [PETSc options]");
@@ -24,26 +52,9 @@ int study_command(const std::vector<std::string>& args) {
   json.erase("study");
   StudySpec spec = parse_study_spec(io::ConfigNode(study_json, path, "/study"));
   if (io::is_polyhedron_map(json))
-    throw Error(
-        "warpfem study compares with standard FEM on polygons; this config's source is a polyhedron",
-        {.file = path,
-         .key_path = "/map/source",
-         .hint = "run the 3D config with `warpfem run` (it prints the errors against an exact solution)"});
-  io::RunConfig cfg = io::parse_run_config(json, path);
-  // The study refines levels - 1 times more, and the reference solution further.
-  io::check_discretization_size(
-      io::ConfigNode(json, path), cfg.mesh, cfg.map,
-      io::poisson_discretization(cfg, cfg.mesh.refinements + spec.levels - 1 + spec.reference_levels),
-      cfg.limits, "/study/levels");
-  if (!output_dir.empty()) cfg.output.directory = output_dir;
-  log::set_level(log::parse_level(cfg.verbosity));
-  Environment::insert_petsc_options(cfg.solver.petsc_options, path + ": /solver/petsc_options");
-  log::info("warpfem study ", path, ": ", spec.levels, " levels on ", Environment::size(), " rank(s)");
-  try {
-    run_study(cfg, spec, PETSC_COMM_WORLD);
-  } catch (const Error& e) {
-    throw io::in_config(e, path);  // errors that name a config field come from this config
-  }
+    run_study_config(io::parse_poisson_config<3>(json, path), spec, json, path, output_dir);
+  else
+    run_study_config(io::parse_run_config(json, path), spec, json, path, output_dir);
   return 0;
 }
 

@@ -8,7 +8,9 @@
 
 namespace warpfem::fem {
 
-/// L2 and H1-seminorm of u_h − u_ref over the warped domain (collective).
-ErrorNorms error_against_reference(const PoissonProblem<2>& coarse, const PoissonProblem<2>& reference);
+/// L2 and H1-seminorm of u_h − u_ref over the warped domain (collective). In 3D
+/// the reference mesh must be tetrahedral.
+template <int dim>
+ErrorNorms error_against_reference(const PoissonProblem<dim>& coarse, const PoissonProblem<dim>& reference);
 
 }  // namespace warpfem::fem

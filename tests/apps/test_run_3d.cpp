@@ -12,6 +12,7 @@
 #include "apps/run.hpp"
 #include "core/error.hpp"
 #include "fem/hierarchy/polyhedron_parts.hpp"
+#include "fem/physics/elasticity/quasi_static_solver.hpp"
 
 using namespace warpfem;
 namespace fs = std::filesystem;
@@ -228,4 +229,45 @@ TEST(RunRecipe3d, ElasticityWithGeometricMultigridEqualsLu) {
   EXPECT_LT((lu.solution - mg.solution).lpNorm<Eigen::Infinity>(),
             1e-8 * lu.solution.lpNorm<Eigen::Infinity>());
   EXPECT_NEAR(mg.min_det_F, lu.min_det_F, 1e-10);
+}
+
+TEST(RunRecipe3d, WarpedElasticityMultigridEqualsLuWithQuadraticNewton) {
+  // The column on the twisted cube: every level of the hierarchy lies on f(Ω0). Newton's
+  // linear solves by the example's GMRES + geometric multigrid, then by MUMPS: the same
+  // solution, Krylov iterations bounded per Newton step, and Newton quadratic at the end of
+  // every load step.
+  auto cfg = std::get<io::ElasticityRunConfig<3>>(io::load_config(kExamples + "elasticity_twisted_3d.json"));
+  ASSERT_EQ(cfg.solver.pc_type, "mg");
+  cfg.verbosity = "warning";
+  apps::RunOptions options;
+  options.write_output = false;
+  options.gather_solution = true;
+  const apps::RunResult mg = apps::run(cfg, MPI_COMM_SELF, options);
+  cfg.solver.ksp_type = "preonly";
+  cfg.solver.pc_type = "lu";
+  const apps::RunResult lu = apps::run(cfg, MPI_COMM_SELF, options);
+  ASSERT_EQ(lu.solution.size(), mg.solution.size());
+  ASSERT_GT(lu.solution.size(), 0);
+  EXPECT_LT((lu.solution - mg.solution).lpNorm<Eigen::Infinity>(),
+            1e-7 * lu.solution.lpNorm<Eigen::Infinity>());
+  EXPECT_NEAR(mg.max_displacement, 0.25, 1e-12);  // the top's prescribed displacement is the largest
+  EXPECT_GT(mg.min_det_F, 0.0);
+  EXPECT_LT(mg.min_det_F, 1.0);  // compressed
+  ASSERT_EQ(mg.load_steps.size(), 4u);
+  int quadratic_pairs = 0;
+  for (const fem::LoadStep& step : mg.load_steps) {
+    SCOPED_TRACE("load " + std::to_string(step.load));
+    for (const int its : step.linear_iterations) EXPECT_LE(its, 40);
+    // Quadratic: a small relative residual ρ_k is followed by ρ_{k+1} ≤ 10 ρ_k² (pairs
+    // above round-off only; a linear rate of 0.1 would fail this).
+    const std::vector<double>& r = step.residuals;
+    ASSERT_GE(r.size(), 3u);
+    for (std::size_t k = 0; k + 1 < r.size(); ++k) {
+      const double rho = r[k] / r[0], next = r[k + 1] / r[0];
+      if (rho > 0.1 || next < 1e-11) continue;
+      EXPECT_LT(next, 10 * rho * rho) << "Newton iteration " << k + 1;
+      ++quadratic_pairs;
+    }
+  }
+  EXPECT_GE(quadratic_pairs, 4);
 }
