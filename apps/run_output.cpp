@@ -2,6 +2,7 @@
 
 #include "core/log.hpp"
 #include "core/timer.hpp"
+#include "io/collective_error.hpp"
 
 namespace warpfem::apps {
 
@@ -14,7 +15,10 @@ template <int dim>
 std::string RunOutput<dim>::write(const std::string& name, Vec state) {
   Stopwatch watch;
   if (!mesh_) {
-    mesh_ = fem::make_output_mesh(problem_.mesh(), problem_.nodes(), map_, settings_.order);
+    // Local work that can fail on one rank (sizes, tables) before the collective log below.
+    io::run_collectively(comm_, [&] {
+      mesh_ = fem::make_output_mesh(problem_.mesh(), problem_.nodes(), map_, settings_.order);
+    });
     fem::log_untangling(comm_, *mesh_);
     mesh_->reference_points.resize(0, dim);  // placed already; later writes only interpolate
   }

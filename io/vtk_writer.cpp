@@ -134,10 +134,14 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   require((output.mesh != nullptr) != (output.cells != nullptr), "write_vtk: give a mesh or cells");
-  auto grid = output.mesh ? make_grid(output.mesh->points, output.mesh->cells, output.mesh->cell_type,
-                                      output.mesh->order, output)
-                          : make_grid(output.cells->points, output.cells->cells, output.cells->cell_type,
-                                      output.cells->order, output);
+  // Building the grid can fail on one rank only (its piece too large): agreed on by all.
+  vtkSmartPointer<vtkUnstructuredGrid> grid;
+  run_collectively(comm, [&] {
+    grid = output.mesh ? make_grid(output.mesh->points, output.mesh->cells, output.mesh->cell_type,
+                                   output.mesh->order, output)
+                       : make_grid(output.cells->points, output.cells->cells, output.cells->cell_type,
+                                   output.cells->order, output);
+  });
 
   if (size == 1) {
     const std::string path = (fs::path(directory) / (name + ".vtu")).string();

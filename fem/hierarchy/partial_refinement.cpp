@@ -77,14 +77,14 @@ void refine_triangles(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
                       const std::vector<int>& base_owner, int rank, int levels_above,
                       std::vector<NestedBlocks>& blocks) {
   const int base_level = h.num_levels() - 1;
+  h.levels.reserve(h.levels.size() + static_cast<std::size_t>(levels_above));  // references stay valid
+  h.transfers.reserve(h.transfers.size() + static_cast<std::size_t>(levels_above));
   const Mesh<2>& base = h.levels.back();
   require(base.cell_type == CellType::triangle && !base.partial,
           "refine_partially: the base level must be a whole triangle mesh");
   const Index nb = base.num_cells();
   require(static_cast<Index>(base_owner.size()) == nb && base_edges.num_cells() == nb,
           "refine_partially: owners or edges do not belong to the base level");
-  h.levels.reserve(h.levels.size() + static_cast<std::size_t>(levels_above));  // references stay valid
-  h.transfers.reserve(h.transfers.size() + static_cast<std::size_t>(levels_above));
 
   // 1. The vertices and edges every block uses first on the base level.
   CoarseLevel level;
@@ -597,6 +597,8 @@ class CellCoordinates {
 void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, int rank, int levels_above,
                        std::vector<NestedBlocks>& blocks) {
   const int base_level = h.num_levels() - 1;
+  h.levels.reserve(h.levels.size() + static_cast<std::size_t>(levels_above));  // references stay valid
+  h.transfers.reserve(h.transfers.size() + static_cast<std::size_t>(levels_above));
   const Mesh<3>& base = h.levels.back();
   require(base.cell_type == CellType::tetrahedron && !base.partial,
           "refine_partially: the base level must be a whole tetrahedral mesh");
@@ -604,8 +606,6 @@ void refine_tetrahedra(MeshHierarchy<3>& h, const std::vector<int>& base_owner, 
   const Index nb = base.num_cells();
   require(static_cast<Index>(base_owner.size()) == nb,
           "refine_partially: owners do not belong to the base level");
-  h.levels.reserve(h.levels.size() + static_cast<std::size_t>(levels_above));  // references stay valid
-  h.transfers.reserve(h.transfers.size() + static_cast<std::size_t>(levels_above));
   const RefinementTable& table = refinement_table(CellType::tetrahedron);
   const RefinementTable& facet_table = refinement_table(CellType::triangle);
   const auto& tet_edges = cell_edges(CellType::tetrahedron);

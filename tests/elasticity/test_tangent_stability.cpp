@@ -54,7 +54,7 @@ TEST(TangentStability, PositiveDefiniteTangentHasNoNegativeEigenvalueAndItsLowes
   EXPECT_EQ(s->negative, 0);
   EXPECT_EQ(s->zero, 0);
   EXPECT_EQ(s->positive, n);
-  EXPECT_NEAR(s->lowest_eigenvalue, eigenvalue(n, 1, 0.0), 1e-6 * eigenvalue(n, 1, 0.0));
+  EXPECT_NEAR(s->eigenvalue_nearest_zero, eigenvalue(n, 1, 0.0), 1e-6 * eigenvalue(n, 1, 0.0));
 }
 
 TEST(TangentStability, CountsTheNegativeEigenvaluesOfAnIndefiniteTangent) {
@@ -69,7 +69,7 @@ TEST(TangentStability, CountsTheNegativeEigenvaluesOfAnIndefiniteTangent) {
   EXPECT_EQ(s->positive, n - 2);
   // Inverse iteration finds the eigenvalue nearest zero, the (negative) second one.
   const double l2 = eigenvalue(n, 2, shift), l3 = eigenvalue(n, 3, shift);
-  EXPECT_NEAR(s->lowest_eigenvalue, l2, 1e-6 * std::abs(l2));
+  EXPECT_NEAR(s->eigenvalue_nearest_zero, l2, 1e-6 * std::abs(l2));
   EXPECT_LT(l2, 0);
   EXPECT_GT(l3, 0);
 }

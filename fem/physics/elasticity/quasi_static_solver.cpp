@@ -109,8 +109,8 @@ void QuasiStaticSolver<dim>::check_stability(Vec u, double load, double incremen
           << (st->negative > 0 ? "unstable: its tangent stiffness has " + std::to_string(st->negative) +
                                      " negative eigenvalue(s), a buckling or bifurcation point lies behind"
                                : std::string("stable: its tangent stiffness is positive definite"))
-          << "; lowest eigenvalue " << st->lowest_eigenvalue
-          << " (at s = 0: " << reference_->lowest_eigenvalue << "), min det F = " << op_.min_det_F(u)
+          << "; eigenvalue nearest zero " << st->eigenvalue_nearest_zero
+          << " (at s = 0: " << reference_->eigenvalue_nearest_zero << "), min det F = " << op_.min_det_F(u)
           << "; the step to s = " << load + increment << " failed with "
           << reason_text(static_cast<SNESConvergedReason>(reason));
   stability_summary_ = summary.str();

@@ -49,7 +49,7 @@ std::optional<TangentStability> tangent_stability(Mat J, Vec start, int iteratio
     std::swap(x, y);
   }
   WARPFEM_PETSC_CHECK(MatMult(J, x.get(), y.get()));
-  WARPFEM_PETSC_CHECK(VecDot(x.get(), y.get(), &s.lowest_eigenvalue));
+  WARPFEM_PETSC_CHECK(VecDot(x.get(), y.get(), &s.eigenvalue_nearest_zero));
   return s;
 }
 

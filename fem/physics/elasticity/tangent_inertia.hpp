@@ -1,9 +1,10 @@
 #pragma once
 // Stability of an equilibrium from its symmetric tangent stiffness J: the
 // inertia (numbers of negative, zero and positive eigenvalues) from a sparse
-// LDLᵀ factorization (MUMPS), and J's lowest eigenvalue on a subspace by
-// inverse iteration with the same factors. A stable equilibrium has a positive
-// definite tangent; a lowest eigenvalue falling towards zero along the load
+// LDLᵀ factorization (MUMPS), and J's eigenvalue nearest zero on a subspace by
+// inverse iteration with the same factors (the lowest one when J is positive
+// definite). A stable equilibrium has a positive definite tangent; an eigenvalue
+// falling towards zero along the load
 // path announces a limit or bifurcation point (buckling, a crease), which no
 // smaller load increment can step past.
 
@@ -15,7 +16,7 @@ namespace warpfem::fem {
 
 struct TangentStability {
   PetscInt negative = 0, zero = 0, positive = 0;  ///< inertia of J
-  double lowest_eigenvalue = 0;                   ///< of J on the subspace of the start vector
+  double eigenvalue_nearest_zero = 0;             ///< of J on the subspace of the start vector
 };
 
 /// Inertia of the symmetric matrix `J` and its eigenvalue of smallest magnitude on the
