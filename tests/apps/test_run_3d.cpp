@@ -11,6 +11,7 @@
 
 #include "apps/run.hpp"
 #include "core/error.hpp"
+#include "error_text.hpp"
 #include "fem/hierarchy/polyhedron_parts.hpp"
 #include "fem/physics/elasticity/quasi_static_solver.hpp"
 
@@ -18,6 +19,8 @@ using namespace warpfem;
 namespace fs = std::filesystem;
 
 namespace {
+
+using test::error_text;
 
 const std::string kExamples = WARPFEM_SOURCE_DIR "/examples/";
 
@@ -36,15 +39,6 @@ io::Config load(const std::string& name, const std::string& text) {
 std::string cube_config(const std::string& mesh, const std::string& problem) {
   return std::string(R"({"verbosity": "warning", "map": {"type": "identity", "source": )") + kCube +
          R"(}, "mesh": )" + mesh + R"(, "problem": )" + problem + "}";
-}
-
-std::string error_text(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 }  // namespace

@@ -15,11 +15,14 @@
 #include "apps/run.hpp"
 #include "core/error.hpp"
 #include "core/mesh/structured_mesher.hpp"
+#include "error_text.hpp"
 
 using namespace warpfem;
 namespace fs = std::filesystem;
 
 namespace {
+
+using test::error_text;
 
 const std::string kDir = "output/test_run_3d_gmsh/";
 
@@ -164,15 +167,6 @@ apps::RunResult run(const std::string& mesh, const std::string& problem) {
 
 std::string gmsh_mesh(const std::string& file, int refinements = 0) {
   return R"({"type": "gmsh", "file": ")" + file + R"(", "refinements": )" + std::to_string(refinements) + "}";
-}
-
-std::string error_text(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 }  // namespace

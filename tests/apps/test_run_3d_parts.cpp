@@ -11,12 +11,15 @@
 
 #include "apps/run.hpp"
 #include "core/error.hpp"
+#include "error_text.hpp"
 #include "fem/hierarchy/polyhedron_parts.hpp"
 
 using namespace warpfem;
 namespace fs = std::filesystem;
 
 namespace {
+
+using test::error_text;
 
 const std::string kDir = "output/test_run_3d_parts/";
 
@@ -68,15 +71,6 @@ std::string cube_obj() {
          "g corner_sides\nf 1 2 6\nf 1 6 5\n"
          "g back\nf 4 8 7\nf 4 7 3\n"
          "g bottom_top\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n";
-}
-
-std::string error_text(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 double l2_error(const io::Config& cfg) {
