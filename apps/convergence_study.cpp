@@ -158,8 +158,9 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
   const auto& domain = cfg.map.target ? *cfg.map.target : *cfg.map.source;
   const double exact_area = exact_measure(cfg);
   const int order = cfg.poisson.order;
+  // A study compares areas and norms across discretizations: it over-integrates.
   const int qdeg = cfg.poisson.quadrature_degree > 0 ? cfg.poisson.quadrature_degree
-                                                     : warpfem::default_quadrature_degree(order);
+                                                     : warpfem::measurement_quadrature_degree(order);
   const fem::PoissonData<dim> data = poisson_data(cfg);
   petsc::LinearSolveOptions linear = cfg.solver.linear;
   if (linear.pc_type == "mg") linear.pc_type = "gamg";  // the study solves each level on its own

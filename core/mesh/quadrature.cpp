@@ -202,6 +202,10 @@ template QuadratureRule<2> cell_quadrature<2>(CellType, int);
 template QuadratureRule<3> cell_quadrature<3>(CellType, int);
 
 int default_quadrature_degree(int order) {
+  return order == 1 ? 2 : measurement_quadrature_degree(order);
+}
+
+int measurement_quadrature_degree(int order) {
   return 2 * order + 2;
 }
 
