@@ -227,8 +227,12 @@ ElasticityRunConfig<dim> parse_elasticity_config_for(const nlohmann::json& json,
   output.finish();
   cfg.limits = parse_limits(root);
   root.finish();
-  check_run_size<dim>(root, cfg.mesh, cfg.map,
-                      {.refinements = cfg.mesh.refinements, .order = p.order, .components = dim}, cfg.limits);
+  const Discretization discretization{
+      .refinements = cfg.mesh.refinements, .order = p.order, .components = dim};
+  check_run_size<dim>(root, cfg.mesh, cfg.map, discretization, cfg.limits);
+  if constexpr (dim == 2)
+    cfg.map.evaluation_points =
+        finest_quadrature_points(cfg.mesh, cfg.map, discretization, p.quadrature_degree);
   if (transient) check_transient_size(root, cfg.time, cfg.output, cfg.limits);
   return cfg;
 }

@@ -35,7 +35,7 @@ struct VectorBoundarySpec {
 struct ElasticitySpec {
   std::string analysis = "quasi_static";  ///< quasi_static | transient
   int order = 1;                          ///< Lagrange order (1 or 2)
-  int quadrature_degree = 0;              ///< 0: 2·order + 2
+  int quadrature_degree = 0;              ///< 0: warpfem::default_quadrature_degree(order)
   fem::Material material;                 ///< model, λ, μ, density
 };
 

@@ -438,6 +438,9 @@ PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std
   cfg.limits = parse_limits(root);
   root.finish();
   check_run_size<dim>(root, cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements), cfg.limits);
+  if constexpr (dim == 2)
+    cfg.map.evaluation_points = finest_quadrature_points(
+        cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements), cfg.poisson.quadrature_degree);
   return cfg;
 }
 

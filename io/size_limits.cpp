@@ -119,6 +119,13 @@ SizeEstimate estimate_size(const fem::MeshSpec& mesh, const mapping::MapSpec& ma
   return estimate_from_coarse_cells(coarse_cells, d.refinements, 4, mesh.cell_type, d);
 }
 
+double finest_quadrature_points(const fem::MeshSpec& mesh, const mapping::MapSpec& map,
+                                const Discretization& d, int quadrature_degree) {
+  const int q = quadrature_degree > 0 ? quadrature_degree : warpfem::default_quadrature_degree(d.order);
+  return estimate_size(mesh, map, d).cells *
+         static_cast<double>(warpfem::cell_quadrature<2>(mesh.cell_type, q).size());
+}
+
 SizeEstimate estimate_size(const fem::MeshSpec& mesh, const Polyhedron& source, const Discretization& d) {
   double coarse_cells = 0;
   if (mesh.type == "structured") {

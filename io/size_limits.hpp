@@ -79,6 +79,12 @@ void check_map_size(const ConfigNode& root, const mapping::MapSpec& map, const S
 void check_grid_size(const ConfigNode& root, const Polygon& polygon, double h, const SizeLimits& limits,
                      const std::string& key);
 
+/// The points at which a 2D run evaluates its map on the finest level, from
+/// estimate_size's cells (a lower bound) times the points of the cell
+/// quadrature of `quadrature_degree` (0: the order's default).
+double finest_quadrature_points(const fem::MeshSpec& mesh, const mapping::MapSpec& map,
+                                const Discretization& d, int quadrature_degree);
+
 /// Cells of a Delaunay mesh of `polygon` with edges <= h, as in estimate_size.
 double delaunay_cells_lower_bound(const Polygon& polygon, double h);
 

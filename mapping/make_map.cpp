@@ -1,5 +1,6 @@
 #include "mapping/make_map.hpp"
 
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -214,6 +215,27 @@ MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check) {
   return map;
 }
 
+namespace {
+
+/// Whether "evaluation": "auto" interpolates. Cost model in exact point·vertex
+/// evaluations of a mean value step: the exact map costs steps × vertices per
+/// point, the interpolant about 70 per point and its build about a million
+/// exact points; it is taken when it saves more than its build on the
+/// estimated points (a lower bound, about a third of a Delaunay mesh's). Harmonic maps
+/// (an inverse by Newton's method per point) are interpolated on any large run.
+bool interpolation_pays(const Map<2>& map, const MapSpec& spec) {
+  const double points = spec.evaluation_points;
+  if (points < 1e6) return false;
+  if (spec.type == "composite_harmonic") return true;
+  double steps = 1;
+  if (const auto* composite = dynamic_cast<const CompositeMeanValueMap*>(&map))
+    steps = static_cast<double>(composite->steps());
+  const double exact = steps * static_cast<double>(spec.source->size());
+  return points * (exact - 70) > 1e6 * exact;
+}
+
+}  // namespace
+
 MapPtr<2> make_map(const MapSpec& spec, MapCheck* check) {
   if (spec.type == "identity") return std::make_shared<IdentityMap<2>>();
   try {
@@ -226,16 +248,22 @@ MapPtr<2> make_map(const MapSpec& spec, MapCheck* check) {
     if (spec.certify) certify_into(*map, spec, c);
     require_passed(c, spec);
     if (check) *check = c;
-    if (spec.evaluation == "interpolated") {
+    const bool automatic = spec.evaluation == "auto";
+    if (spec.evaluation == "interpolated" || (automatic && interpolation_pays(*map, spec))) {
+      if (automatic)
+        log::info("map evaluation: interpolated (\"evaluation\": \"auto\", about ",
+                  std::llround(spec.evaluation_points),
+                  " quadrature points on the finest level; \"exact\" keeps the exact map)");
       InterpolantOptions o;
       o.tolerance = spec.interpolation_tolerance;
       map = with_spec_context(spec, "map.interpolation_tolerance", [&] {
         return std::make_shared<const AdaptiveInterpolant>(map, *spec.source, o);
       });
-    } else if (spec.evaluation != "exact") {
-      throw Error(
-          "unknown evaluation \"" + spec.evaluation + "\"",
-          {.file = spec.origin, .key_path = "map.evaluation", .hint = "use \"exact\" or \"interpolated\""});
+    } else if (spec.evaluation != "exact" && !automatic) {
+      throw Error("unknown evaluation \"" + spec.evaluation + "\"",
+                  {.file = spec.origin,
+                   .key_path = "map.evaluation",
+                   .hint = "use \"auto\", \"exact\" or \"interpolated\""});
     }
     return map;
   } catch (const Error& e) {

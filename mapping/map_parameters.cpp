@@ -57,10 +57,12 @@ ParameterTable<MapSpec> make_table() {
     t.other(key, "array of `\"linear\"`, `\"quadratic\"`, `\"quadratic_reversed\"`", "all linear",
             std::string("composite_harmonic: boundary data speed per edge of the ") +
                 (key[0] == 's' ? "source" : "target") + " (§5.4)");
-  t.choice("evaluation", &MapSpec::evaluation, {"exact", "interpolated"},
+  t.choice("evaluation", &MapSpec::evaluation, {"auto", "exact", "interpolated"},
            "`interpolated` replaces f and J_f by a quadtree of Chebyshev patches fitted to the exact map "
            "(docs/map_interpolation.md): evaluation cost independent of the vertex count; cells next to the "
-           "vertices, and points outside Ω0, stay exact. The fold check always uses the exact map");
+           "vertices, and points outside Ω0, stay exact. The fold check always uses the exact map. `auto` "
+           "interpolates when the run's quadrature points (estimated from the config) make it save "
+           "more than its build: large meshes of maps with many vertices or steps, and harmonic maps");
   t.number("interpolation_tolerance", &MapSpec::interpolation_tolerance, 1e-15, 1e-3,
            "interpolated: f within this × diam(Ω0) and J_f within 1000 × this (relative) at test points");
   return t;

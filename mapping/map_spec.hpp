@@ -40,8 +40,11 @@ struct MapSpec {
   std::vector<std::string> target_edge_speeds;  ///< same, for the target's edges
   std::string origin = "map";                   ///< where this spec came from (file name) for messages
   // How f is evaluated (mapping/adaptive_interpolant.hpp).
-  std::string evaluation = "exact";        ///< exact | interpolated
+  std::string evaluation = "auto";         ///< auto | exact | interpolated
   double interpolation_tolerance = 1e-12;  ///< f to this × diam(Ω0), J_f to 1000 × this relative
+  /// Not a config key: the points at which the run will evaluate f on its finest
+  /// level, estimated from the config (0: unknown); "auto" decides by it.
+  double evaluation_points = 0;
 };
 
 /// The same for maps between polyhedra (mapping/polyhedron_composite_map.hpp).

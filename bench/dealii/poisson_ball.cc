@@ -1,21 +1,24 @@
-// deal.II peer of bench_poisson_3d (benchmark only; never part of warpfem's
-// build unless WARPFEM_BENCH_DEALII=ON): Q1 Poisson −Δu = 1, u = 0 on the
-// boundary of a 3D ball, CG to 1e-8 relative preconditioned by deal.II's
-// matrix-based geometric multigrid as in step-16 (level matrices assembled on
-// every level, MGTransferPrebuilt, a Householder coarse solve) with the
-// smoother warpfem uses by default: Chebyshev of degree 2 on Jacobi over
-// [λmax/11, λmax] (λmax from 10 CG steps), one V-cycle per CG step. One
-// process, one thread. Every phase is reported in wall and process CPU
-// seconds, and the peak resident memory per DOF at the end; then, untimed,
-// the L2 and H1-seminorm errors against the exact u = (1 − |x|²)/6 (QGauss(3),
-// MappingQ1 as in the assembly), for a check against warpfem's solution of
-// the same problem (bench_poisson_3d -domain ball).
+// deal.II peer of warpfem's Poisson benchmarks (benchmark only; never part of
+// warpfem's build unless WARPFEM_BENCH_DEALII=ON): Q_k Poisson −Δu = 1, u = 0
+// on the boundary of the unit ball (3D) or disk (2D), CG to 1e-8 relative
+// preconditioned by deal.II's matrix-based geometric multigrid as in step-16
+// (level matrices assembled on every level, MGTransferPrebuilt, a Householder
+// coarse solve) with the smoother warpfem uses by default: Chebyshev of
+// degree 2 on Jacobi over [λmax/11, λmax] (λmax from 10 CG steps), one
+// V-cycle per CG step. Cells are curved by the ball's manifold through
+// MappingQ of the element's degree (MappingQ1 for Q1). One process, one
+// thread. Every phase is reported in wall and process CPU seconds, and the
+// peak resident memory per DOF at the end; then, untimed, the L2 and
+// H1-seminorm errors against the exact u = (1 − |x|²)/(2 dim) (QGauss(k + 2)),
+// for a check against warpfem's solution of the same problem.
 //
-//   dealii_poisson_ball [refinements = 5] [ball = balanced|plain]
+//   dealii_poisson_ball [refinements = 5] [ball = balanced|plain] [dim = 3] [degree = 1] [output.vtu]
 //
-// balanced: GridGenerator::hyper_ball_balanced (32 coarse cells; 5 refinements
-// give 1.06 M DOFs); plain: GridGenerator::hyper_ball (7 cells; 5: 0.24 M,
-// 6: 1.9 M).
+// 3D balanced: GridGenerator::hyper_ball_balanced (32 coarse cells; 5
+// refinements give 1.06 M Q1 DOFs); plain: GridGenerator::hyper_ball (7 cells;
+// 5: 0.24 M, 6: 1.9 M). 2D (either): hyper_ball, 5 cells; Q1 with 9
+// refinements and Q2 with 8 give 1.31 M DOFs. With an output file the
+// solution is written as VTU (curved Lagrange cells for Q2), timed as a phase.
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -23,6 +26,7 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -39,6 +43,7 @@
 #include <deal.II/multigrid/mg_tools.h>
 #include <deal.II/multigrid/mg_transfer.h>
 #include <deal.II/multigrid/multigrid.h>
+#include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 #include <deal.II/numerics/vector_tools_integrate_difference.h>
 #include <sys/resource.h>
@@ -47,19 +52,19 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <vector>
 
 using namespace dealii;
 
 namespace {
-constexpr int dim = 3;
-
-/// u = (1 − |x|²)/6 solves −Δu = 1 in the unit ball with u = 0 on the sphere.
+/// u = (1 − |x|²)/(2 dim) solves −Δu = 1 in the unit ball with u = 0 on the sphere.
+template <int dim>
 class ExactSolution final : public Function<dim> {
  public:
-  double value(const Point<dim>& x, const unsigned int = 0) const override { return (1 - x.square()) / 6; }
-  Tensor<1, dim> gradient(const Point<dim>& x, const unsigned int = 0) const override { return -x / 3; }
+  double value(const Point<dim>& x, const unsigned int = 0) const override { return (1 - x.square()) / (2 * dim); }
+  Tensor<1, dim> gradient(const Point<dim>& x, const unsigned int = 0) const override { return -x / dim; }
 };
 
 double cpu_seconds() {
@@ -87,22 +92,21 @@ class Phases {
   std::chrono::steady_clock::time_point wall_ = std::chrono::steady_clock::now();
   double cpu_ = cpu_seconds(), total_wall_ = 0, total_cpu_ = 0;
 };
-}  // namespace
 
-int main(int argc, char** argv) {
-  const unsigned int refinements = argc > 1 ? static_cast<unsigned int>(std::atoi(argv[1])) : 5;
-  const std::string ball = argc > 2 ? argv[2] : "balanced";
+template <int dim>
+int run(unsigned int refinements, const std::string& ball, unsigned int degree, const std::string& output) {
   Phases phases;
 
   Triangulation<dim> tria(Triangulation<dim>::limit_level_difference_at_vertices);
-  if (ball == "plain")
+  if (ball == "plain" || dim == 2)
     GridGenerator::hyper_ball(tria);
   else
     GridGenerator::hyper_ball_balanced(tria);
   tria.refine_global(refinements);
   phases.done("mesh (ball, refinements)");
 
-  const FE_Q<dim> fe(1);
+  const FE_Q<dim> fe(degree);
+  const MappingQ<dim> mapping(degree);
   DoFHandler<dim> dof(tria);
   dof.distribute_dofs(fe);
   dof.distribute_mg_dofs();
@@ -110,7 +114,7 @@ int main(int argc, char** argv) {
 
   AffineConstraints<double> constraints;
   DoFTools::make_hanging_node_constraints(dof, constraints);
-  VectorTools::interpolate_boundary_values(dof, 0, Functions::ZeroFunction<dim>(), constraints);
+  VectorTools::interpolate_boundary_values(mapping, dof, 0, Functions::ZeroFunction<dim>(), constraints);
   constraints.close();
   SparsityPattern pattern;
   {
@@ -141,15 +145,15 @@ int main(int argc, char** argv) {
   }
   phases.done("constraints, sparsity");
 
-  // Element matrices and loads with QGauss(2) (8 points), the manifold's
-  // curved geometry through MappingQ1 of the refined (curved-placed) vertices.
-  const QGauss<dim> quadrature(2);
+  // Element matrices and loads with QGauss(k + 1), the manifold's curved
+  // geometry through MappingQ(k) of the refined (curved-placed) vertices.
+  const QGauss<dim> quadrature(degree + 1);
   const unsigned int n = fe.n_dofs_per_cell(), nq = quadrature.size();
   FullMatrix<double> ke(n, n);
   Vector<double> fe_load(n);
   std::vector<types::global_dof_index> indices(n);
   {
-    FEValues<dim> values(fe, quadrature, update_gradients | update_values | update_JxW_values);
+    FEValues<dim> values(mapping, fe, quadrature, update_gradients | update_values | update_JxW_values);
     for (const auto& cell : dof.active_cell_iterators()) {
       values.reinit(cell);
       ke = 0;
@@ -168,7 +172,7 @@ int main(int argc, char** argv) {
   }
   phases.done("assembly (finest)");
   {
-    FEValues<dim> values(fe, quadrature, update_gradients | update_JxW_values);
+    FEValues<dim> values(mapping, fe, quadrature, update_gradients | update_JxW_values);
     for (const auto& cell : dof.mg_cell_iterators()) {
       values.reinit(cell);
       ke = 0;
@@ -209,23 +213,56 @@ int main(int argc, char** argv) {
   cg.solve(A, u, b, preconditioner);
   constraints.distribute(u);
   phases.done("CG solve");
+  if (!output.empty()) {
+    DataOut<dim> data_out;
+    DataOutBase::VtkFlags flags;
+    flags.write_higher_order_cells = degree > 1;
+    data_out.set_flags(flags);
+    data_out.attach_dof_handler(dof);
+    data_out.add_data_vector(u, "u");
+    data_out.build_patches(mapping, degree, DataOut<dim>::curved_inner_cells);
+    std::ofstream file(output);
+    data_out.write_vtu(file);
+    if (!file) {
+      std::fprintf(stderr, "cannot write %s\n", output.c_str());
+      return 1;
+    }
+    phases.done("output (VTU)");
+  }
   phases.total("total");
 
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const double peak = static_cast<double>(usage.ru_maxrss) * 1024.0;
   std::printf(
-      "deal.II %s: %s ball, %u refinements, %u levels, %u cells, %u DOFs, %u CG its; peak RSS %.0f MB "
-      "(%.0f bytes/DOF); max u %.6e\n",
-      DEAL_II_PACKAGE_VERSION, ball.c_str(), refinements, levels, tria.n_active_cells(),
+      "deal.II %s: %dD Q%u, %s ball, %u refinements, %u levels, %u cells, %u DOFs, %u CG its; peak RSS %.0f "
+      "MB (%.0f bytes/DOF); max u %.6e\n",
+      DEAL_II_PACKAGE_VERSION, dim, degree, dim == 2 ? "plain" : ball.c_str(), refinements, levels, tria.n_active_cells(),
       static_cast<unsigned int>(dof.n_dofs()), control.last_step(), peak / 1048576.0,
       peak / static_cast<double>(dof.n_dofs()), u.linfty_norm());
   Vector<double> cell_errors(tria.n_active_cells());
-  const ExactSolution exact;
-  VectorTools::integrate_difference(dof, u, exact, cell_errors, QGauss<dim>(3), VectorTools::L2_norm);
+  const ExactSolution<dim> exact;
+  const QGauss<dim> error_quadrature(degree + 2);
+  VectorTools::integrate_difference(mapping, dof, u, exact, cell_errors, error_quadrature, VectorTools::L2_norm);
   const double l2 = VectorTools::compute_global_error(tria, cell_errors, VectorTools::L2_norm);
-  VectorTools::integrate_difference(dof, u, exact, cell_errors, QGauss<dim>(3), VectorTools::H1_seminorm);
+  VectorTools::integrate_difference(mapping, dof, u, exact, cell_errors, error_quadrature,
+                                    VectorTools::H1_seminorm);
   const double h1 = VectorTools::compute_global_error(tria, cell_errors, VectorTools::H1_seminorm);
-  std::printf("L2 error %.4e, H1-seminorm error %.4e against (1 - |x|^2)/6 (untimed)\n", l2, h1);
+  std::printf("L2 error %.4e, H1-seminorm error %.4e against (1 - |x|^2)/(2 dim) (untimed)\n", l2, h1);
   return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  const unsigned int refinements = argc > 1 ? static_cast<unsigned int>(std::atoi(argv[1])) : 5;
+  const std::string ball = argc > 2 ? argv[2] : "balanced";
+  const int dim = argc > 3 ? std::atoi(argv[3]) : 3;
+  const int degree = argc > 4 ? std::atoi(argv[4]) : 1;
+  const std::string output = argc > 5 ? argv[5] : "";
+  if ((dim != 2 && dim != 3) || degree < 1 || degree > 4) {
+    std::fprintf(stderr, "usage: dealii_poisson_ball [refinements] [balanced|plain] [dim 2|3] [degree 1..4] [output.vtu]\n");
+    return 2;
+  }
+  return dim == 2 ? run<2>(refinements, ball, static_cast<unsigned int>(degree), output)
+                  : run<3>(refinements, ball, static_cast<unsigned int>(degree), output);
 }

@@ -152,6 +152,37 @@ TEST(MapInterpolant, MakeMapInterpolatesOnRequestAndChecksTheExactMap) {
   EXPECT_THROW(make_map(spec), Error);
 }
 
+TEST(MapInterpolant, AutoInterpolatesOnlyWhereTheRunIsLargeEnough) {
+  MapSpec spec = load_example("square_to_gear");  // 7 steps of 40 vertices: 280 vertex terms per point
+  spec.interpolation_tolerance = 1e-8;            // a quick build
+  const auto interpolated = [&spec] {
+    return make_map(spec)->describe().find("interpolated") != std::string::npos;
+  };
+  ASSERT_EQ(spec.evaluation, "auto");
+  spec.evaluation_points = 0;  // unknown (warpfem map, warp-image): exact
+  EXPECT_FALSE(interpolated());
+  spec.evaluation_points = 1e5;  // the build would cost more than it saves
+  EXPECT_FALSE(interpolated());
+  spec.evaluation_points = 1e7;
+  EXPECT_TRUE(interpolated());
+  spec.evaluation = "exact";
+  EXPECT_FALSE(interpolated());
+
+  // The run's config reader estimates the finest level's quadrature points:
+  // 4 times more per refinement, 3 per triangle for P1 (degree 2) and 12 for P2 (degree 6).
+  nlohmann::json j =
+      io::ConfigNode::parse_file(std::string(WARPFEM_SOURCE_DIR) + "/examples/poisson_gear_curved.json");
+  const auto points = [&j](int order, int refinements) {
+    j["problem"]["order"] = order;
+    j["mesh"]["refinements"] = refinements;
+    return io::parse_run_config(j, "gear.json").map.evaluation_points;
+  };
+  const double p1 = points(1, 2);
+  EXPECT_GT(p1, 0);
+  EXPECT_DOUBLE_EQ(points(1, 3), 4 * p1);
+  EXPECT_DOUBLE_EQ(points(2, 2), 4 * p1);
+}
+
 TEST(MapInterpolant, PoissonOnTheGearIsUnchanged) {
   // u = sin(2x) cos(y) + x² on the gear, P2, three levels: errors and CG iterations.
   auto run = [](const std::string& evaluation) {
