@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "apps/external_program.hpp"
+#include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/petsc/linear_solve.hpp"
@@ -17,7 +18,6 @@
 #include "fem/physics/poisson.hpp"
 #include "fem/postprocessing/reference_error.hpp"
 #include "io/atomic_file.hpp"
-#include "io/collective_error.hpp"
 #include "io/expression.hpp"
 #include "io/png_image.hpp"
 #include "mapping/make_map.hpp"
@@ -283,7 +283,7 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   // Rank 0 writes the files; a failure there ends the study on every rank.
-  io::run_collectively(comm, [&] {
+  warpfem::run_collectively(comm, [&] {
     if (rank != 0) return;
     const std::string dir = cfg.output.directory;
     io::prepare_output_directory(dir);

@@ -3,7 +3,7 @@
 // every rank, is printed once, and the exit code is non-zero.
 //
 // Under MPI an error may be found by every rank at once (a config error, or a write
-// failure made collective by io::run_collectively) or by one rank alone while the others
+// failure made collective by warpfem::run_collectively) or by one rank alone while the others
 // wait for it in a collective call. The two cannot be told apart where the exception is
 // caught, so the ranks that fail meet on a communicator of their own with a non-blocking
 // barrier: if every rank arrives within a grace period, rank 0 prints the message once and

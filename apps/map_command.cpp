@@ -11,6 +11,7 @@
 #include "apps/commands.hpp"
 #include "apps/points_csv.hpp"
 #include "apps/polyhedron_map.hpp"
+#include "core/collective_error.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -19,7 +20,6 @@
 #include "fem/dofs/dof_distribution.hpp"
 #include "fem/postprocessing/output_mesh.hpp"
 #include "io/atomic_file.hpp"
-#include "io/collective_error.hpp"
 #include "io/polyhedron_config.hpp"
 #include "io/run_config.hpp"
 #include "io/vtk_writer.hpp"
@@ -179,7 +179,7 @@ int map_command(const std::vector<std::string>& args) {
     csv << "x,y,fx,fy,det_J\n" << std::setprecision(17);
     for (Index p = 0; p < x0.rows(); ++p)
       csv << x0(p, 0) << ',' << x0(p, 1) << ',' << x(p, 0) << ',' << x(p, 1) << ',' << det(p) << '\n';
-    io::run_collectively(MPI_COMM_WORLD, [&] {
+    warpfem::run_collectively(MPI_COMM_WORLD, [&] {
       if (Environment::rank() == 0) io::write_text_atomically(points_out, csv.str());
     });
     log::info("mapped ", x0.rows(), " points: ", points_out);

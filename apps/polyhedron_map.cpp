@@ -8,13 +8,13 @@
 
 #include "apps/map_slice_picture.hpp"
 #include "apps/points_csv.hpp"
+#include "core/collective_error.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/mesh/tetgen_mesher.hpp"
 #include "core/timer.hpp"
 #include "io/atomic_file.hpp"
-#include "io/collective_error.hpp"
 #include "io/png_image.hpp"
 #include "io/polyhedron_config.hpp"
 #include "io/run_config.hpp"
@@ -205,7 +205,7 @@ int polyhedron_map_command(const nlohmann::json& json, const std::string& config
     picture = map_slice_picture(*map, source, *spec.target, slices, slice_pixels);
 
   if (!points_in.empty()) {
-    io::run_collectively(MPI_COMM_WORLD, [&] {
+    warpfem::run_collectively(MPI_COMM_WORLD, [&] {
       if (Environment::rank() == 0) io::write_text_atomically(points_out, points_csv);
     });
     log::info("mapped ", points_count, " points: ", points_out);
@@ -217,7 +217,7 @@ int polyhedron_map_command(const nlohmann::json& json, const std::string& config
   }
   if (picture.width > 0) {
     const std::string file = directory + "/" + name + "_slices.png";
-    io::run_collectively(MPI_COMM_WORLD, [&] {
+    warpfem::run_collectively(MPI_COMM_WORLD, [&] {
       if (Environment::rank() == 0) {
         io::prepare_output_directory(directory);
         io::write_png(file, picture);

@@ -1,8 +1,8 @@
 #include "apps/run_output.hpp"
 
+#include "core/collective_error.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
-#include "io/collective_error.hpp"
 
 namespace warpfem::apps {
 
@@ -16,7 +16,7 @@ std::string RunOutput<dim>::write(const std::string& name, Vec state) {
   Stopwatch watch;
   if (!mesh_) {
     // Local work that can fail on one rank (sizes, tables) before the collective log below.
-    io::run_collectively(comm_, [&] {
+    warpfem::run_collectively(comm_, [&] {
       mesh_ = fem::make_output_mesh(problem_.mesh(), problem_.nodes(), map_, settings_.order);
     });
     fem::log_untangling(comm_, *mesh_);

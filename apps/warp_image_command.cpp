@@ -5,11 +5,11 @@
 #include "apps/command_line.hpp"
 #include "apps/commands.hpp"
 #include "apps/image_warp.hpp"
+#include "core/collective_error.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/timer.hpp"
-#include "io/collective_error.hpp"
 #include "io/png_image.hpp"
 #include "io/run_config.hpp"
 #include "mapping/make_map.hpp"
@@ -93,7 +93,7 @@ int warp_image_command(const std::vector<std::string>& args) {
   log::info("warped ", r.pixels, " pixels by inverse mapping (", format_seconds(watch.seconds()),
             "), max |f(x) - y| = ", r.max_residual);
   if (r.unconverged > 0) log::warning(r.unconverged, " pixels did not converge to the tolerance");
-  io::run_collectively(MPI_COMM_WORLD, [&] {
+  warpfem::run_collectively(MPI_COMM_WORLD, [&] {
     if (Environment::rank() == 0) io::write_png(output, out);
   });
   log::info("wrote ", output);

@@ -10,8 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/collective_error.hpp"
 #include "io/atomic_file.hpp"
-#include "io/collective_error.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;

@@ -21,10 +21,10 @@
 #include <limits>
 #include <type_traits>
 
+#include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/prefault.hpp"
 #include "io/atomic_file.hpp"
-#include "io/collective_error.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;

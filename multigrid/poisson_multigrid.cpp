@@ -2,6 +2,9 @@
 
 #include <time.h>
 
+#include <optional>
+
+#include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/petsc/check.hpp"
@@ -31,9 +34,11 @@ fem::MeshHierarchy<dim> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<dim> coarse
   MPI_Comm_rank(comm, &partition.rank);
   partition.partial_levels = partial_levels;
   partition.min_cells_per_part = base_cells_per_part;
-  fem::MeshHierarchy<dim> h(std::move(coarse), refinements, partition);
+  // Each rank refines its own levels: a failure there must end every rank.
+  std::optional<fem::MeshHierarchy<dim>> h;
+  run_collectively(comm, [&] { h.emplace(std::move(coarse), refinements, partition); });
   seconds = watch.seconds();
-  return h;
+  return std::move(*h);
 }
 }  // namespace
 

@@ -9,6 +9,7 @@
 #include "core/mesh/uniform_refinement.hpp"
 #include "core/petsc/check.hpp"
 #include "fem/physics/poisson.hpp"
+#include "fem/postprocessing/reference_error.hpp"
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
@@ -127,4 +128,38 @@ TEST(MpiPoisson, LevelsBuiltAroundEachRankGiveTheSerialRun) {
   EXPECT_EQ(parallel.h, serial.h);
   EXPECT_NEAR(parallel.area, serial.area, 1e-12);
   EXPECT_EQ(parallel.output_file, "output/test_mpi/partial.pvtu");
+}
+
+// Errors against a reference solution locate every quadrature point of one
+// problem in the other's mesh, rank by rank. A point outside the reference
+// mesh is an error on every rank: here the reference square's corner (1, 1)
+// is moved inward, so only the rank that owns the cells at that corner finds
+// points outside, and without the agreement the other rank would wait forever
+// in the final sum.
+TEST(MpiPoisson, APointOutsideTheReferenceMeshOnOneRankEndsEveryRank) {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
+  const Polygon square = Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, "square");
+  const warpfem::Mesh<2> mesh = structured_mesh(square, 32, 32, CellType::triangle);
+  warpfem::Mesh<2> shrunk = structured_mesh(square, 16, 16, CellType::triangle);
+  for (Index v = 0; v < shrunk.num_vertices(); ++v)  // its cells stay positive for either diagonal
+    if (shrunk.vertices(v, 0) > 1 - 1e-12 && shrunk.vertices(v, 1) > 1 - 1e-12)
+      shrunk.vertices.row(v) = Point<2>(0.97, 0.97).transpose();
+  const auto map = mapping::make_map(mapping::MapSpec{});  // identity
+  fem::PoissonData<2> data;
+  data.source = [](const Point<2>&, double) { return 1.0; };
+  data.dirichlet.push_back({.edges = {0, 1, 2, 3}, .value = [](const Point<2>&, double) { return 0.0; }});
+  fem::PoissonProblem<2> coarse(MPI_COMM_WORLD, mesh, map, 1, 2, data);
+  fem::PoissonProblem<2> reference(MPI_COMM_WORLD, shrunk, map, 1, 2, data);
+  for (fem::PoissonProblem<2>* p : {&coarse, &reference}) {
+    p->assemble();
+    p->solve({});
+  }
+  try {
+    (void)fem::error_against_reference(coarse, reference);
+    ADD_FAILURE() << "a point outside the reference mesh was not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.message()).find("outside the mesh"), std::string::npos) << e.message();
+  }
 }

@@ -1,11 +1,11 @@
-#include "io/collective_error.hpp"
+#include "core/collective_error.hpp"
 
 #include <array>
 #include <string>
 
 #include "core/error.hpp"
 
-namespace warpfem::io {
+namespace warpfem {
 namespace {
 
 void broadcast_string(MPI_Comm comm, int root, std::string& s) {
@@ -42,4 +42,4 @@ void run_collectively(MPI_Comm comm, const std::function<void()>& work) {
   throw Error(failure[0], {.file = failure[1], .key_path = failure[2], .hint = failure[3]});
 }
 
-}  // namespace warpfem::io
+}  // namespace warpfem

@@ -8,7 +8,7 @@
 
 #include <functional>
 
-namespace warpfem::io {
+namespace warpfem {
 
 /// Runs `work` on this rank (it may do nothing on most ranks), then agrees with every rank
 /// of `comm` on the outcome. If `work` threw on any rank, every rank throws the same
@@ -16,4 +16,4 @@ namespace warpfem::io {
 /// their what()). Collective: every rank of `comm` must call it.
 void run_collectively(MPI_Comm comm, const std::function<void()>& work);
 
-}  // namespace warpfem::io
+}  // namespace warpfem
