@@ -17,7 +17,7 @@ ParameterTable<ElasticitySpec> make_problem() {
             "and hexahedra")
       .with_type("1 or 2");
   t.integer("quadrature_degree", &S::quadrature_degree, 0, 30, "exactness degree of the cell quadrature")
-      .with_default("0 = 2 for order 1, 6 for order 2");
+      .with_default("0 = 2·order");
   t.other("material", "object", "*required*", "see `problem.material`");
   t.other("gravity", "`[gx, gy]` (3D: `[gx, gy, gz]`)", "zero",
           "acceleration g; adds the body force ρ g per unit reference area (volume in 3D)");

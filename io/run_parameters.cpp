@@ -28,12 +28,12 @@ ParameterTable<PoissonSpec> make_poisson() {
           "−Δu = g on Ω1; elasticity has its own keys: [elasticity.md](elasticity.md)");
   t.integer("order", &PoissonSpec::order, 1, 2, "Lagrange element order").with_type("1 or 2");
   t.integer("quadrature_degree", &PoissonSpec::quadrature_degree, 0, 30,
-            "exactness degree of the cell quadrature. Order 1 takes 3 points per triangle, 4 per "
-            "tetrahedron, 2 × 2 (× 2) Gauss points on quadrilaterals (hexahedra): on warped cells the same "
-            "errors and rates as degree 4 with half the map evaluations; order 2 over-integrates by two "
-            "degrees, because f is not polynomial. `warpfem study` takes 2·order + 2 for both orders (it "
-            "compares areas and norms across discretizations)")
-      .with_default("0 = 2 for order 1, 6 for order 2");
+            "exactness degree of the cell quadrature. 2·order is exact for stiffness and mass on straight "
+            "cells (P1: 3 points per triangle, 4 per tetrahedron, 2 × 2 (× 2) Gauss points on "
+            "quadrilaterals (hexahedra); P2: 6 per triangle) and keeps the optimal rates on warped cells "
+            "with half the map evaluations of 2·order + 2. `warpfem study` takes 2·order + 2 (it compares "
+            "areas and norms across discretizations)")
+      .with_default("0 = 2·order");
   t.choice("geometry", &PoissonSpec::geometry, {"cached", "streamed"},
            "`WarpedGeometry` storage of the finest level: cached keeps x, J⁻ᵀ, w det J at every quadrature "
            "point (56 bytes each, the largest array of the problem); streamed keeps nothing and evaluates "

@@ -38,9 +38,11 @@ QuadratureRule<1> gauss_jacobi(int npoints, int alpha);
 template <int dim>
 QuadratureRule<dim> cell_quadrature(CellType type, int degree);
 
-/// 2 for order 1 (3 points per triangle, 4 per tetrahedron, 2^dim Gauss points
-/// on quadrilaterals and hexahedra): on warped cells it gives the same errors
-/// and rates as degree 4 at half the map evaluations; 2*order + 2 above.
+/// 2*order (P1: 3 points per triangle, 4 per tetrahedron, 2^dim Gauss points on
+/// quadrilaterals and hexahedra; P2: 6 per triangle): exact for the stiffness
+/// and mass of straight cells, and on warped cells the same rates as 2*order + 2
+/// at half the map evaluations (on straight cells, exactness to degree
+/// 2*order - 1 already keeps the optimal L2 and H1 rates: Ciarlet–Raviart).
 int default_quadrature_degree(int order);
 
 /// 2*order + 2: exact for the mass matrix plus two extra degrees for the
