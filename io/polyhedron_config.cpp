@@ -196,6 +196,7 @@ mapping::PolyhedronMapSpec parse_polyhedron_map_spec(const ConfigNode& node) {
     throw node.error("target", "the identity map takes no target polyhedron",
                      "remove \"target\" or set \"type\": \"composite_mean_value\"");
   }
+  spec.vertex_path = node.get_choice("vertex_path", spec.vertex_path, {"linear", "intrinsic"});
   spec.partition = node.get_choice("partition", spec.partition, {"adaptive", "uniform", "explicit"});
   spec.steps = static_cast<int>(node.get_int("steps", spec.steps, 1, 100000));
   spec.times = node.get_doubles("times");

@@ -111,22 +111,39 @@ std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const Polyhed
   const Polyhedron& source = *spec.source;
   const Polyhedron& target = *spec.target;
   with_spec_context(spec, "map.target", [&] { require_same_triangulation(source, target); });
+  const VertexPathType path =
+      with_spec_context(spec, "map.vertex_path", [&] { return parse_vertex_path(spec.vertex_path); });
+  // A degenerate intermediate cage is the path's fault: name the field and the other path.
+  const auto degenerate_cage = [&](const Error& e) {
+    const bool linear = path == VertexPathType::linear;
+    return Error(
+        "the " + to_string(path) + " vertex path passes through a degenerate cage: " + e.message(),
+        {.file = spec.origin,
+         .key_path = "map.vertex_path",
+         .hint = linear ? "use \"vertex_path\": \"intrinsic\" (it follows rotations without "
+                          "shrinking the cage), deform the target less, or map in several stages "
+                          "through intermediate targets"
+                        : "some triangles turn by nearly a half turn relative to the whole cage; try "
+                          "\"vertex_path\": \"linear\", or map in several stages through "
+                          "intermediate targets"});
+  };
+  const auto build = [&](const char* field, const auto& make) {
+    return with_spec_context(spec, field, [&] {
+      try {
+        return make();
+      } catch (const Error& e) {
+        if (e.message().rfind("intermediate polyhedron", 0) != 0) throw;
+        throw degenerate_cage(e);
+      }
+    });
+  };
   if (spec.partition == "adaptive") {
     PolyhedronPartitionOptions o;
     o.epsilon = spec.min_det;
     o.max_halvings = spec.max_halvings;
-    return with_spec_context(spec, "map.partition", [&] {
-      try {
-        return std::make_shared<const PolyhedronCompositeMap>(build_polyhedron_composite(source, target, o));
-      } catch (const Error& e) {
-        if (e.message().rfind("intermediate polyhedron", 0) != 0) throw;
-        // The cage itself is fine: the straight vertex path from source to target crushes it.
-        throw Error("the linear vertex path passes through a degenerate cage: " + e.message(),
-                    {.file = "",
-                     .key_path = "",
-                     .hint = "deform the target less (e.g. a smaller twist), or map in several stages "
-                             "through intermediate targets"});
-      }
+    o.vertex_path = path;
+    return build("map.partition", [&] {
+      return std::make_shared<const PolyhedronCompositeMap>(build_polyhedron_composite(source, target, o));
     });
   }
   std::vector<Real> times = spec.times;
@@ -134,9 +151,8 @@ std::shared_ptr<const PolyhedronCompositeMap> build_polyhedron_map(const Polyhed
     times.clear();
     for (int k = 0; k <= spec.steps; ++k) times.push_back(k == spec.steps ? 1.0 : Real(k) / spec.steps);
   }
-  return with_spec_context(spec, spec.partition == "uniform" ? "map.steps" : "map.times", [&] {
-    return std::make_shared<const PolyhedronCompositeMap>(source, target, times);
-  });
+  return build(spec.partition == "uniform" ? "map.steps" : "map.times",
+               [&] { return std::make_shared<const PolyhedronCompositeMap>(source, target, times, path); });
 }
 
 void certify_into(const Map<2>& map, const MapSpec& spec, MapCheck& c) {
@@ -186,9 +202,14 @@ MapPtr<3> make_map(const PolyhedronMapSpec& spec, PolyhedronMapCheck* check) {
     log::info("harmonic maps built in ", format_seconds(built), ", checked in ",
               format_seconds(watch.seconds() - built));
   } else {
+    Stopwatch watch;
     const auto composite = build_polyhedron_map(spec);
+    const double built = watch.seconds();
     map = composite;
     c = check_polyhedron_map(*composite, *spec.source, *spec.target, spec.sample_per_feature);
+    log::info("composite mean value map (", to_string(composite->path().type()), " vertex path, ",
+              composite->steps(), " steps) built in ", format_seconds(built), ", checked in ",
+              format_seconds(watch.seconds() - built));
   }
   if (!c.passed()) {
     std::ostringstream why;

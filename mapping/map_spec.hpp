@@ -52,6 +52,7 @@ struct PolyhedronMapSpec {
   std::string type = "identity";  ///< identity | composite_mean_value | composite_harmonic
   std::optional<Polyhedron> source;
   std::optional<Polyhedron> target;    ///< same triangulation as the source
+  std::string vertex_path = "linear";  ///< linear | intrinsic (mapping/polyhedron_vertex_path.hpp)
   std::string partition = "adaptive";  ///< adaptive | uniform | explicit
   int steps = 1;                       ///< uniform: number of steps m
   std::vector<double> times;           ///< explicit: 0 = t0 < t1 < ... < tm = 1

@@ -24,22 +24,25 @@ std::string number_text(double v) {
   return buffer;
 }
 
+/// "intermediate polyhedron at t = …" (make_map recognises a degenerate cage by this prefix).
+std::string cage_name(Real t, VertexPathType path) {
+  return "intermediate polyhedron at t = " + number_text(t) + " (" + to_string(path) + " vertex path)";
+}
+
 }  // namespace
 
 PolyhedronCompositeMap::PolyhedronCompositeMap(const Polyhedron& source, const Polyhedron& target,
-                                               std::vector<Real> times)
-    : v0_(source.vertices()),
-      v1_(target.vertices()),
-      triangles_(source.triangles()),
-      times_(std::move(times)) {
-  require_same_triangulation(source, target);
+                                               std::vector<Real> times, VertexPathType path)
+    : PolyhedronCompositeMap(PolyhedronVertexPath(source, target, path), std::move(times)) {}
+
+PolyhedronCompositeMap::PolyhedronCompositeMap(PolyhedronVertexPath path, std::vector<Real> times)
+    : path_(std::move(path)), times_(std::move(times)) {
   if (times_.size() < 2 || times_.front() != 0 || times_.back() != 1)
     throw Error("composite map: the partition must run from 0 to 1 with at least one step");
   for (std::size_t k = 0; k + 1 < times_.size(); ++k) {
     if (!(times_[k] < times_[k + 1]))
       throw Error("composite map: the partition is not strictly increasing at t = " + number_text(times_[k]));
-    const Polyhedron cage(vertices_at(times_[k]), triangles_,
-                          "intermediate polyhedron at t = " + number_text(times_[k]));
+    const Polyhedron cage(vertices_at(times_[k]), path_.triangles(), cage_name(times_[k], path_.type()));
     if (k > 0) cage.validate();
     cages_.emplace_back(cage);
     const auto next = vertices_at(times_[k + 1]);
@@ -47,12 +50,6 @@ PolyhedronCompositeMap::PolyhedronCompositeMap(const Polyhedron& source, const P
     for (std::size_t i = 0; i < next.size(); ++i) V.row(static_cast<Index>(i)) = next[i].transpose();
     targets_.push_back(std::move(V));
   }
-}
-
-std::vector<Point<3>> PolyhedronCompositeMap::vertices_at(Real t) const {
-  std::vector<Point<3>> v(v0_.size());
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = t == 1 ? v1_[i] : (1 - t) * v0_[i] + t * v1_[i];
-  return v;
 }
 
 void PolyhedronCompositeMap::run(const Points<3>& x0, Points<3>* x, Jacobians<3>* J,
@@ -114,15 +111,15 @@ void PolyhedronCompositeMap::step_determinants(const Points<3>& x0, MatrixX& det
 PolyhedronCompositeMap PolyhedronCompositeMap::backward() const {
   std::vector<Real> reversed;
   for (auto it = times_.rbegin(); it != times_.rend(); ++it) reversed.push_back(*it == 1 ? 0 : 1 - *it);
-  return PolyhedronCompositeMap(Polyhedron(v1_, triangles_, "target"), Polyhedron(v0_, triangles_, "source"),
-                                std::move(reversed));
+  return PolyhedronCompositeMap(path_.reversed(), std::move(reversed));
 }
 
 void PolyhedronCompositeMap::inverse(const Points<3>& y, Points<3>& x, VectorX& residual, Real tolerance,
                                      int max_iterations) const {
   backward().eval(y, x);
-  Point<3> lo = v0_.front(), hi = v0_.front();
-  for (const auto& v : v0_) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const std::vector<Point<3>>& v0 = path_.source();
+  Point<3> lo = v0.front(), hi = v0.front();
+  for (const auto& v : v0) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   const Real goal = tolerance * (hi - lo).norm();
   residual.resize(y.rows());
   // Newton on the points not yet converged (the batch shrinks as they converge).
@@ -149,7 +146,8 @@ void PolyhedronCompositeMap::inverse(const Points<3>& y, Points<3>& x, VectorX& 
 }
 
 std::string PolyhedronCompositeMap::describe() const {
-  return "composite mean value (polyhedra, linear vertex path), " + std::to_string(steps()) + " steps";
+  return "composite mean value (polyhedra, " + to_string(path_.type()) + " vertex path), " +
+         std::to_string(steps()) + " steps";
 }
 
 Points<3> polyhedron_check_sample(const Polyhedron& P, int per_feature) {
@@ -203,7 +201,7 @@ Points<3> polyhedron_check_sample(const Polyhedron& P, int per_feature) {
 
 PolyhedronCompositeMap build_polyhedron_composite(const Polyhedron& source, const Polyhedron& target,
                                                   const PolyhedronPartitionOptions& options) {
-  require_same_triangulation(source, target);
+  const PolyhedronVertexPath path(source, target, options.vertex_path);
   // Intervals still to check, with their halving depth; accepted breakpoints.
   std::vector<std::pair<std::pair<Real, Real>, int>> todo = {{{0.0, 1.0}, 0}};
   std::vector<Real> times = {0.0, 1.0};
@@ -212,11 +210,7 @@ PolyhedronCompositeMap build_polyhedron_composite(const Polyhedron& source, cons
     todo.pop_back();
     const auto [ta, tb] = interval;
     const auto at = [&](Real t) {
-      std::vector<Point<3>> v(static_cast<std::size_t>(source.vertex_count()));
-      for (Index i = 0; i < source.vertex_count(); ++i)
-        v[static_cast<std::size_t>(i)] =
-            t == 1 ? target.vertex(i) : (1 - t) * source.vertex(i) + t * target.vertex(i);
-      return Polyhedron(std::move(v), source.triangles(), "intermediate polyhedron at t = " + number_text(t));
+      return Polyhedron(path.vertices_at(t), source.triangles(), cage_name(t, options.vertex_path));
     };
     const Polyhedron from = at(ta), to = at(tb);
     from.validate();
@@ -242,7 +236,7 @@ PolyhedronCompositeMap build_polyhedron_composite(const Polyhedron& source, cons
     todo.push_back({{mid, tb}, depth + 1});
   }
   std::sort(times.begin(), times.end());
-  return PolyhedronCompositeMap(source, target, std::move(times));
+  return PolyhedronCompositeMap(path, std::move(times));
 }
 
 }  // namespace warpfem::mapping

@@ -1,6 +1,7 @@
 #pragma once
-// Composite mean value map between polyhedra (thesis §4.4.2): for the linear
-// vertex path v_i(t) = (1 − t) v_i⁰ + t v_i¹ and a partition 0 = t_0 < … < t_m = 1,
+// Composite mean value map between polyhedra (thesis §4.4.2): for a vertex path
+// v_i(t) (linear or intrinsic, mapping/polyhedron_vertex_path.hpp) and a partition
+// 0 = t_0 < … < t_m = 1,
 //   f = f_{m−1} ∘ … ∘ f_0,   f_k(x) = Σ_i φ_i(x; Ω_{t_k}) v_i(t_{k+1}),
 // with φ the mean value coordinates of the intermediate polyhedron Ω_{t_k};
 // J_f is the product of the step Jacobians J_k = Σ_i v_i(t_{k+1}) ∇φ_i^T.
@@ -17,14 +18,17 @@
 #include "core/polyhedron.hpp"
 #include "mapping/map.hpp"
 #include "mapping/polyhedron_mean_value_coordinates.hpp"
+#include "mapping/polyhedron_vertex_path.hpp"
 
 namespace warpfem::mapping {
 
 class PolyhedronCompositeMap final : public Map<3> {
  public:
   /// Steps between the intermediate polyhedra at `times` (strictly increasing
-  /// from 0 to 1); source and target must share the triangulation.
-  PolyhedronCompositeMap(const Polyhedron& source, const Polyhedron& target, std::vector<Real> times);
+  /// from 0 to 1) of the given vertex path; source and target must share the triangulation.
+  PolyhedronCompositeMap(const Polyhedron& source, const Polyhedron& target, std::vector<Real> times,
+                         VertexPathType path = VertexPathType::linear);
+  PolyhedronCompositeMap(PolyhedronVertexPath path, std::vector<Real> times);
 
   void eval(const Points<3>& x0, Points<3>& x) const override;
   void jacobian(const Points<3>& x0, Jacobians<3>& J) const override;
@@ -37,7 +41,8 @@ class PolyhedronCompositeMap final : public Map<3> {
   Index steps() const { return static_cast<Index>(times_.size()) - 1; }
   const std::vector<Real>& times() const { return times_; }
   /// The intermediate polyhedron's vertices at time t.
-  std::vector<Point<3>> vertices_at(Real t) const;
+  std::vector<Point<3>> vertices_at(Real t) const { return path_.vertices_at(t); }
+  const PolyhedronVertexPath& path() const { return path_; }
 
   /// The backward map g: Ω1 → Ω0 (thesis §4.3): the same intermediate
   /// polyhedra in reverse, each step with the coordinates of Ω_{t_{k+1}};
@@ -52,8 +57,7 @@ class PolyhedronCompositeMap final : public Map<3> {
 
  private:
   void run(const Points<3>& x0, Points<3>* x, Jacobians<3>* J, MatrixX* det_steps) const;
-  std::vector<Point<3>> v0_, v1_;
-  std::vector<Polyhedron::Triangle> triangles_;
+  PolyhedronVertexPath path_;
   std::vector<Real> times_;
   std::vector<PolyhedronArrays> cages_;  ///< Ω_{t_k}, k < m
   std::vector<MatrixX> targets_;         ///< vertices of Ω_{t_{k+1}} (n x 3)
@@ -67,6 +71,7 @@ Points<3> polyhedron_check_sample(const Polyhedron& polyhedron, int per_feature 
 struct PolyhedronPartitionOptions {
   Real epsilon = 1e-8;   ///< required det J_k (relative to the volume ratio of the step)
   int max_halvings = 8;  ///< per interval; the finest step is 2^-max_halvings
+  VertexPathType vertex_path = VertexPathType::linear;
 };
 
 /// The composite map with an adaptive partition; throws warpfem::Error naming

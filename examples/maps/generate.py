@@ -129,6 +129,16 @@ with open("cube_to_twisted.json", "w") as f:
                                    "slices": [0.1, 0.5, 0.9]}},
                        indent=2) + "\n")
 
+# Half a turn (and the bend): the linear vertex path crushes the top face at t = 1/2 and is
+# refused; the intrinsic path turns the triangles instead.
+write_off("cube_half_turn.off", [twist_and_bend(p, math.pi) for p in cube], cube_tris)
+with open("cube_to_half_turn.json", "w") as f:
+    f.write(json.dumps({"map": {"type": "composite_mean_value", "source": {"file": "cube_cage.off"},
+                                "target": {"file": "cube_half_turn.off"}, "vertex_path": "intrinsic",
+                                "partition": "adaptive", "max_halvings": 8},
+                        "output": {"directory": "output/cube_to_half_turn", "grid_max_volume": 1e-3}},
+                       indent=2) + "\n")
+
 # The composite harmonic map of the same cube to the twisted and bent one folds (P1 harmonic maps
 # of volumes need not be bijective; warpfem refuses it). A milder twist (one eighth of a turn, a
 # smaller bend) is mapped harmonically.

@@ -1,6 +1,8 @@
-// Composite mean value maps on three polyhedron pairs of different kinds: the
-// unit cube onto a non-convex dented cube, onto a cube twisted by 3/8 of a turn,
-// and (218 vertices) onto a rounded, bumpy cube. Checked without the map's own
+// Composite mean value maps on polyhedron pairs of different kinds: the unit cube
+// onto a non-convex dented cube, onto a cube twisted by 3/8 of a turn, (218
+// vertices) onto a rounded, bumpy cube, and with the intrinsic vertex path onto a
+// half-turn twist and onto the 3/8-turn twist turned by 144° about a horizontal axis
+// (both crush or self-intersect the linear path's cage half-way). Checked without the map's own
 // Jacobian: tiny tetrahedra at probe points clustered at every vertex, edge and
 // face are mapped and must keep their orientation; images lie inside the target
 // (winding number); f(f⁻¹(y)) = y to 1e-10.
@@ -23,6 +25,7 @@ namespace {
 struct Pair {
   std::string name;
   Polyhedron source, target;
+  VertexPathType path = VertexPathType::linear;
 };
 
 /// The cube with the inner vertices of its top face pushed down by `depth`: not convex.
@@ -52,11 +55,25 @@ Polyhedron rounded_bumpy(const Polyhedron& cube) {
   return Polyhedron::checked(v, cube.triangles(), "rounded bumpy cube");
 }
 
+/// The cage turned by `angle` about the x axis through its centre.
+Polyhedron turned(const Polyhedron& P, Real angle) {
+  const Matrix<3> Q = Eigen::AngleAxis<Real>(angle, Point<3>::UnitX()).toRotationMatrix();
+  const Point<3> c(0.5, 0.5, 0.5);
+  std::vector<Point<3>> v;
+  for (const Point<3>& p : P.vertices()) v.push_back(c + Q * (p - c));
+  return Polyhedron::checked(v, P.triangles(), "turned " + P.name());
+}
+
 std::vector<Pair> pairs() {
   const Polyhedron cube3 = test::subdivided_cube(3), cube6 = test::subdivided_cube(6);
-  return {{"convex onto non-convex", cube3, dented(cube3, 0.45)},
-          {"large twist", cube3, test::twisted(cube3, 0.75 * std::numbers::pi)},
-          {"many vertices", cube6, rounded_bumpy(cube6)}};
+  return {
+      {"convex onto non-convex", cube3, dented(cube3, 0.45)},
+      {"large twist", cube3, test::twisted(cube3, 0.75 * std::numbers::pi)},
+      {"many vertices", cube6, rounded_bumpy(cube6)},
+      {"half turn, intrinsic path", cube3, test::twisted(cube3, std::numbers::pi), VertexPathType::intrinsic},
+      {"twist turned upside down, intrinsic path", cube3,
+       turned(test::twisted(cube3, 0.75 * std::numbers::pi), 0.8 * std::numbers::pi),
+       VertexPathType::intrinsic}};
 }
 
 class PolyhedronPairs : public ::testing::TestWithParam<int> {};
@@ -64,7 +81,8 @@ class PolyhedronPairs : public ::testing::TestWithParam<int> {};
 TEST_P(PolyhedronPairs, FoldFreeOnTinyTetrahedraImagesInsideAndInvertible) {
   const Pair pair = pairs()[static_cast<std::size_t>(GetParam())];
   SCOPED_TRACE(pair.name);
-  const PolyhedronCompositeMap f = build_polyhedron_composite(pair.source, pair.target);
+  const PolyhedronCompositeMap f =
+      build_polyhedron_composite(pair.source, pair.target, {.vertex_path = pair.path});
 
   // Probe points: clustered at every vertex, edge and face (several offsets), plus random ones.
   const Points<3> clustered = polyhedron_check_sample(pair.source, 6);
@@ -121,7 +139,7 @@ TEST_P(PolyhedronPairs, FoldFreeOnTinyTetrahedraImagesInsideAndInvertible) {
   EXPECT_LT((back - x0).rowwise().norm().maxCoeff(), 1e-8);
 }
 
-INSTANTIATE_TEST_SUITE_P(Pairs, PolyhedronPairs, ::testing::Values(0, 1, 2));
+INSTANTIATE_TEST_SUITE_P(Pairs, PolyhedronPairs, ::testing::Values(0, 1, 2, 3, 4));
 
 }  // namespace
 }  // namespace warpfem::mapping
