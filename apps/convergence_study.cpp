@@ -1,17 +1,21 @@
 #include "apps/convergence_study.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 #include "apps/external_program.hpp"
+#include "apps/study_target_mesh.hpp"
 #include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/petsc/linear_solve.hpp"
 #include "core/timer.hpp"
 #include "fem/assembly/integrate.hpp"
+#include "fem/dofs/dof_map.hpp"
 #include "fem/geometry/interpolated_map.hpp"
 #include "fem/hierarchy/mesh_factory.hpp"
 #include "fem/hierarchy/mesh_hierarchy.hpp"
@@ -34,11 +38,11 @@ StudySpec parse_study_spec(const io::ConfigNode& node) {
       throw node.error("discretizations", "expected a non-empty array, got " + io::json_excerpt(list));
     s.discretizations.clear();
     for (std::size_t i = 0; i < list.size(); ++i) {
-      if (!list[i].is_string() ||
-          (list[i] != "warped" && list[i] != "standard" && list[i] != "standard_recovered"))
+      if (!list[i].is_string() || (list[i] != "warped" && list[i] != "standard" &&
+                                   list[i] != "standard_recovered" && list[i] != "target_mesh"))
         throw node.error("discretizations/" + std::to_string(i),
                          "unknown discretization " + io::json_excerpt(list[i]),
-                         "use \"warped\", \"standard\" or \"standard_recovered\"");
+                         "use \"warped\", \"standard\", \"standard_recovered\" or \"target_mesh\"");
       s.discretizations.push_back(list[i].get<std::string>());
     }
   }
@@ -73,6 +77,15 @@ fem::PoissonData<dim> poisson_data(const io::PoissonRunConfig<dim>& cfg) {
   return data;
 }
 
+template <int dim>
+Index boundary_vertex_count(const warpfem::Mesh<dim>& mesh) {
+  std::vector<char> on(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (Index f = 0; f < mesh.num_boundary_facets(); ++f)
+    for (Index k = 0; k < mesh.boundary_facets.cols(); ++k)
+      on[static_cast<std::size_t>(mesh.boundary_facets(f, k))] = 1;
+  return std::count(on.begin(), on.end(), 1);
+}
+
 /// Area (2D) or volume (3D) of the exact domain.
 template <int dim>
 double exact_measure(const io::PoissonRunConfig<dim>& cfg) {
@@ -99,10 +112,11 @@ std::string plot_script(const StudySpec& spec, bool exact) {
   bool first = true;
   int style = 1;
   for (const auto& d : spec.discretizations) {
-    // Column 5: L2 error (where a common parametrization with the reference exists);
+    // Column 5: L2 error (against the exact solution, or the reference for "warped" and
+    // "target_mesh", which share a domain with it);
     // column 9: r(u_h) = | ‖u_h‖/‖u_ref‖ − 1 |, defined for every discretization.
     for (const auto& [column, label] : {std::pair{5, "L2 error"}, std::pair{9, "r(u_h)"}}) {
-      if (column == 5 && !exact && d != "warped") continue;
+      if (column == 5 && !exact && d != "warped" && d != "target_mesh") continue;
       gp << (first ? "" : ", \\\n     ") << "csv using (strcol(1) eq '" << d << "' ? $4 : 1/0):" << column
          << " with linespoints lw 2 pt " << style << " title '" << d << " " << label << "' noenhanced";
       first = false;
@@ -172,7 +186,8 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
   if constexpr (dim == 3) {
     // Standard geometries and reference solutions locate points of one level in another.
     bool locates = !exact;
-    for (const std::string& d : spec.discretizations) locates = locates || d != "warped";
+    for (const std::string& d : spec.discretizations)
+      locates = locates || d == "standard" || d == "standard_recovered";
     if (locates && hierarchy.levels[0].cell_type != CellType::tetrahedron)
       throw Error("a 3D study with standard discretizations or a reference solution needs tetrahedra",
                   {.file = cfg.file,
@@ -221,13 +236,29 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
       coarse_interpolant = std::make_shared<fem::InterpolatedMap<dim>>(hierarchy.levels[first], *f);
     for (int level = first; level <= finest; ++level) {
       Stopwatch w;
-      const warpfem::Mesh<dim>& mesh = hierarchy.levels[level];
       mapping::MapPtr<dim> map = f;
+      fem::PoissonData<dim> level_data = data;
+      std::optional<warpfem::Mesh<dim>> target_mesh;
+      if (d == "target_mesh") {
+        // Standard FEM on straight cells of the exact domain, as many DOFs as the warped level.
+        const warpfem::Mesh<dim>& warped = hierarchy.levels[level];
+        const Index dofs =
+            fem::DofMap<dim>(warped, fem::LagrangeElement<dim>(warped.cell_type, order)).num_dofs();
+        target_mesh = mesh_target_with_dofs<dim>(*cfg.map.source, domain, order, dofs);
+        map = std::make_shared<mapping::IdentityMap<dim>>();
+        if constexpr (dim == 2) level_data.boundary_polygon = domain;  // the parts, at points of Ω1
+        // Dirichlet data fix the boundary DOFs: how many of the DOFs are free differs between the two.
+        log::info("target mesh for level ", level, ": ", target_mesh->num_cells(), " cells, ",
+                  target_mesh->num_vertices(), " vertices (", boundary_vertex_count(*target_mesh),
+                  " on the boundary); the warped level has ", warped.num_vertices(), " (",
+                  boundary_vertex_count(warped), ")");
+      }
+      const warpfem::Mesh<dim>& mesh = target_mesh ? *target_mesh : hierarchy.levels[level];
       if (d == "standard") map = coarse_interpolant;
       if (d == "standard_recovered") map = std::make_shared<fem::InterpolatedMap<dim>>(mesh, *f);
       std::unique_ptr<fem::PoissonProblem<dim>> owned;
       try {
-        owned = std::make_unique<fem::PoissonProblem<dim>>(comm, mesh, map, order, qdeg, data);
+        owned = std::make_unique<fem::PoissonProblem<dim>>(comm, mesh, map, order, qdeg, level_data);
       } catch (const Error& e) {
         // Straight elements through mapped vertices can be inverted on coarse meshes of
         // strongly curved domains: the standard discretization does not exist on this level.
@@ -255,6 +286,9 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
       } else if (d == "warped") {
         const auto e = fem::error_against_reference(problem, *reference);
         row.l2 = e.l2, row.h1 = e.h1_semi;
+      } else if (d == "target_mesh") {
+        const auto e = fem::straight_mesh_error_against_reference(problem, *reference);
+        row.l2 = e.l2, row.h1 = e.h1_semi;
       } else {
         row.l2 = row.h1 = std::nan("");  // no common parametrization with the reference: see r(u_h)
       }
@@ -265,9 +299,15 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
         row.condition_number = petsc::estimate_condition_number(problem.matrix());
       if (!result.rows.empty() && result.rows.back().discretization == d) {
         const StudyRow& prev = result.rows.back();
-        const double hr = std::log(prev.h / row.h);
-        row.l2_rate = std::log(prev.l2 / row.l2) / hr;
-        row.h1_rate = std::log(prev.h1 / row.h1) / hr;
+        // Unstructured target meshes: against DOFs^(-1/dim), since their largest edge says little
+        // about the resolution; no rate where the DOFs barely grew (the coarsest mesh twice).
+        const double hr = d == "target_mesh"
+                              ? std::log(static_cast<double>(row.dofs) / static_cast<double>(prev.dofs)) / dim
+                              : std::log(prev.h / row.h);
+        if (d != "target_mesh" || hr > 0.05) {
+          row.l2_rate = std::log(prev.l2 / row.l2) / hr;
+          row.h1_rate = std::log(prev.h1 / row.h1) / hr;
+        }
       }
       row.seconds = w.seconds();
       log::info(std::setw(18), d, " level ", level, ": ", std::setw(8), row.dofs, " DOFs  L2 ", sci(row.l2),
@@ -325,7 +365,19 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
           "through the mapped coarse vertices, kept under refinement (the domain stays the coarse "
        << (dim == 2 ? "polygonal" : "polyhedral")
        << " approximation). Standard recovered: straight elements through the mapped vertices of each "
-          "level (boundary vertices moved onto the exact boundary).\n";
+          "level (boundary vertices moved onto the exact boundary).";
+    if (std::find(spec.discretizations.begin(), spec.discretizations.end(), "target_mesh") !=
+        spec.discretizations.end())
+      md << " Target mesh: straight "
+         << (dim == 2 ? "triangles of the target polygon (CGAL)"
+                      : "tetrahedra of the target polyhedron (TetGen)")
+         << " with about the DOFs of the warped level, the exact domain meshed directly (identity map; rates "
+            "against DOFs^(-1/"
+         << dim << "))"
+         << (exact
+                 ? "."
+                 : "; its errors against the reference are integrated at the reference's quadrature points.");
+    md << "\n";
     result.markdown_file = (fs::path(dir) / "study.md").string();
     if (spec.plot) write_plot(spec, exact, dir, result.plot_file);
     if (!result.plot_file.empty()) md << "\n![errors](study_errors.png)\n";

@@ -2,7 +2,8 @@
 // Convergence studies (`warpfem study`): the same Poisson problem on a
 // sequence of uniformly refined levels, for the warped discretization (exact
 // geometry f) and the standard-FEM baselines of thesis §9.2.2 (straight
-// elements through the mapped vertices, with and without shape recovery).
+// elements through the mapped vertices, with and without shape recovery), and
+// standard FEM on a mesh of the exact domain itself at about the same DOFs.
 
 #include <mpi.h>
 
@@ -15,7 +16,8 @@ namespace warpfem::apps {
 
 struct StudySpec {
   int levels = 4;  ///< refinement levels, starting at the config's mesh.refinements
-  std::vector<std::string> discretizations{"warped", "standard"};  ///< warped | standard | standard_recovered
+  std::vector<std::string> discretizations{
+      "warped", "standard"};  ///< warped | standard | standard_recovered | target_mesh
   int reference_levels = 1;  ///< extra refinements for the reference solution when no exact solution is given
   bool condition_number = true;
   Index condition_number_max_dofs = 200000;

@@ -129,3 +129,43 @@ TEST(WarpedGeometry, AreaConvergesToTargetWhileStandardFemKeepsItsError) {
     EXPECT_GT(ratio, 1.0 / 3.0) << "level " << rows[k].level;
   }
 }
+
+TEST(Study2d, TargetMeshErrorsAgainstTheReferenceMatchTheExactErrors) {
+  // Standard FEM on CGAL triangles of the target polygon itself at the warped levels' DOFs.
+  // Its error against a warped reference two levels finer (integrated at the reference's
+  // quadrature points, located in the straight mesh) must agree with its error against the
+  // exact solution up to the reference's own error.
+  nlohmann::json j = nlohmann::json::parse(kManufactured);
+  j["map"] = concave_composite();
+  j["mesh"]["cells"] = 4;
+  j["mesh"]["cell_type"] = "triangle";
+  apps::StudySpec spec;
+  spec.levels = 3;
+  spec.discretizations = {"warped", "target_mesh"};
+  spec.condition_number = false;
+  spec.plot = false;
+  const auto exact = apps::run_study(io::parse_run_config(j, "test.json"), spec, MPI_COMM_SELF, false).rows;
+  j["problem"].erase("exact_solution");
+  spec.reference_levels = 2;
+  const auto reference =
+      apps::run_study(io::parse_run_config(j, "test.json"), spec, MPI_COMM_SELF, false).rows;
+  print(exact);
+  print(reference);
+  ASSERT_EQ(exact.size(), 6u);
+  ASSERT_EQ(reference.size(), 6u);
+  for (std::size_t k = 3; k < 6; ++k) {
+    const apps::StudyRow &e = exact[k], &r = reference[k], &warped = exact[k - 3];
+    ASSERT_EQ(e.discretization, "target_mesh");
+    EXPECT_EQ(e.dofs, r.dofs);  // the same mesh
+    EXPECT_LT(std::abs(std::log(static_cast<double>(e.dofs) / static_cast<double>(warped.dofs))),
+              std::log(1.5))
+        << "level " << e.level << ": " << e.dofs << " DOFs for the warped level's " << warped.dofs;
+    EXPECT_LT(e.area_error, 1e-13) << "the target polygon is meshed exactly";
+    EXPECT_NEAR(r.l2, e.l2, 0.2 * e.l2) << "level " << e.level;
+    EXPECT_NEAR(r.h1, e.h1, 0.35 * e.h1) << "level " << e.level;
+    if (k > 3) {
+      EXPECT_LT(e.l2, 0.5 * exact[k - 1].l2) << "level " << e.level;
+      EXPECT_LT(e.h1, 0.8 * exact[k - 1].h1) << "level " << e.level;
+    }
+  }
+}
