@@ -61,6 +61,11 @@ class QuasiStaticSolver {
   /// answer is kept for the error message should the load step never succeed.
   void check_stability(Vec u, double load, double increment, int reason);
   std::optional<TangentStability> stability_at(Vec u);
+  /// After a failed increment from the converged state `u`: does its last Newton iterate `x` show
+  /// the loss of stability that no smaller increment gets past, i.e. a tangent with negative
+  /// eigenvalues while a cell of x or u folds between its quadrature points (det F <= 0 inside
+  /// the cell)? Returns its description, or "".
+  std::string instability_of_iterate(Vec x, Vec u);
 
   const HyperelasticOperator<dim>& op_;
   NewtonOptions newton_;
