@@ -390,3 +390,34 @@ TEST(QuasiStatic, ALoadBeyondACornerFoldStopsEarlyWithTheReason) {
   EXPECT_LT(last, 0.8);
   EXPECT_GT(op.min_det_F(u.get()), 0.0) << "u keeps the last converged state";
 }
+
+TEST(QuasiStatic, AnUnstableFinalEquilibriumIsReported) {
+  // The block of examples/block_compression.json (2,178 DOFs) in 4 load steps: at 30 % the final
+  // equilibrium is stable; at 55 % Newton still converges at s = 1, but onto an equilibrium past
+  // the corner fold whose tangent has negative eigenvalues.
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 8, 8, CellType::quadrilateral, 1);
+  mapping::MapSpec spec;
+  spec.type = "barycentric";
+  spec.source = test::rectangle(1, 1);
+  spec.target =
+      Polygon({Point<2>(0, 0), Point<2>(1.2, 0), Point<2>(1.0, 1.0), Point<2>(0.2, 1.0)}, "trapezoid");
+  for (const double compression : {0.3, 0.55}) {
+    fem::ElasticityData<2> data;
+    data.material = fem::Material::from_young_poisson(MaterialModel::neo_hookean, 1000.0, 0.3);
+    data.boundary_polygon = spec.source;
+    const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
+    const fem::ScalarFunction<2> down = [compression](const Point<2>&, double) { return -compression; };
+    data.dirichlet.push_back({{0}, {zero, zero}});
+    data.dirichlet.push_back({{2}, {zero, down}});
+    const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, mapping::make_map(spec), 2, 0, data);
+    petsc::Vector u = op.space().create_vector();
+    fem::QuasiStaticSolver solver(op, quiet_newton(), {.steps = 4, .min_increment = 1e-3});
+    const fem::QuasiStaticReport report = solver.solve(u.get());
+    ASSERT_NEAR(report.steps.back().load, 1.0, 1e-14);
+    if (report.final_negative_eigenvalues < 0) GTEST_SKIP() << "PETSc without MUMPS";
+    if (compression < 0.5)
+      EXPECT_EQ(report.final_negative_eigenvalues, 0);
+    else
+      EXPECT_GT(report.final_negative_eigenvalues, 0);
+  }
+}

@@ -224,6 +224,22 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
   }
   report.domain_rejections = context_.domain_rejections;
   report.step_halvings = context_.step_halvings;
+  // One more factorization, as cheap as a Newton step's when the linear solver is direct.
+  if (newton_.pc_type == "lu" || newton_.pc_type == "cholesky") {
+    const std::optional<TangentStability> st = stability_at(u);
+    if (st) report.final_negative_eigenvalues = st->negative;
+    if (st && st->negative > 0) {
+      const auto fold = op_.min_det_F_in_cells(u);
+      std::ostringstream os;
+      os << "the equilibrium reached at s = 1 is unstable: its tangent stiffness has " << st->negative
+         << " negative eigenvalue(s) (min det F = " << op_.min_det_F(u) << "; inside the cells " << fold.min
+         << ", at x = (";
+      for (int c = 0; c < dim; ++c) os << (c ? ", " : "") << fold.x(c);
+      os << ")): a load step passed a point where the path loses stability, e.g. a free surface folding "
+            "over at a clamped corner; more load steps show where";
+      log::warning(os.str());
+    }
+  }
   return report;
 }
 

@@ -36,6 +36,10 @@ struct QuasiStaticReport {
   int rejected_steps = 0;       ///< increments that failed and were halved
   int domain_rejections = 0;    ///< residuals rejected for det F <= 0
   int step_halvings = 0;        ///< line-search halvings of Newton steps
+  /// Negative eigenvalues of the tangent at the final state (with a direct linear solver; -1: not
+  /// checked). Newton converges onto unstable equilibria too, e.g. after a load step that passes
+  /// a point where the path loses stability; such a state is warned about.
+  PetscInt final_negative_eigenvalues = -1;
   int newton_iterations() const;
 };
 
