@@ -198,10 +198,10 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
           os.str(),
           {.file = "",
            .key_path = "",
-           .hint = "a smaller load, or a model without the instability: a free surface that meets a "
-                   "clamped edge at a corner folds over there once the compression is large enough "
-                   "(the solution is singular at such a corner, so a finer mesh reaches the fold at a "
-                   "smaller load, and contact is not modelled); a rounded corner or a roller instead "
+           .hint = "apply a smaller load, or change the model where it folds. Typically a free surface "
+                   "that meets a clamped edge at a corner folds over there once the compression is large "
+                   "enough (the solution is singular at such a corner, so a finer mesh reaches the fold "
+                   "at a smaller load, and contact is not modelled); a rounded corner or a roller instead "
                    "of a clamp avoids it"});
     }
     previous_instability = instability;
