@@ -327,3 +327,97 @@ TEST(QuasiStatic, WithoutTheStepTestTheRoundOffFloorFailsTheLoadStep) {
   // The mechanism above: with step_tolerance 0 the same solve cannot meet its tolerances.
   EXPECT_THROW(solve_to_round_off(0.0), Error);
 }
+
+TEST(HyperelasticOperator, SampledDetFSeesACellFoldedBetweenItsQuadraturePoints) {
+  // u = (c x y, 0) on one Q2 cell: det F = 1 + c y is -0.05 along y = 1 but positive at every
+  // quadrature point (the highest one lies at y ≈ 0.93), so the residual accepts the folded cell.
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 1, 1, CellType::quadrilateral);
+  fem::ElasticityData<2> data = clamped_left(MaterialModel::neo_hookean);
+  data.dirichlet.clear();
+  const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, test::identity_map(), 2, 0, data);
+  const double c = -1.05;
+  petsc::Vector u = op.space().create_vector(), r = op.space().create_vector();
+  const auto& x = op.space().dofs().dof_points();
+  for (Index d = 0; d < x.rows(); ++d)
+    WARPFEM_PETSC_CHECK(VecSetValue(u.get(), op.space().global(d, 0), c * x(d, 0) * x(d, 1), INSERT_VALUES));
+  WARPFEM_PETSC_CHECK(VecAssemblyBegin(u.get()));
+  WARPFEM_PETSC_CHECK(VecAssemblyEnd(u.get()));
+  const double at_points = op.min_det_F(u.get());
+  EXPECT_GT(at_points, 0.0);
+  EXPECT_TRUE(op.residual(u.get(), nullptr, 0.0, 0.0, r.get()));
+  const auto fold = op.min_det_F_in_cells(u.get());
+  EXPECT_NEAR(fold.min, 1 + c, 1e-6);
+  EXPECT_NEAR(fold.x.y(), 1.0, 1e-6);
+  EXPECT_NEAR(fold.cell_quadrature_min, at_points, 1e-14);
+}
+
+TEST(QuasiStatic, ALoadBeyondACornerFoldStopsEarlyWithTheReason) {
+  // The block of examples/block_compression.json (2,178 DOFs) compressed by 60 % in 16 steps:
+  // near s = 0.7 the free surface folds over at a clamped corner, the equilibrium path loses
+  // stability, and no smaller increment gets past. The solve stops after two attempts from the
+  // last converged state, saying why, instead of halving down to the minimum increment.
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 8, 8, CellType::quadrilateral, 1);
+  mapping::MapSpec spec;
+  spec.type = "barycentric";
+  spec.source = test::rectangle(1, 1);
+  spec.target =
+      Polygon({Point<2>(0, 0), Point<2>(1.2, 0), Point<2>(1.0, 1.0), Point<2>(0.2, 1.0)}, "trapezoid");
+  fem::ElasticityData<2> data;
+  data.material = fem::Material::from_young_poisson(MaterialModel::neo_hookean, 1000.0, 0.3);
+  data.boundary_polygon = spec.source;
+  const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
+  const fem::ScalarFunction<2> down = [](const Point<2>&, double) { return -0.6; };
+  data.dirichlet.push_back({{0}, {zero, zero}});
+  data.dirichlet.push_back({{2}, {zero, down}});
+  const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, mapping::make_map(spec), 2, 0, data);
+  fem::NewtonOptions newton = quiet_newton();
+  newton.rtol = 1e-10;
+  newton.atol = 1e-12;
+  petsc::Vector u = op.space().create_vector();
+  fem::QuasiStaticSolver solver(op, newton, {.steps = 16, .min_increment = 1e-4});
+  double last = 0;
+  try {
+    solver.solve(u.get(), [&](const fem::LoadStep& step, Vec) { last = step.load; });
+    FAIL() << "expected the solve to stop at the corner fold";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("loses stability"), std::string::npos) << what;
+    EXPECT_NE(what.find("negative eigenvalue"), std::string::npos) << what;
+    EXPECT_NE(what.find("folds between its quadrature points"), std::string::npos) << what;
+    EXPECT_NE(e.context().hint.find("clamped"), std::string::npos);
+  }
+  EXPECT_GT(last, 0.5) << "the stable part of the path is followed";
+  EXPECT_LT(last, 0.8);
+  EXPECT_GT(op.min_det_F(u.get()), 0.0) << "u keeps the last converged state";
+}
+
+TEST(QuasiStatic, AnUnstableFinalEquilibriumIsReported) {
+  // The block of examples/block_compression.json (2,178 DOFs) in 4 load steps: at 30 % the final
+  // equilibrium is stable; at 55 % Newton still converges at s = 1, but onto an equilibrium past
+  // the corner fold whose tangent has negative eigenvalues.
+  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 8, 8, CellType::quadrilateral, 1);
+  mapping::MapSpec spec;
+  spec.type = "barycentric";
+  spec.source = test::rectangle(1, 1);
+  spec.target =
+      Polygon({Point<2>(0, 0), Point<2>(1.2, 0), Point<2>(1.0, 1.0), Point<2>(0.2, 1.0)}, "trapezoid");
+  for (const double compression : {0.3, 0.55}) {
+    fem::ElasticityData<2> data;
+    data.material = fem::Material::from_young_poisson(MaterialModel::neo_hookean, 1000.0, 0.3);
+    data.boundary_polygon = spec.source;
+    const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
+    const fem::ScalarFunction<2> down = [compression](const Point<2>&, double) { return -compression; };
+    data.dirichlet.push_back({{0}, {zero, zero}});
+    data.dirichlet.push_back({{2}, {zero, down}});
+    const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, mapping::make_map(spec), 2, 0, data);
+    petsc::Vector u = op.space().create_vector();
+    fem::QuasiStaticSolver solver(op, quiet_newton(), {.steps = 4, .min_increment = 1e-3});
+    const fem::QuasiStaticReport report = solver.solve(u.get());
+    ASSERT_NEAR(report.steps.back().load, 1.0, 1e-14);
+    if (report.final_negative_eigenvalues < 0) GTEST_SKIP() << "PETSc without MUMPS";
+    if (compression < 0.5)
+      EXPECT_EQ(report.final_negative_eigenvalues, 0);
+    else
+      EXPECT_GT(report.final_negative_eigenvalues, 0);
+  }
+}

@@ -365,6 +365,83 @@ double HyperelasticOperator<dim>::min_det_F(Vec u) const {
 }
 
 template <int dim>
+typename HyperelasticOperator<dim>::CellFold HyperelasticOperator<dim>::min_det_F_in_cells(Vec u) const {
+  // A "quadrature rule" on the lattice of spacing 1 / (2 (order + 1)) of the reference cell (its
+  // nodes among them), pulled towards the cell centre by a relative 1e-9 (a map need not be
+  // defined exactly at the corners of its source polygon).
+  const LagrangeElement<dim>& element = space_.dofs().element();
+  const int n = 2 * (element.order() + 1);
+  const bool simplex =
+      space_.mesh().cell_type == CellType::triangle || space_.mesh().cell_type == CellType::tetrahedron;
+  std::vector<Point<dim>> lattice;
+  std::array<int, dim> i{};
+  while (true) {
+    int sum = 0;
+    Point<dim> p;
+    for (int c = 0; c < dim; ++c) {
+      sum += i[static_cast<std::size_t>(c)];
+      p(c) = static_cast<double>(i[static_cast<std::size_t>(c)]) / n;
+    }
+    if (!simplex || sum <= n) lattice.push_back(p);
+    int c = 0;
+    while (c < dim && ++i[static_cast<std::size_t>(c)] > n) i[static_cast<std::size_t>(c++)] = 0;
+    if (c == dim) break;
+  }
+  Point<dim> centre = Point<dim>::Constant(simplex ? 1.0 / (dim + 1) : 0.5);
+  QuadratureRule<dim> rule;
+  rule.points.resize(static_cast<Index>(lattice.size()), dim);
+  for (std::size_t k = 0; k < lattice.size(); ++k)
+    rule.points.row(static_cast<Index>(k)) = (centre + (1 - 1e-9) * (lattice[k] - centre)).transpose();
+  rule.weights.setConstant(rule.points.rows(), 1.0 / static_cast<double>(rule.points.rows()));
+  const WarpedGeometry<dim> sampled(space_.mesh(), space_.nodes().local_cells(), rule, *map_,
+                                    GeometryStorage::streamed);
+  const VectorX ur = space_.gather_relevant(u);
+  VectorX ue(dim * element.num_dofs());
+  struct {
+    double value;
+    int rank;
+  } local{std::numeric_limits<double>::infinity(), 0}, global{};
+  MPI_Comm_rank(comm_, &local.rank);
+  Point<dim> where = Point<dim>::Zero();
+  Index cell = -1;
+  CellValues<dim> values(element, sampled, CellValues<dim>::update_gradients);
+  integrate_cells(sampled, values,
+                  make_kernel(
+                      [&](const CellValues<dim>& v) {
+                        cell_coefficients(ur, v.cell(), ue);
+                        return true;
+                      },
+                      [&](const CellValues<dim>& v, Index q) {
+                        const double d =
+                            (Matrix<dim>::Identity() + v.vector_gradient(q, ue.data())).determinant();
+                        if (d < local.value) {
+                          local.value = d;
+                          where = v.point(q);
+                          cell = v.position();
+                        }
+                      },
+                      [](const CellValues<dim>&) {}));
+  // That cell's quadrature points (the state the residual sees there).
+  double cell_min = std::numeric_limits<double>::infinity();
+  if (cell >= 0)
+    visit_points(&ur, ue, [&](const CellValues<dim>& v, Index q) {
+      if (v.position() == cell)
+        cell_min =
+            std::min(cell_min, (Matrix<dim>::Identity() + v.vector_gradient(q, ue.data())).determinant());
+    });
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
+  CellFold out;
+  out.min = global.value;
+  double buffer[dim + 1];
+  for (int c = 0; c < dim; ++c) buffer[c] = where(c);
+  buffer[dim] = cell_min;
+  MPI_Bcast(buffer, dim + 1, MPI_DOUBLE, global.rank, comm_);
+  for (int c = 0; c < dim; ++c) out.x(c) = buffer[c];
+  out.cell_quadrature_min = buffer[dim];
+  return out;
+}
+
+template <int dim>
 void HyperelasticOperator<dim>::apply_dirichlet(Vec u, double scale, double t) const {
   PetscScalar* a = nullptr;
   WARPFEM_PETSC_CHECK(VecGetArray(u, &a));

@@ -76,6 +76,17 @@ class HyperelasticOperator final : public Problem<dim> {
 
   /// min det F over all quadrature points of all ranks.
   double min_det_F(Vec u) const;
+  /// min det F on a lattice of points in every cell (spacing 1 / (2 (order + 1)) on the reference
+  /// cell, its nodes among them). A cell can fold between its quadrature points (det F <= 0 there,
+  /// typically at a cell corner on a free surface) while every quadrature point, and so the residual
+  /// and the energy, still see an admissible state. For diagnostics after a failure: the map is
+  /// evaluated again (streamed, nothing kept). Collective.
+  struct CellFold {
+    double min = 0;                  ///< min over all lattice points of all cells of all ranks
+    Point<dim> x;                    ///< where: the point's position f(x0) on the warped reference
+    double cell_quadrature_min = 0;  ///< min det F over that cell's quadrature points
+  };
+  CellFold min_det_F_in_cells(Vec u) const;
   /// Sets the constrained entries of `u` to scale · g_D(t).
   void apply_dirichlet(Vec u, double scale, double t) const;
   /// Sets the constrained entries of `v` to zero.

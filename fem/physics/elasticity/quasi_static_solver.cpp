@@ -121,12 +121,30 @@ void QuasiStaticSolver<dim>::check_stability(Vec u, double load, double incremen
 }
 
 template <int dim>
+std::string QuasiStaticSolver<dim>::instability_of_iterate(Vec x, Vec u) {
+  if (!(op_.min_det_F(x) > 0)) return "";
+  auto fold = op_.min_det_F_in_cells(x);
+  if (fold.min > 0) fold = op_.min_det_F_in_cells(u);
+  if (fold.min > 0) return "";
+  const std::optional<TangentStability> st = stability_at(x);
+  if (!st || st->negative == 0) return "";
+  std::ostringstream os;
+  os << "Newton's iterates reach states whose tangent stiffness has " << st->negative
+     << " negative eigenvalue(s), and the cell at x = (";
+  for (int c = 0; c < dim; ++c) os << (c ? ", " : "") << fold.x(c);
+  os << ") folds between its quadrature points (det F = " << fold.min << " there, min "
+     << fold.cell_quadrature_min << " at its quadrature points)";
+  return os.str();
+}
+
+template <int dim>
 QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
                                                 const std::function<void(const LoadStep&, Vec)>& on_step) {
   QuasiStaticReport report;
   const double nominal = 1.0 / stepping_.steps;
   double s = 0, ds = nominal;
   double stability_checked_at = -1;
+  std::string previous_instability;  // of the last failed increment from s
   petsc::Vector trial;
   WARPFEM_PETSC_CHECK(VecDuplicate(u, trial.out()));
   while (s < 1.0 - 1e-14) {
@@ -163,8 +181,30 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
     ++report.rejected_steps;
     if (stability_checked_at != s) {
       stability_checked_at = s;
+      previous_instability.clear();
       check_stability(u, s, ds, reason);
     }
+    // Two increments in a row from s (the second half as long) end with an indefinite tangent and
+    // a cell folded between its quadrature points: the path loses stability at a fold that no
+    // smaller increment gets past, so stop now instead of after many halvings.
+    const std::string instability = instability_of_iterate(trial.get(), u);
+    if (!instability.empty() && !previous_instability.empty()) {
+      std::ostringstream os;
+      os << "quasi-static solve stopped at load factor s = " << s
+         << ": the equilibrium path loses stability there, which load stepping cannot follow; ";
+      os << "beyond it, " << instability << "; ";
+      os << stability_summary_;
+      throw Error(
+          os.str(),
+          {.file = "",
+           .key_path = "",
+           .hint = "apply a smaller load, or change the model where it folds. Typically a free surface "
+                   "that meets a clamped edge at a corner folds over there once the compression is large "
+                   "enough (the solution is singular at such a corner, so a finer mesh reaches the fold "
+                   "at a smaller load, and contact is not modelled); a rounded corner or a roller instead "
+                   "of a clamp avoids it"});
+    }
+    previous_instability = instability;
     const double next = ds / 2;
     log::warning("load step to s = ", load_, " failed (", reason_text(reason),
                  "); retrying with Δs = ", next);
@@ -184,6 +224,22 @@ QuasiStaticReport QuasiStaticSolver<dim>::solve(Vec u,
   }
   report.domain_rejections = context_.domain_rejections;
   report.step_halvings = context_.step_halvings;
+  // One more factorization, as cheap as a Newton step's when the linear solver is direct.
+  if (newton_.pc_type == "lu" || newton_.pc_type == "cholesky") {
+    const std::optional<TangentStability> st = stability_at(u);
+    if (st) report.final_negative_eigenvalues = st->negative;
+    if (st && st->negative > 0) {
+      const auto fold = op_.min_det_F_in_cells(u);
+      std::ostringstream os;
+      os << "the equilibrium reached at s = 1 is unstable: its tangent stiffness has " << st->negative
+         << " negative eigenvalue(s) (min det F = " << op_.min_det_F(u) << "; inside the cells " << fold.min
+         << ", at x = (";
+      for (int c = 0; c < dim; ++c) os << (c ? ", " : "") << fold.x(c);
+      os << ")): a load step passed a point where the path loses stability, e.g. a free surface folding "
+            "over at a clamped corner; more load steps show where";
+      log::warning(os.str());
+    }
+  }
   return report;
 }
 

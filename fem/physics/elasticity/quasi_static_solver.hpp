@@ -36,6 +36,10 @@ struct QuasiStaticReport {
   int rejected_steps = 0;       ///< increments that failed and were halved
   int domain_rejections = 0;    ///< residuals rejected for det F <= 0
   int step_halvings = 0;        ///< line-search halvings of Newton steps
+  /// Negative eigenvalues of the tangent at the final state (with a direct linear solver; -1: not
+  /// checked). Newton converges onto unstable equilibria too, e.g. after a load step that passes
+  /// a point where the path loses stability; such a state is warned about.
+  PetscInt final_negative_eigenvalues = -1;
   int newton_iterations() const;
 };
 
@@ -61,6 +65,11 @@ class QuasiStaticSolver {
   /// answer is kept for the error message should the load step never succeed.
   void check_stability(Vec u, double load, double increment, int reason);
   std::optional<TangentStability> stability_at(Vec u);
+  /// After a failed increment from the converged state `u`: does its last Newton iterate `x` show
+  /// the loss of stability that no smaller increment gets past, i.e. a tangent with negative
+  /// eigenvalues while a cell of x or u folds between its quadrature points (det F <= 0 inside
+  /// the cell)? Returns its description, or "".
+  std::string instability_of_iterate(Vec x, Vec u);
 
   const HyperelasticOperator<dim>& op_;
   NewtonOptions newton_;
