@@ -420,8 +420,8 @@ PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std
                      "smoothed prolongations come with Galerkin operators, not rediscretized ones",
                      "remove \"coarse_operators\", or use \"prolongation\": \"geometric\"");
     if (m.chebyshev_bounds == S::ChebyshevBounds::gershgorin &&
-        (m.smoother != S::Smoother::chebyshev_jacobi || m.coarse_operators == S::CoarseOperators::galerkin ||
-         m.prolongation == S::Prolongation::smoothed))
+        ((m.smoother != S::Smoother::chebyshev_jacobi && m.smoother != S::Smoother::automatic) ||
+         m.coarse_operators == S::CoarseOperators::galerkin || m.prolongation == S::Prolongation::smoothed))
       throw mg.error("chebyshev_bounds",
                      "\"gershgorin\" bounds the Jacobi-preconditioned operator of rediscretized levels only",
                      "use \"auto\" or \"estimate\", or the smoother \"chebyshev_jacobi\" with "

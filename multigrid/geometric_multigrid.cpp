@@ -110,7 +110,9 @@ std::vector<petsc::Matrix> prolongations(const fem::MeshHierarchy<dim>& hierarch
 }
 
 /// PCMG's settings for these levels (see settings()).
-MultigridSettings resolved(MultigridSettings s, int order) {
+template <int dim>
+MultigridSettings resolved(MultigridSettings s, const fem::LagrangeElement<dim>& element, int components) {
+  const int order = element.order();
   const bool smoothed = s.prolongation == MultigridSettings::Prolongation::smoothed;
   const bool galerkin = smoothed || s.coarse_operators == MultigridSettings::CoarseOperators::galerkin;
   if (smoothed && s.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin)
@@ -121,6 +123,17 @@ MultigridSettings resolved(MultigridSettings s, int order) {
   // Smoothed: the Galerkin operators are formed by smooth() and handed to PCMG
   // level by level, which is configure_pcmg's "one operator per level" mode.
   if (smoothed) s.coarse_operators = MultigridSettings::CoarseOperators::rediscretization;
+  // Automatic smoother: Chebyshev–Jacobi's V-cycle iterations grow level by level
+  // for quadratic tetrahedra on non-uniform meshes (the two-grid factor itself
+  // grows, with any interval or number of steps), Chebyshev–SOR's stay flat;
+  // elsewhere Chebyshev–Jacobi is as flat and cheaper. Gershgorin bounds ask for
+  // Jacobi; vector problems (elasticity, measured with Jacobi) keep it too.
+  using Smoother = MultigridSettings::Smoother;
+  if (s.smoother == Smoother::automatic)
+    s.smoother = element.cell_type() == CellType::tetrahedron && order >= 2 && components == 1 &&
+                         s.chebyshev_bounds != MultigridSettings::ChebyshevBounds::gershgorin
+                     ? Smoother::chebyshev_sor
+                     : Smoother::chebyshev_jacobi;
   // Automatic Chebyshev bounds: Gershgorin's is tight for first-order stiffness
   // matrices (no eigenvalue estimates at set-up), loose for higher orders.
   using Bounds = MultigridSettings::ChebyshevBounds;
@@ -155,7 +168,7 @@ GeometricMultigrid<dim>::GeometricMultigrid(const fem::MeshHierarchy<dim>& hiera
           "GeometricMultigrid: " + std::to_string(levels.size()) + " level problems for a hierarchy of " +
               std::to_string(hierarchy.num_levels()) + " levels");
   components_ = levels.back()->components();
-  settings_ = resolved(settings, levels.back()->dofs().element().order());
+  settings_ = resolved(settings, levels.back()->dofs().element(), components_);
   std::vector<Level<dim>> spaces;
   for (const fem::Problem<dim>* p : levels) {
     require(p->components() == components_, "GeometricMultigrid: the levels differ in components");
@@ -180,7 +193,7 @@ GeometricMultigrid<dim>::GeometricMultigrid(const fem::MeshHierarchy<dim>& hiera
         {.file = "",
          .key_path = "solver.multigrid.prolongation",
          .hint = "use \"geometric\" prolongations for elasticity"});
-  settings_ = resolved(settings, finest.dofs().element().order());
+  settings_ = resolved(settings, finest.dofs().element(), components_);
   const int levels = hierarchy.num_levels();
   // The coarse levels are partitioned like the rediscretized ones: nested, so
   // with a finest problem built on the same partition (nested_partitions(...).back())

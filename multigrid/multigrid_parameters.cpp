@@ -9,14 +9,20 @@ using Names = std::vector<std::pair<std::string, E>>;
 ParameterTable<MultigridSettings> make_table() {
   using S = MultigridSettings;
   ParameterTable<S> t("solver.multigrid");
-  t.choice("smoother", &S::smoother,
-           Names<S::Smoother>{{"chebyshev_jacobi", S::Smoother::chebyshev_jacobi},
-                              {"chebyshev_sor", S::Smoother::chebyshev_sor},
-                              {"sor", S::Smoother::sor}},
-           "Chebyshev on the Jacobi-scaled operator; Chebyshev preconditioned by local symmetric SOR "
-           "(`-mg_levels_pc_type sor`: about half the iterations on strongly warped maps, dearer per "
-           "iteration; with `\"mesh\": {\"type\": \"pullback\"}` the warped L-shape stays at 8–11 iterations "
-           "up to 1.5 M DOFs); Richardson with local symmetric SOR");
+  t.choice(
+      "smoother", &S::smoother,
+      Names<S::Smoother>{{"auto", S::Smoother::automatic},
+                         {"chebyshev_jacobi", S::Smoother::chebyshev_jacobi},
+                         {"chebyshev_sor", S::Smoother::chebyshev_sor},
+                         {"sor", S::Smoother::sor}},
+      "`auto`: `chebyshev_sor` for P2 Poisson on tetrahedra (with Chebyshev–Jacobi their V-cycle iterations "
+      "grow level by level on non-uniform meshes, 8, 11, 14, 16 over 2–5 levels on the L-shaped prism; "
+      "[multigrid.md](multigrid.md#quadratic-tetrahedra-in-3d)), `chebyshev_jacobi` for every other "
+      "element and with `\"chebyshev_bounds\": \"gershgorin\"`. "
+      "Chebyshev on the Jacobi-scaled operator; Chebyshev preconditioned by local symmetric SOR "
+      "(`-mg_levels_pc_type sor`: about half the iterations on strongly warped maps, dearer per "
+      "iteration; with `\"mesh\": {\"type\": \"pullback\"}` the warped L-shape stays at 8–11 iterations "
+      "up to 1.5 M DOFs); Richardson with local symmetric SOR");
   t.choice("cycle", &S::cycle, Names<S::Cycle>{{"v", S::Cycle::v}, {"w", S::Cycle::w}, {"f", S::Cycle::f}},
            "V-, W- or full multigrid cycle");
   t.choice("coarse_operators", &S::coarse_operators,
@@ -51,7 +57,8 @@ ParameterTable<MultigridSettings> make_table() {
            Names<S::ChebyshevKernel>{{"fused_single", S::ChebyshevKernel::fused_single},
                                      {"fused_double", S::ChebyshevKernel::fused_double},
                                      {"petsc", S::ChebyshevKernel::petsc}},
-           "how levels with Chebyshev–Jacobi (the default smoother) run it: one pass over the matrix per "
+           "how levels with Chebyshev–Jacobi (the default smoother except for P2 on tetrahedra) run it: one "
+           "pass over the matrix per "
            "step that reads a float copy of the level matrix's values, the same pass over the double "
            "values, or PETSc's `KSPCHEBYSHEV` + `PCJACOBI` (a product plus four vector passes per step). All "
            "three run the same iteration on the interval `chebyshev_bounds` gives; the fused kernels find it "

@@ -15,7 +15,7 @@ void configure_smoother(KSP smoother, const MultigridSettings& s) {
   WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &pc));
   if (s.smoother != MultigridSettings::Smoother::sor) {
     WARPFEM_PETSC_CHECK(KSPSetType(smoother, KSPCHEBYSHEV));
-    if (s.smoother == MultigridSettings::Smoother::chebyshev_jacobi) {
+    if (s.smoother != MultigridSettings::Smoother::chebyshev_sor) {  // Jacobi, also when automatic
       WARPFEM_PETSC_CHECK(PCSetType(pc, PCJACOBI));
     } else {
       WARPFEM_PETSC_CHECK(PCSetType(pc, PCSOR));
@@ -85,7 +85,9 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
   for (int l = 1; l < levels; ++l) WARPFEM_PETSC_CHECK(PCMGSetInterpolation(pc, l, interpolations[l - 1]));
 
   const bool gershgorin = settings.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin;
-  if (gershgorin && (settings.smoother != MultigridSettings::Smoother::chebyshev_jacobi || galerkin))
+  const bool jacobi = settings.smoother == MultigridSettings::Smoother::chebyshev_jacobi ||
+                      settings.smoother == MultigridSettings::Smoother::automatic;
+  if (gershgorin && (!jacobi || galerkin))
     throw Error(
         "Gershgorin bounds for the Chebyshev smoothers need the smoother chebyshev_jacobi and "
         "rediscretized level operators",

@@ -14,13 +14,18 @@ namespace warpfem::multigrid {
 
 struct MultigridSettings {
   enum class Cycle { v, w, f };
-  /// chebyshev_jacobi: Chebyshev on D⁻¹A (the default); chebyshev_sor: Chebyshev
-  /// preconditioned by local symmetric SOR (about half the iterations on strongly
-  /// warped maps, dearer per iteration); sor: Richardson with local symmetric SOR.
-  enum class Smoother { chebyshev_jacobi, chebyshev_sor, sor };
+  /// chebyshev_jacobi: Chebyshev on D⁻¹A; chebyshev_sor: Chebyshev preconditioned
+  /// by local symmetric SOR (about half the iterations on strongly warped maps,
+  /// dearer per iteration); sor: Richardson with local symmetric SOR. `automatic`
+  /// (the default): what GeometricMultigrid picks for its element, chebyshev_sor
+  /// for scalar problems on quadratic tetrahedra (whose V-cycle iterations grow
+  /// level by level with Jacobi on non-uniform meshes; docs/multigrid.md),
+  /// chebyshev_jacobi otherwise;
+  /// configure_pcmg itself treats it as chebyshev_jacobi.
+  enum class Smoother { automatic, chebyshev_jacobi, chebyshev_sor, sor };
   enum class CoarseOperators { rediscretization, galerkin };
   Cycle cycle = Cycle::v;  ///< -pc_mg_cycle_type v|w; f is -pc_mg_type full
-  Smoother smoother = Smoother::chebyshev_jacobi;
+  Smoother smoother = Smoother::automatic;
   CoarseOperators coarse_operators = CoarseOperators::rediscretization;  ///< -pc_mg_galerkin
   int smoothing_steps = 2;  ///< pre- and post-smoothing steps; override: -mg_levels_ksp_max_it
   /// Where the Chebyshev smoothers' target interval [0.1, 1.1]·λmax comes from:

@@ -176,7 +176,7 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   using S = multigrid::MultigridSettings;
   json j = valid_config();
   const io::RunConfig defaults = io::parse_run_config(j, "config.json");
-  EXPECT_EQ(defaults.solver.multigrid.smoother, S::Smoother::chebyshev_jacobi);
+  EXPECT_EQ(defaults.solver.multigrid.smoother, S::Smoother::automatic);
   EXPECT_EQ(defaults.solver.multigrid.cycle, S::Cycle::v);
   EXPECT_EQ(defaults.solver.multigrid.coarse_operators, S::CoarseOperators::rediscretization);
   EXPECT_EQ(defaults.solver.multigrid.smoothing_steps, 2);

@@ -97,3 +97,29 @@ INSTANTIATE_TEST_SUITE_P(Cells, Multigrid3d,
                                            Case{CellType::hexahedron, 2, 1, 3, 15},
                                            Case{CellType::tetrahedron, 2, 1, 3, 15}),
                          name);
+
+// The automatic smoother: Chebyshev–SOR for P2 on tetrahedra, Chebyshev–Jacobi
+// (fused) for the other elements; an explicit choice is kept.
+TEST(Multigrid3d, AutomaticSmootherDependsOnTheElement) {
+  using S = multigrid::MultigridSettings;
+  for (const Case& c : {Case{CellType::tetrahedron, 2, 1, 1, 15}, Case{CellType::tetrahedron, 1, 1, 1, 15},
+                        Case{CellType::hexahedron, 2, 1, 1, 15}}) {
+    const bool sor = c.type == CellType::tetrahedron && c.order == 2;
+    auto mg = make_solver(c, c.refinements);
+    EXPECT_EQ(mg->multigrid().settings().smoother,
+              sor ? S::Smoother::chebyshev_sor : S::Smoother::chebyshev_jacobi)
+        << to_string(c.type) << " P" << c.order;
+    KSP smoother = nullptr;
+    PC pc = nullptr, level_pc = nullptr;
+    WARPFEM_PETSC_CHECK(KSPGetPC(mg->ksp(), &pc));
+    WARPFEM_PETSC_CHECK(PCMGGetSmoother(pc, 1, &smoother));
+    WARPFEM_PETSC_CHECK(KSPGetPC(smoother, &level_pc));
+    PetscBool is_sor = PETSC_FALSE;
+    WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(level_pc), PCSOR, &is_sor));
+    EXPECT_EQ(is_sor == PETSC_TRUE, sor) << to_string(c.type) << " P" << c.order;
+  }
+  multigrid::PoissonMultigridOptions o;
+  o.multigrid.smoother = S::Smoother::chebyshev_jacobi;
+  auto mg = make_solver(Case{CellType::tetrahedron, 2, 1, 1, 15}, 1, o);
+  EXPECT_EQ(mg->multigrid().settings().smoother, S::Smoother::chebyshev_jacobi);
+}
