@@ -234,19 +234,7 @@ int main(int argc, char** argv) {
   {  // shape of the coarse cells: longest edge over inradius, 1 for the regular tetrahedron
     const Mesh<3>& m = mg.hierarchy().levels[0];
     std::vector<double> ratios;
-    for (Index c = 0; c < m.num_cells(); ++c) {
-      Eigen::Matrix<double, 4, 3> x;
-      for (int i = 0; i < 4; ++i) x.row(i) = m.vertices.row(m.cells(c, i));
-      double longest = 0;
-      for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j) longest = std::max(longest, (x.row(i) - x.row(j)).norm());
-      const Eigen::Vector3d a = x.row(1) - x.row(0), b = x.row(2) - x.row(0), d = x.row(3) - x.row(0);
-      const Eigen::Vector3d e = x.row(2) - x.row(1), f = x.row(3) - x.row(1);
-      const double area =
-          0.5 * (a.cross(b).norm() + a.cross(d).norm() + b.cross(d).norm() + e.cross(f).norm());
-      const double inradius = std::abs(a.dot(b.cross(d))) / 2.0 / area;
-      ratios.push_back(longest / (2.0 * std::sqrt(6.0) * inradius));
-    }
+    for (Index c = 0; c < m.num_cells(); ++c) ratios.push_back(aspect_ratio(m, c));
     std::sort(ratios.begin(), ratios.end());
     std::printf("coarse cells: %zu, aspect ratio (1 = regular) min %.2f median %.2f max %.2f\n",
                 ratios.size(), ratios.front(), ratios[ratios.size() / 2], ratios.back());
