@@ -199,9 +199,9 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
       const Real det = r.step_min_det_along[k];
       if (!(det > 0)) {
         if (b - a <= o.min_interval || round >= o.max_rounds) fail(a, b, det, o, "composite check:");
-        if (static_cast<Index>(times.size()) + static_cast<Index>(refined.size()) - static_cast<Index>(k) -
-                1 >
-            o.max_steps)
+        // the steps kept so far, this one split in two, and the rest
+        const auto steps_after = refined.size() + 1 + (times.size() - k - 2);
+        if (steps_after > static_cast<std::size_t>(o.max_steps))
           too_many_steps(a, b, det, o, "composite check (det J along the pushed-forward sample):");
         refined.push_back(0.5 * (a + b));
         split = true;
