@@ -99,11 +99,20 @@ PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std
 /// The top-level "map" of a `dim`-dimensional config (polygons or polyhedra).
 template <int dim>
 MapSpecFor<dim> parse_required_map_for(const ConfigNode& root);
+// The specializations are declared here so that no caller instantiates the primary template first.
+template <>
+MapSpecFor<2> parse_required_map_for<2>(const ConfigNode& root);
+template <>
+MapSpecFor<3> parse_required_map_for<3>(const ConfigNode& root);
 
 /// Number of boundary parts "edges" or "faces" name: the source polygon's edges, or
 /// the source polyhedron's parts (a 3D Gmsh file's physical groups, if it has them).
 template <int dim>
 Index boundary_part_count(const MapSpecFor<dim>& map, const MeshSpec& mesh);
+template <>
+Index boundary_part_count<2>(const MapSpecFor<2>& map, const MeshSpec& mesh);
+template <>
+Index boundary_part_count<3>(const MapSpecFor<3>& map, const MeshSpec& mesh);
 
 /// The config key that lists boundary parts: "edges" in 2D, "faces" in 3D.
 template <int dim>
@@ -120,6 +129,12 @@ std::vector<int> parse_boundary_parts(const ConfigNode& item, Index num_parts);
 template <int dim>
 void check_run_size(const ConfigNode& root, const MeshSpec& mesh, const MapSpecFor<dim>& map,
                     const Discretization& d, const SizeLimits& limits);
+template <>
+void check_run_size<2>(const ConfigNode& root, const MeshSpec& mesh, const MapSpecFor<2>& map,
+                       const Discretization& d, const SizeLimits& limits);
+template <>
+void check_run_size<3>(const ConfigNode& root, const MeshSpec& mesh, const MapSpecFor<3>& map,
+                       const Discretization& d, const SizeLimits& limits);
 
 /// Reads a polygon stored at `key`: an inline array of [x, y] or the name of a
 /// file with one "x, y" per line (relative to the config file); validates it.

@@ -1,6 +1,7 @@
 #include "mapping/adaptive_partition.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -13,16 +14,33 @@
 namespace warpfem::mapping {
 namespace {
 
-Real step_min_det(const Polygon& from, const Polygon& to, const AdaptiveOptions& o) {
-  const BarycentricStep step(from, to.vertices(), o.coordinates);
-  const Points<2> x = bijectivity_sample(from, o.sample_resolution);
-  Points<2> y;
-  Jacobians<2> J;
-  step.apply(x, y, &J);
-  if (x.rows() == 0) return std::numeric_limits<Real>::infinity();
-  const VectorX det = jacobian_determinants<2>(J);
-  return min_entry(det.data(), det.size());
-}
+// Every det J check goes through here, so PartitionWork counts all of it.
+struct Checker {
+  explicit Checker(const AdaptiveOptions& options)
+      : o(options), work(options.work ? *options.work : scratch) {}
+  Checker(const Checker&) = delete;
+  Checker& operator=(const Checker&) = delete;
+
+  const AdaptiveOptions& o;
+  PartitionWork scratch;
+  PartitionWork& work;
+
+  Points<2> sample(const Polygon& from) const { return bijectivity_sample(from, o.sample_resolution); }
+
+  /// min det J of the step from → to on `x`, a sample of `from`.
+  Real step_min_det(const Polygon& from, const Points<2>& x, const Polygon& to) {
+    ++work.step_checks;
+    work.point_evaluations += x.rows();
+    if (x.rows() == 0) return std::numeric_limits<Real>::infinity();
+    const BarycentricStep step(from, to.vertices(), o.coordinates);
+    Points<2> y;
+    Jacobians<2> J;
+    step.apply(x, y, &J);
+    const VectorX det = jacobian_determinants<2>(J);
+    return min_entry(det.data(), det.size());
+  }
+  Real step_min_det(const Polygon& from, const Polygon& to) { return step_min_det(from, sample(from), to); }
+};
 
 [[noreturn]] void fail(Real a, Real b, Real det, const AdaptiveOptions& o, const std::string& where) {
   std::ostringstream os;
@@ -36,52 +54,89 @@ Real step_min_det(const Polygon& from, const Polygon& to, const AdaptiveOptions&
                                  "map.vertex_path"});
 }
 
-void build(const VertexPath& path, Real a, const Polygon& Pa, Real b, const Polygon& Pb,
-           const AdaptiveOptions& o, std::vector<Real>& cuts, std::vector<Real>* dets) {
-  const Real det = step_min_det(Pa, Pb, o);
+/// The partition would need more than max_steps steps: the pair is too
+/// distorted to be reached in bounded work.
+[[noreturn]] void too_many_steps(Real a, Real b, Real det, const AdaptiveOptions& o,
+                                 const std::string& where) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "composite map needs more than max_steps = " << o.max_steps << " steps: " << where << " the step on ["
+     << a << ", " << b << "] has min det J = " << det
+     << " and the partition has no steps left; the source and target are too far apart for this vertex path";
+  throw Error(os.str(), {.file = "",
+                         .key_path = "map.max_steps",
+                         .hint = "try the other map.vertex_path (\"linear\" or \"intrinsic\"), \"type\": "
+                                 "\"composite_harmonic\", or map in stages through intermediate targets; "
+                                 "raising map.max_steps costs det J checks on the whole sample per step"});
+}
+
+// Algorithm 1 on [a, b]; `splits` counts the intervals split so far (each
+// adds one step), so at most 2 max_steps − 1 intervals are ever checked.
+void build(Checker& check, const VertexPath& path, Real a, const Polygon& Pa, const Points<2>& xa, Real b,
+           const Polygon& Pb, std::vector<Real>& cuts, std::vector<Real>* dets, int& splits) {
+  const AdaptiveOptions& o = check.o;
+  const Real det = check.step_min_det(Pa, xa, Pb);
   if (det > 0) {
     if (dets) dets->push_back(det);
     return;
   }
   if (b - a <= o.min_interval) fail(a, b, det, o, "Algorithm 1:");
+  if (splits + 1 >= o.max_steps) too_many_steps(a, b, det, o, "Algorithm 1:");
+  ++splits;
   const Real c = 0.5 * (a + b);
   const Polygon Pc = path.polygon_at(c);
-  build(path, a, Pa, c, Pc, o, cuts, dets);
+  build(check, path, a, Pa, xa, c, Pc, cuts, dets, splits);
   cuts.push_back(c);
-  build(path, c, Pc, b, Pb, o, cuts, dets);
+  build(check, path, c, Pc, check.sample(Pc), b, Pb, cuts, dets, splits);
 }
 
 }  // namespace
 
+Index max_work(const AdaptiveOptions& o, Index sample_points) {
+  // Checks per greedy step: the whole rest, then halvings of an interval ≤ 1 down to ε.
+  const Index halvings = static_cast<Index>(std::ceil(std::log2(1 / o.min_interval))) + 1;
+  const Index steps = o.max_steps;
+  const Index first_phase = steps * (halvings + 1);             // greedy; Algorithm 1 needs ≤ 2 max_steps
+  const Index composite = Index{o.max_rounds} * steps + steps;  // rounds, then the report's own checks
+  return sample_points * (first_phase + composite);
+}
+
 std::vector<Real> binary_partition(const VertexPath& path, Real a, Real b, const AdaptiveOptions& options,
                                    std::vector<Real>* interval_min_det) {
+  Checker check(options);
   std::vector<Real> cuts;
-  build(path, a, path.polygon_at(a), b, path.polygon_at(b), options, cuts, interval_min_det);
+  int splits = 0;
+  const Polygon Pa = path.polygon_at(a);
+  build(check, path, a, Pa, check.sample(Pa), b, path.polygon_at(b), cuts, interval_min_det, splits);
   return cuts;
 }
 
 std::vector<Real> greedy_partition(const VertexPath& path, Real a, Real b, const AdaptiveOptions& o,
                                    std::vector<Real>* interval_min_det) {
+  Checker check(o);
   // Cut positions are resolved to 1/256 of [a, b] (or ε if larger): finer
   // positions would gain little length per step for many more checks.
   const Real resolution = std::max(o.min_interval, (b - a) / 256);
   std::vector<Real> cuts;
   Real t = a;
   Polygon Pt = path.polygon_at(a);
+  const Polygon Pb = path.polygon_at(b);
   for (;;) {
-    const Polygon Pb = path.polygon_at(b);
-    const Real whole = step_min_det(Pt, Pb, o);
+    const Points<2> xt = check.sample(Pt);  // every step from t is checked on Ω_t's sample
+    const Real whole = check.step_min_det(Pt, xt, Pb);
     if (whole >= o.greedy_min_det) {
       if (interval_min_det) interval_min_det->push_back(whole);
       return cuts;
     }
+    if (static_cast<int>(cuts.size()) + 1 >= o.max_steps)
+      too_many_steps(t, b, whole, o, "greedy partition (min det J below greedy_min_det):");
     // Bisect for the largest end e in (t, b) with min det J(Ω_t → Ω_e) >= greedy_min_det.
     Real lo = t, hi = b, lo_det = 0, hi_det = whole;
     Polygon Plo = Pt;
     while (hi - lo > resolution || (lo == t && hi - lo > o.min_interval)) {
       const Real mid = 0.5 * (lo + hi);
       Polygon Pm = path.polygon_at(mid);
-      const Real d = step_min_det(Pt, Pm, o);
+      const Real d = check.step_min_det(Pt, xt, Pm);
       if (d >= o.greedy_min_det) {
         lo = mid, lo_det = d, Plo = std::move(Pm);
       } else {
@@ -117,6 +172,10 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
   if (!(o.min_interval > 0) || o.sample_resolution < 2)
     throw Error("adaptive partition needs min_interval > 0 and sample_resolution >= 2",
                 {.file = "", .key_path = "map.min_interval", .hint = ""});
+  if (o.max_steps < 1)
+    throw Error("adaptive partition needs max_steps >= 1",
+                {.file = "", .key_path = "map.max_steps", .hint = ""});
+  Checker check(o);
   // 1. Algorithm 1 (or the greedy partition) on [0, 1].
   std::vector<Real> dets;
   std::vector<Real> cuts = o.strategy == PartitionStrategy::greedy ? greedy_partition(path, 0, 1, o, &dets)
@@ -130,6 +189,8 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
   for (int round = 1;; ++round) {
     auto map = std::make_shared<const CompositeMeanValueMap>(path, times, o.coordinates);
     CompositeReport r = analyze_composite(*map, o.sample_resolution);
+    ++check.work.composite_rounds;
+    check.work.point_evaluations += r.samples * map->steps();
     r.rounds = round;
     std::vector<Real> refined{0};
     bool split = false;
@@ -138,6 +199,10 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
       const Real det = r.step_min_det_along[k];
       if (!(det > 0)) {
         if (b - a <= o.min_interval || round >= o.max_rounds) fail(a, b, det, o, "composite check:");
+        // the steps kept so far, this one split in two, and the rest
+        const auto steps_after = refined.size() + 1 + (times.size() - k - 2);
+        if (steps_after > static_cast<std::size_t>(o.max_steps))
+          too_many_steps(a, b, det, o, "composite check (det J along the pushed-forward sample):");
         refined.push_back(0.5 * (a + b));
         split = true;
       }
@@ -148,7 +213,7 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
       for (std::size_t k = 0; k + 1 < times.size(); ++k) {
         const auto it = known.find({times[k], times[k + 1]});
         r.step_min_det.push_back(
-            it != known.end() ? it->second : step_min_det(map->polygons()[k], map->polygons()[k + 1], o));
+            it != known.end() ? it->second : check.step_min_det(map->polygons()[k], map->polygons()[k + 1]));
       }
       log::debug("adaptive composite: ", map->steps(), " steps, ", round,
                  " rounds, min det J_f = ", r.composite_min_det);

@@ -17,6 +17,10 @@
 // are not dyadic, so it usually needs fewer steps than Algorithm 1 (40-vertex
 // gear: 5 instead of 7) and every map evaluation costs proportionally less.
 // Step 2 (the composite check) is the same for both.
+//
+// Both refuse a pair whose partition would need more than max_steps steps: ε
+// alone bounds a partition by ~1/ε steps, each checked on the full sample, and
+// on extremely distorted pairs that took minutes. max_work() is the bound.
 
 #include <memory>
 #include <vector>
@@ -32,6 +36,14 @@ enum class PartitionStrategy {
   greedy   ///< longest steps with min det J >= greedy_min_det (fewer steps)
 };
 
+/// What building a partition cost, in sample points pushed through one step
+/// (the unit of work of every det J check).
+struct PartitionWork {
+  Index step_checks = 0;        ///< det J checks of one step on its own sample (Algorithm 1, greedy)
+  Index point_evaluations = 0;  ///< sample points × steps evaluated, both phases together
+  Index composite_rounds = 0;   ///< composite checks (phase 2)
+};
+
 struct AdaptiveOptions {
   int sample_resolution = 64;  ///< grid cells per bounding-box side for the det J samples
   Real min_interval = 1e-4;    ///< ε: intervals are not split below this length
@@ -39,7 +51,18 @@ struct AdaptiveOptions {
   Coordinates coordinates = Coordinates::mean_value;
   PartitionStrategy strategy = PartitionStrategy::binary;
   Real greedy_min_det = 0.2;  ///< greedy: required min det J of every step on its sample
+  /// Most steps a partition may have; a pair that needs more is refused. With
+  /// it the work is bounded (see max_work()): ε alone allows ~1/ε steps, each
+  /// checked on the full sample, which took minutes on extremely distorted pairs.
+  int max_steps = 256;
+  PartitionWork* work = nullptr;  ///< if set, receives what the build cost
 };
+
+/// Upper bound of PartitionWork::point_evaluations for these options when every
+/// sample has at most `sample_points` points: at most max_steps + 1 steps,
+/// each found with at most log2(1/ε) + 2 checks, plus max_rounds composite
+/// checks of at most max_steps steps.
+Index max_work(const AdaptiveOptions& options, Index sample_points);
 
 /// Why a composite map is bijective, in numbers.
 struct CompositeReport {

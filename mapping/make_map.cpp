@@ -64,7 +64,11 @@ MapPtr<2> build_map(const MapSpec& spec) {
     if (!(spec.greedy_min_det > 0 && spec.greedy_min_det < 1))
       throw Error("greedy_min_det must lie in (0, 1)",
                   {.file = spec.origin, .key_path = "map.greedy_min_det", .hint = "0.2 is a good default"});
+    if (spec.max_steps < 1)
+      throw Error("max_steps must be a positive integer, got " + std::to_string(spec.max_steps),
+                  {.file = spec.origin, .key_path = "map.max_steps", .hint = "256 is a good default"});
     AdaptiveOptions o;
+    o.max_steps = spec.max_steps;
     o.sample_resolution = spec.sample_resolution;
     o.min_interval = spec.min_interval;
     o.coordinates = coords;

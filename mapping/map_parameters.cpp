@@ -36,6 +36,11 @@ ParameterTable<MapSpec> make_table() {
       "greedy: min det J every step keeps on its own sample, a margin against steps that barely stay "
       "bijective. Fewer steps cost distortion: on the gear, Algorithm 1 (7 steps) gives conformal "
       "distortion mean 6.2 / max 201, greedy with 0.2 (5 steps) 6.9 / 378, with 0.02 (4 steps) 8.7 / 651");
+  t.integer(
+      "max_steps", &MapSpec::max_steps, 1, 100000,
+      "adaptive/greedy: most steps the partition may have; a pair that needs more is refused (naming "
+      "the interval where it stalled). Every step costs det J checks on the full sample, so this bounds "
+      "the build time of extremely distorted pairs (ε alone allows ~1/ε steps); the examples need ≤ 7");
   t.flag(
       "certify", &MapSpec::certify,
       "mean value maps (`composite_mean_value`, `barycentric`): prove a lower bound of det J_f on the whole "

@@ -28,6 +28,7 @@ struct MapSpec {
   int sample_resolution = 64;              ///< adaptive: grid samples per bounding-box side
   double min_interval = 1e-4;              ///< adaptive: ε, smallest interval length
   double greedy_min_det = 0.2;             ///< greedy: min det J every step must keep on its sample
+  int max_steps = 256;   ///< adaptive/greedy: most steps a partition may have before the pair is refused
   bool certify = false;  ///< mean value maps: prove a lower bound of det J_f (mean_value_certificate.hpp)
   // Composite harmonic options (mapping/harmonic/make_harmonic_map.hpp).
   std::string harmonic_method = "fem";   ///< fem | bem | mfs

@@ -10,7 +10,10 @@
 #   scripts/fuzz.sh --runs N [target...]    each target for N executions (long runs: N = 1000000)
 #
 # Targets: config polygon_file gmsh png make_map (default: all).
-# WARPFEM_BUILD_DIR (default build-asan) and WARPFEM_JOBS (build jobs) are honoured.
+# WARPFEM_BUILD_DIR (default build-asan) and WARPFEM_JOBS (build jobs) are honoured;
+# WARPFEM_FUZZ_ARGS adds libFuzzer flags, e.g. "-max_len=512" (polygon_file's long
+# run: unlimited, its inputs grow to 2 kB polygons whose O(n²) checks run at 140/s).
+# WARPFEM_FUZZ_NO_BUILD=1 skips the build (runs alongside a build in the same folder).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -36,7 +39,10 @@ if [ ! -f "$build_dir/CMakeCache.txt" ]; then
     bash scripts/build.sh --sanitize
 fi
 jobs="${WARPFEM_JOBS:-$(nproc)}"
-cmake --build "$build_dir" -j "$jobs" --target $(printf 'fuzz_%s ' "${targets[@]}")
+if [ -z "${WARPFEM_FUZZ_NO_BUILD:-}" ]; then
+  cmake --build "$build_dir" -j "$jobs" --target $(printf 'fuzz_%s ' "${targets[@]}")
+fi
+read -r -a extra <<<"${WARPFEM_FUZZ_ARGS:-}"
 
 # libFuzzer checks every input for leaks. The check at exit is off: Open MPI's
 # components are unloaded at MPI_Finalize with allocations they never free.
@@ -57,7 +63,7 @@ for t in "${targets[@]}"; do
   log="$work/$t.log"
   echo "fuzz.sh: fuzz_$t (${limit[*]}), log $log"
   # The first corpus folder receives new inputs; the committed seeds stay as they are.
-  if "$build_dir/tests/fuzz/fuzz_$t" "${limit[@]}" -timeout=60 -rss_limit_mb=3072 -print_final_stats=1 \
+  if "$build_dir/tests/fuzz/fuzz_$t" "${limit[@]}" ${extra[@]+"${extra[@]}"} -timeout=60 -rss_limit_mb=3072 -print_final_stats=1 \
       -artifact_prefix="$work/artifacts/$t-" "$work/corpus/$t" "tests/fuzz/corpus/$t" >"$log" 2>&1; then
     grep -E "^stat::number_of_executed_units|^Done [0-9]+ runs" "$log" | tail -2 | sed "s/^/  /"
   else

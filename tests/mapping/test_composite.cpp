@@ -259,5 +259,43 @@ TEST(CompositeMap, GreedyPartitionFailsWithTheIntervalWhenNoStepReachesTheThresh
   }
 }
 
+TEST(CompositeMap, ExtremelyDistortedPairEndsWithinBoundedWork) {
+  // A 4-gon with a vertex far out at (112, −1) onto one spread over [0, 103]
+  // (found by fuzz_make_map): along the intrinsic vertex path the greedy steps
+  // are short (30 of them here), and ε alone allowed ~1/ε steps, each checked
+  // on the whole sample. max_steps bounds the work: the pair is refused naming
+  // it, or mapped with at most max_steps steps.
+  const Polygon source =
+      test::polygon({{-0.75, 0}, {112, -1}, {0, 1.03125}, {0.13671875, 0.99609375}}, "far vertex");
+  const Polygon target =
+      test::polygon({{9.00390625, 0}, {102.99609375, 0.99609375}, {0, 0}, {1.375, 0}}, "target");
+  const VertexPath path(source, target, VertexPathType::intrinsic);
+  constexpr int resolution = 16;
+  // every sample: at most resolution² grid points plus (8 + 23) × 6 clustered at each of the 4 vertices
+  const Index sample_points = resolution * resolution + 4 * (8 + 23) * 6;
+  for (const int max_steps : {8, 256}) {
+    PartitionWork work;
+    const AdaptiveOptions o{.sample_resolution = resolution,
+                            .min_interval = 1e-3,
+                            .strategy = PartitionStrategy::greedy,
+                            .max_steps = max_steps,
+                            .work = &work};
+    try {
+      const AdaptiveComposite a = build_adaptive_composite(path, o);
+      EXPECT_EQ(max_steps, 256) << "8 steps cannot reach min det J >= 0.2 on every step";
+      EXPECT_GT(a.report.composite_min_det, 0);
+      EXPECT_GT(a.report.steps(), 8);
+      EXPECT_LE(a.report.steps(), max_steps);
+    } catch (const Error& e) {
+      EXPECT_EQ(max_steps, 8) << e.what();
+      EXPECT_EQ(e.context().key_path, "map.max_steps") << e.what();
+      EXPECT_NE(e.message().find("more than max_steps = 8 steps"), std::string::npos) << e.what();
+      EXPECT_FALSE(e.context().hint.empty());
+    }
+    EXPECT_GT(work.step_checks, 0);
+    EXPECT_LE(work.point_evaluations, max_work(o, sample_points)) << work.step_checks << " checks";
+  }
+}
+
 }  // namespace
 }  // namespace warpfem::mapping

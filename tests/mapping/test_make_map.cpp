@@ -119,6 +119,26 @@ TEST(MakeMap, ErrorsNameTheFileAndKey) {
   EXPECT_NE(std::string(e.what()).find("min det J"), std::string::npos) << e.what();
   EXPECT_EQ(e.context().key_path, "map.min_interval");
   EXPECT_EQ(e.context().file, "dart.json");
+
+  s = dart_spec();
+  s.max_steps = 0;
+  EXPECT_EQ(error_of(s).context().key_path, "map.max_steps");
+}
+
+TEST(MakeMap, RefusesAPairThatNeedsMoreThanMaxSteps) {
+  // One step folds on the dart (thesis §2.1.2), so both partitions need at least two.
+  for (const char* partition : {"adaptive", "greedy"}) {
+    MapSpec s = dart_spec();
+    s.partition = partition;
+    s.max_steps = 1;
+    const Error e = error_of(s);
+    EXPECT_EQ(e.context().key_path, "map.max_steps") << partition << ": " << e.what();
+    EXPECT_EQ(e.context().file, "dart.json");
+    EXPECT_NE(e.message().find("more than max_steps = 1 steps"), std::string::npos) << e.what();
+    EXPECT_NE(e.context().hint.find("vertex_path"), std::string::npos);
+    s.max_steps = 256;
+    EXPECT_NO_THROW(make_map(s)) << partition;
+  }
 }
 
 }  // namespace
