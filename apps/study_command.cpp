@@ -8,6 +8,7 @@
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/mesh/quadrature.hpp"
 #include "io/config_field.hpp"
 #include "io/polyhedron_config.hpp"
 
@@ -18,15 +19,22 @@ namespace {
 template <int dim>
 void run_study_config(io::PoissonRunConfig<dim> cfg, const StudySpec& spec, const nlohmann::json& json,
                       const std::string& path, const std::string& output_dir) {
-  // The study refines levels - 1 times more, and the reference solution further.
+  // The study integrates with the measurement rule (run_study), refines levels - 1
+  // times more, and the reference solution further: sizes and the map's evaluation
+  // follow that finest level.
+  if (cfg.poisson.quadrature_degree == 0)
+    cfg.poisson.quadrature_degree = measurement_quadrature_degree(cfg.poisson.order);
   const io::Discretization finest =
       io::poisson_discretization(cfg, cfg.mesh.refinements + spec.levels - 1 + spec.reference_levels);
-  if constexpr (dim == 2)
+  if constexpr (dim == 2) {
     io::check_discretization_size(io::ConfigNode(json, path), cfg.mesh, cfg.map, finest, cfg.limits,
                                   "/study/levels");
-  else
+    cfg.map.evaluation_points =
+        io::finest_quadrature_points(cfg.mesh, cfg.map, finest, cfg.poisson.quadrature_degree);
+  } else {
     io::check_discretization_size(io::ConfigNode(json, path), cfg.mesh, *cfg.map.source, finest, cfg.limits,
                                   "/study/levels");
+  }
   if (!output_dir.empty()) cfg.output.directory = output_dir;
   log::set_level(log::parse_level(cfg.verbosity));
   Environment::insert_petsc_options(cfg.solver.petsc_options, path + ": /solver/petsc_options");

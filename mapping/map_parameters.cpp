@@ -67,7 +67,7 @@ ParameterTable<MapSpec> make_table() {
            "(docs/map_interpolation.md): evaluation cost independent of the vertex count; cells next to the "
            "vertices, and points outside Ω0, stay exact. The fold check always uses the exact map. `auto` "
            "interpolates when the run's quadrature points (estimated from the config) make it save "
-           "more than its build: large meshes of maps with many vertices or steps, and harmonic maps");
+           "more than half its build: large meshes of maps with many vertices or steps, and harmonic maps");
   t.number("interpolation_tolerance", &MapSpec::interpolation_tolerance, 1e-15, 1e-3,
            "interpolated: f within this × diam(Ω0) and J_f within 1000 × this (relative) at test points");
   return t;

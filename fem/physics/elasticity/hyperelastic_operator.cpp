@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
 #include "fem/assembly/boundary_parts.hpp"
@@ -393,8 +394,6 @@ typename HyperelasticOperator<dim>::CellFold HyperelasticOperator<dim>::min_det_
   for (std::size_t k = 0; k < lattice.size(); ++k)
     rule.points.row(static_cast<Index>(k)) = (centre + (1 - 1e-9) * (lattice[k] - centre)).transpose();
   rule.weights.setConstant(rule.points.rows(), 1.0 / static_cast<double>(rule.points.rows()));
-  const WarpedGeometry<dim> sampled(space_.mesh(), space_.nodes().local_cells(), rule, *map_,
-                                    GeometryStorage::streamed);
   const VectorX ur = space_.gather_relevant(u);
   VectorX ue(dim * element.num_dofs());
   struct {
@@ -404,23 +403,29 @@ typename HyperelasticOperator<dim>::CellFold HyperelasticOperator<dim>::min_det_
   MPI_Comm_rank(comm_, &local.rank);
   Point<dim> where = Point<dim>::Zero();
   Index cell = -1;
-  CellValues<dim> values(element, sampled, CellValues<dim>::update_gradients);
-  integrate_cells(sampled, values,
-                  make_kernel(
-                      [&](const CellValues<dim>& v) {
-                        cell_coefficients(ur, v.cell(), ue);
-                        return true;
-                      },
-                      [&](const CellValues<dim>& v, Index q) {
-                        const double d =
-                            (Matrix<dim>::Identity() + v.vector_gradient(q, ue.data())).determinant();
-                        if (d < local.value) {
-                          local.value = d;
-                          where = v.point(q);
-                          cell = v.position();
-                        }
-                      },
-                      [](const CellValues<dim>&) {}));
+  // The lattice points were never checked: a map failure there must end every rank,
+  // not leave the others in the reduction below.
+  run_collectively(comm_, [&] {
+    const WarpedGeometry<dim> sampled(space_.mesh(), space_.nodes().local_cells(), rule, *map_,
+                                      GeometryStorage::streamed);
+    CellValues<dim> values(element, sampled, CellValues<dim>::update_gradients);
+    integrate_cells(sampled, values,
+                    make_kernel(
+                        [&](const CellValues<dim>& v) {
+                          cell_coefficients(ur, v.cell(), ue);
+                          return true;
+                        },
+                        [&](const CellValues<dim>& v, Index q) {
+                          const double d =
+                              (Matrix<dim>::Identity() + v.vector_gradient(q, ue.data())).determinant();
+                          if (d < local.value) {
+                            local.value = d;
+                            where = v.point(q);
+                            cell = v.position();
+                          }
+                        },
+                        [](const CellValues<dim>&) {}));
+  });
   // That cell's quadrature points (the state the residual sees there).
   double cell_min = std::numeric_limits<double>::infinity();
   if (cell >= 0)
