@@ -63,7 +63,9 @@ namespace {
 template <int dim>
 class ExactSolution final : public Function<dim> {
  public:
-  double value(const Point<dim>& x, const unsigned int = 0) const override { return (1 - x.square()) / (2 * dim); }
+  double value(const Point<dim>& x, const unsigned int = 0) const override {
+    return (1 - x.square()) / (2 * dim);
+  }
   Tensor<1, dim> gradient(const Point<dim>& x, const unsigned int = 0) const override { return -x / dim; }
 };
 
@@ -237,13 +239,14 @@ int run(unsigned int refinements, const std::string& ball, unsigned int degree, 
   std::printf(
       "deal.II %s: %dD Q%u, %s ball, %u refinements, %u levels, %u cells, %u DOFs, %u CG its; peak RSS %.0f "
       "MB (%.0f bytes/DOF); max u %.6e\n",
-      DEAL_II_PACKAGE_VERSION, dim, degree, dim == 2 ? "plain" : ball.c_str(), refinements, levels, tria.n_active_cells(),
-      static_cast<unsigned int>(dof.n_dofs()), control.last_step(), peak / 1048576.0,
+      DEAL_II_PACKAGE_VERSION, dim, degree, dim == 2 ? "plain" : ball.c_str(), refinements, levels,
+      tria.n_active_cells(), static_cast<unsigned int>(dof.n_dofs()), control.last_step(), peak / 1048576.0,
       peak / static_cast<double>(dof.n_dofs()), u.linfty_norm());
   Vector<double> cell_errors(tria.n_active_cells());
   const ExactSolution<dim> exact;
   const QGauss<dim> error_quadrature(degree + 2);
-  VectorTools::integrate_difference(mapping, dof, u, exact, cell_errors, error_quadrature, VectorTools::L2_norm);
+  VectorTools::integrate_difference(mapping, dof, u, exact, cell_errors, error_quadrature,
+                                    VectorTools::L2_norm);
   const double l2 = VectorTools::compute_global_error(tria, cell_errors, VectorTools::L2_norm);
   VectorTools::integrate_difference(mapping, dof, u, exact, cell_errors, error_quadrature,
                                     VectorTools::H1_seminorm);
@@ -260,7 +263,9 @@ int main(int argc, char** argv) {
   const int degree = argc > 4 ? std::atoi(argv[4]) : 1;
   const std::string output = argc > 5 ? argv[5] : "";
   if ((dim != 2 && dim != 3) || degree < 1 || degree > 4) {
-    std::fprintf(stderr, "usage: dealii_poisson_ball [refinements] [balanced|plain] [dim 2|3] [degree 1..4] [output.vtu]\n");
+    std::fprintf(
+        stderr,
+        "usage: dealii_poisson_ball [refinements] [balanced|plain] [dim 2|3] [degree 1..4] [output.vtu]\n");
     return 2;
   }
   return dim == 2 ? run<2>(refinements, ball, static_cast<unsigned int>(degree), output)
