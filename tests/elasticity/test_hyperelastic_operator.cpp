@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <random>
 
 #include "elasticity_fixtures.hpp"
@@ -351,25 +352,46 @@ TEST(HyperelasticOperator, SampledDetFSeesACellFoldedBetweenItsQuadraturePoints)
   EXPECT_NEAR(fold.cell_quadrature_min, at_points, 1e-14);
 }
 
+namespace {
+
+/// The block of examples/block_compression.json (Q2, 8 x 8 cells, 2,178 DOFs) on a
+/// trapezoid, clamped at the bottom and pushed down by `compression` at the top. The
+/// operator keeps references to the mesh and the data, so the three live together
+/// (constructed in place, never moved).
+struct CompressedBlock {
+  explicit CompressedBlock(double compression)
+      : mesh(test::block_mesh(1, 1, 8, 8, CellType::quadrilateral, 1)) {
+    mapping::MapSpec spec;
+    spec.type = "barycentric";
+    spec.source = test::rectangle(1, 1);
+    spec.target =
+        Polygon({Point<2>(0, 0), Point<2>(1.2, 0), Point<2>(1.0, 1.0), Point<2>(0.2, 1.0)}, "trapezoid");
+    data.material = fem::Material::from_young_poisson(MaterialModel::neo_hookean, 1000.0, 0.3);
+    data.boundary_polygon = spec.source;
+    const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
+    const fem::ScalarFunction<2> down = [compression](const Point<2>&, double) { return -compression; };
+    data.dirichlet.push_back({{0}, {zero, zero}});
+    data.dirichlet.push_back({{2}, {zero, down}});
+    op = std::make_unique<fem::HyperelasticOperator<2>>(MPI_COMM_SELF, mesh, mapping::make_map(spec), 2, 0,
+                                                        data);
+  }
+  CompressedBlock(const CompressedBlock&) = delete;
+  CompressedBlock& operator=(const CompressedBlock&) = delete;
+
+  warpfem::Mesh<2> mesh;
+  fem::ElasticityData<2> data;
+  std::unique_ptr<fem::HyperelasticOperator<2>> op;
+};
+
+}  // namespace
+
 TEST(QuasiStatic, ALoadBeyondACornerFoldStopsEarlyWithTheReason) {
   // The block of examples/block_compression.json (2,178 DOFs) compressed by 60 % in 16 steps:
   // near s = 0.7 the free surface folds over at a clamped corner, the equilibrium path loses
   // stability, and no smaller increment gets past. The solve stops after two attempts from the
   // last converged state, saying why, instead of halving down to the minimum increment.
-  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 8, 8, CellType::quadrilateral, 1);
-  mapping::MapSpec spec;
-  spec.type = "barycentric";
-  spec.source = test::rectangle(1, 1);
-  spec.target =
-      Polygon({Point<2>(0, 0), Point<2>(1.2, 0), Point<2>(1.0, 1.0), Point<2>(0.2, 1.0)}, "trapezoid");
-  fem::ElasticityData<2> data;
-  data.material = fem::Material::from_young_poisson(MaterialModel::neo_hookean, 1000.0, 0.3);
-  data.boundary_polygon = spec.source;
-  const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
-  const fem::ScalarFunction<2> down = [](const Point<2>&, double) { return -0.6; };
-  data.dirichlet.push_back({{0}, {zero, zero}});
-  data.dirichlet.push_back({{2}, {zero, down}});
-  const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, mapping::make_map(spec), 2, 0, data);
+  const CompressedBlock block(0.6);
+  const fem::HyperelasticOperator<2>& op = *block.op;
   fem::NewtonOptions newton = quiet_newton();
   newton.rtol = 1e-10;
   newton.atol = 1e-12;
@@ -395,21 +417,9 @@ TEST(QuasiStatic, AnUnstableFinalEquilibriumIsReported) {
   // The block of examples/block_compression.json (2,178 DOFs) in 4 load steps: at 30 % the final
   // equilibrium is stable; at 55 % Newton still converges at s = 1, but onto an equilibrium past
   // the corner fold whose tangent has negative eigenvalues.
-  const warpfem::Mesh<2> mesh = test::block_mesh(1, 1, 8, 8, CellType::quadrilateral, 1);
-  mapping::MapSpec spec;
-  spec.type = "barycentric";
-  spec.source = test::rectangle(1, 1);
-  spec.target =
-      Polygon({Point<2>(0, 0), Point<2>(1.2, 0), Point<2>(1.0, 1.0), Point<2>(0.2, 1.0)}, "trapezoid");
   for (const double compression : {0.3, 0.55}) {
-    fem::ElasticityData<2> data;
-    data.material = fem::Material::from_young_poisson(MaterialModel::neo_hookean, 1000.0, 0.3);
-    data.boundary_polygon = spec.source;
-    const fem::ScalarFunction<2> zero = [](const Point<2>&, double) { return 0.0; };
-    const fem::ScalarFunction<2> down = [compression](const Point<2>&, double) { return -compression; };
-    data.dirichlet.push_back({{0}, {zero, zero}});
-    data.dirichlet.push_back({{2}, {zero, down}});
-    const fem::HyperelasticOperator op(MPI_COMM_SELF, mesh, mapping::make_map(spec), 2, 0, data);
+    const CompressedBlock block(compression);
+    const fem::HyperelasticOperator<2>& op = *block.op;
     petsc::Vector u = op.space().create_vector();
     fem::QuasiStaticSolver solver(op, quiet_newton(), {.steps = 4, .min_increment = 1e-3});
     const fem::QuasiStaticReport report = solver.solve(u.get());
