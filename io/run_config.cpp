@@ -437,10 +437,11 @@ PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std
   output.finish();
   cfg.limits = parse_limits(root);
   root.finish();
-  check_run_size<dim>(root, cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements), cfg.limits);
+  const Discretization discretization = poisson_discretization(cfg, cfg.mesh.refinements);
+  check_run_size<dim>(root, cfg.mesh, cfg.map, discretization, cfg.limits);
   if constexpr (dim == 2)
-    cfg.map.evaluation_points = finest_quadrature_points(
-        cfg.mesh, cfg.map, poisson_discretization(cfg, cfg.mesh.refinements), cfg.poisson.quadrature_degree);
+    cfg.map.evaluation_points =
+        finest_quadrature_points(cfg.mesh, cfg.map, discretization, cfg.poisson.quadrature_degree);
   return cfg;
 }
 
