@@ -7,10 +7,11 @@ bash scripts/install_dependencies.sh
 bash scripts/build.sh
 export OMPI_MCA_rmaps_base_oversubscribe=1
 ctest --test-dir "${WARPFEM_BUILD_DIR:-build}" --output-on-failure -j "${WARPFEM_JOBS:-$(nproc)}" --timeout 600
-# WARPFEM_SANITIZERS=1 adds the sanitizer and fuzz subset (Clang ASan + UBSan build in
-# build-asan-ci/, every fuzz target 20 s, io and mapping tests). Off by default, also in CI:
-# its from-scratch sanitized build alone exceeds CI's time budget on a 2-core machine
-# (docs/reliability.md, "Sanitizers").
-if [ "${WARPFEM_SANITIZERS:-0}" = 1 ]; then
-  WARPFEM_BUILD_DIR=build-asan-ci bash scripts/ci_sanitizers.sh
+# The sanitizer and fuzz subset (scripts/ci_sanitizers.sh: Clang ASan + UBSan build in
+# build-asan-ci/, every fuzz target 20 s, test_core and test_io sanitized) runs in CI
+# (CI=true) and with WARPFEM_SANITIZERS=1; WARPFEM_SANITIZERS=0 skips it.
+sanitizers="${WARPFEM_SANITIZERS:-}"
+if [ -z "$sanitizers" ] && [ "${CI:-}" = true ]; then sanitizers=1; fi
+if [ "$sanitizers" = 1 ]; then
+  bash scripts/ci_sanitizers.sh
 fi
