@@ -35,7 +35,7 @@ std::string RunOutput<dim>::write(const std::string& name, Vec state) {
   int rank = 0;
   MPI_Comm_rank(comm_, &rank);
   vtk.cell_fields.push_back(
-      {"rank", 1, std::vector<double>(static_cast<std::size_t>(mesh_->cells.rows()), rank)});
+      {"rank", 1, std::vector<double>(static_cast<std::size_t>(mesh_->num_cells()), rank)});
   nodes_seconds_ = watch.seconds();
   const std::string file = io::write_vtk(comm_, vtk, settings_.directory, name);
   files_.push_back(file);

@@ -13,10 +13,12 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkTypeInt32Array.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPUnstructuredGridWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <type_traits>
@@ -69,10 +71,12 @@ vtkSmartPointer<vtkDoubleArray> make_array(const VtkField& field) {
 template <class PointTable, int dim>
 vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const IndexTable& table,
                                                warpfem::CellType type, int order,
-                                               const VtkOutput<dim>& output) {
+                                               const VtkOutput<dim>& output,
+                                               const IndexTable* triangles = nullptr) {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   constexpr int cols = PointTable::ColsAtCompileTime;
   const Index npoints = xyz.rows(), ncells = table.rows(), nodes_per_cell = table.cols();
+  const Index ntriangles = triangles ? triangles->rows() : 0;
   vtkNew<vtkDoubleArray> coordinates;
   coordinates->SetNumberOfComponents(3);
   coordinates->SetNumberOfTuples(npoints);
@@ -83,21 +87,41 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const Inde
   vtkNew<vtkPoints> points;
   points->SetData(coordinates);
   grid->SetPoints(points);
-  // Every cell has the same number of nodes, so the offsets are a ramp; the
-  // connectivity is the row-major node table itself, lent to VTK like the
-  // fields, and written as 32-bit integers.
   static_assert(std::is_same_v<IndexTable::Scalar, vtkTypeInt32> && IndexTable::IsRowMajor);
-  require(ncells * nodes_per_cell < std::numeric_limits<vtkTypeInt32>::max(),
+  const Index references = ncells * nodes_per_cell + ntriangles * (triangles ? triangles->cols() : 0);
+  require(references < std::numeric_limits<vtkTypeInt32>::max(),
           "write_vtk: too many cells for one piece (more than 2^31 node references)");
   vtkNew<vtkTypeInt32Array> offsets, connectivity;
-  offsets->SetNumberOfTuples(ncells + 1);
+  offsets->SetNumberOfTuples(ncells + ntriangles + 1);
   vtkTypeInt32* offset = offsets->GetPointer(0);
-  prefault(offset, static_cast<std::size_t>(ncells + 1) * sizeof(vtkTypeInt32));
+  prefault(offset, static_cast<std::size_t>(ncells + ntriangles + 1) * sizeof(vtkTypeInt32));
   for (Index c = 0; c <= ncells; ++c) offset[c] = static_cast<vtkTypeInt32>(c * nodes_per_cell);
-  connectivity->SetArray(const_cast<vtkTypeInt32*>(table.data()), ncells * nodes_per_cell, /*save=*/1);
   vtkNew<vtkCellArray> cells;
-  cells->SetData(offsets, connectivity);
-  grid->SetCells(vtk_cell_type(type, order), cells);
+  if (ntriangles == 0) {
+    // Every cell has the same number of nodes, so the offsets are a ramp; the
+    // connectivity is the row-major node table itself, lent to VTK like the
+    // fields, and written as 32-bit integers.
+    connectivity->SetArray(const_cast<vtkTypeInt32*>(table.data()), ncells * nodes_per_cell, /*save=*/1);
+    cells->SetData(offsets, connectivity);
+    grid->SetCells(vtk_cell_type(type, order), cells);
+  } else {
+    // Quadrilaterals followed by the triangles some of them were cut into.
+    const Index per_triangle = triangles->cols();
+    for (Index t = 1; t <= ntriangles; ++t)
+      offset[ncells + t] = static_cast<vtkTypeInt32>(ncells * nodes_per_cell + t * per_triangle);
+    connectivity->SetNumberOfTuples(references);
+    vtkTypeInt32* to = connectivity->GetPointer(0);
+    std::copy_n(table.data(), ncells * nodes_per_cell, to);
+    std::copy_n(triangles->data(), ntriangles * per_triangle, to + ncells * nodes_per_cell);
+    cells->SetData(offsets, connectivity);
+    vtkNew<vtkUnsignedCharArray> types;
+    types->SetNumberOfTuples(ncells + ntriangles);
+    unsigned char* type_out = types->GetPointer(0);
+    std::fill_n(type_out, ncells, static_cast<unsigned char>(vtk_cell_type(type, order)));
+    std::fill_n(type_out + ncells, ntriangles,
+                static_cast<unsigned char>(vtk_cell_type(warpfem::CellType::triangle, order)));
+    grid->SetCells(types, cells);
+  }
   for (const auto& f : output.point_fields) grid->GetPointData()->AddArray(make_array(f));
   for (const auto& f : output.cell_fields) grid->GetCellData()->AddArray(make_array(f));
   return grid;
@@ -138,7 +162,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
   vtkSmartPointer<vtkUnstructuredGrid> grid;
   run_collectively(comm, [&] {
     grid = output.mesh ? make_grid(output.mesh->points, output.mesh->cells, output.mesh->cell_type,
-                                   output.mesh->order, output)
+                                   output.mesh->order, output, &output.mesh->triangle_cells)
                        : make_grid(output.cells->points, output.cells->cells, output.cells->cell_type,
                                    output.cells->order, output);
   });

@@ -241,6 +241,8 @@ WARPFEM_KERNEL_INLINE void mean_value_batch(const PolygonArrays& P, const Points
                                         DY[i * N + p] = gy;
                                         s.Wx[p] += gx;
                                         s.Wy[p] += gy;
+                                      } else {
+                                        (void)DX, (void)DY;  // captured for the gradient variant only
                                       }
                                     });
     for (int p = 0; p < cnt; ++p) s.W[p] = 1.0 / s.W[p];

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/mesh/polygon_triangulation.hpp"
 #include "core/prefault.hpp"
 #include "core/threads.hpp"
 #include "fem/geometry/warped_geometry.hpp"
@@ -142,6 +143,22 @@ std::vector<Region> split(const Region& r, CellType type) {
   return out;
 }
 
+// The rows of `cells` that hold every node, as compressed rows: the holders
+// of node n are holders[start[n] .. start[n+1]).
+std::pair<std::vector<Index>, std::vector<Index>> node_holders(const IndexTable& cells, Index npoints) {
+  const Index ncells = cells.rows(), nloc = cells.cols();
+  std::vector<Index> start(static_cast<std::size_t>(npoints) + 1, 0);
+  for (Index c = 0; c < ncells; ++c)
+    for (Index k = 0; k < nloc; ++k) ++start[static_cast<std::size_t>(cells(c, k)) + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<Index> holders(static_cast<std::size_t>(start.back()));
+  std::vector<Index> fill(start.begin(), start.end() - 1);
+  for (Index c = 0; c < ncells; ++c)
+    for (Index k = 0; k < nloc; ++k)
+      holders[static_cast<std::size_t>(fill[static_cast<std::size_t>(cells(c, k))]++)] = c;
+  return {std::move(start), std::move(holders)};
+}
+
 // Cells whose curved geometry still folds — at a vertex where f is not
 // differentiable the quadratic interpolant of f folds at any subdivision
 // depth — get their non-vertex nodes pulled toward the straight cell spanned by
@@ -164,18 +181,8 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
   for (const Index c : work) folded_before[static_cast<std::size_t>(c)] = 1;
   out.num_tangled_cells = static_cast<Index>(work.size());
   if (work.empty()) return;
-  // The cells of every node (compressed rows).
-  std::vector<Index> start(static_cast<std::size_t>(npoints) + 1, 0);
-  for (Index c = 0; c < ncells; ++c)
-    for (Index k = 0; k < nloc; ++k) ++start[static_cast<std::size_t>(out.cells(c, k)) + 1];
-  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  std::vector<Index> holders(static_cast<std::size_t>(start.back()));
-  {
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index c = 0; c < ncells; ++c)
-      for (Index k = 0; k < nloc; ++k)
-        holders[static_cast<std::size_t>(fill[static_cast<std::size_t>(out.cells(c, k))]++)] = c;
-  }
+  const auto node_cells = node_holders(out.cells, npoints);
+  const std::vector<Index>&start = node_cells.first, &holders = node_cells.second;
   const Points<dim> curved = out.points;
   std::vector<double> t(static_cast<std::size_t>(npoints), 1.0);
   std::unordered_map<Index, Point<dim>> straight;  // node -> its place on the straight cell
@@ -260,6 +267,255 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
     out.num_straightened_cells += keep && straightened[static_cast<std::size_t>(c)] ? 1 : 0;
     out.num_tangled_cells += (keep ? folded_after : folded_before)[static_cast<std::size_t>(c)];
   }
+}
+
+// Quadratic quadrilaterals that fold even as straight cells: where f opens a
+// corner of Ω0 into a reflex corner of Ω1, the mapped vertices of a cell at
+// that corner form a non-convex quadrilateral, and no bilinear cell over them
+// is untangled at any size. Each is cut along the diagonal that leaves two
+// positively oriented triangles (straight along the diagonal). A triangle
+// that folds with its curved cell edges gets those edges straight (its edge
+// nodes move onto the segment between its mapped vertices, for the
+// neighbours sharing them too, which are checked again and cut in turn if
+// that folds them); a straight triangle with positive vertices never folds.
+// Returns per row the diagonal cut (0: vertices 0–2, 1: vertices 1–3) or −1.
+// `frozen` edge nodes (shared with another rank) never move.
+template <class Tangled>
+std::vector<int> cut_folded_quadrilaterals(OutputMesh<2>& out, const Tangled& tangled,
+                                           const std::vector<char>& frozen) {
+  const Index ncells = out.cells.rows();
+  std::vector<int> diagonal(static_cast<std::size_t>(ncells), -1);
+  const auto row = [&](Index c) {
+    std::vector<Index> nodes(static_cast<std::size_t>(out.cells.cols()));
+    for (Index k = 0; k < out.cells.cols(); ++k) nodes[static_cast<std::size_t>(k)] = out.cells(c, k);
+    return nodes;
+  };
+  std::vector<Index> work;
+  for (Index c = 0; c < ncells; ++c)
+    if (tangled(row(c))) work.push_back(c);
+  if (work.empty()) return diagonal;
+  const auto node_cells = node_holders(out.cells, out.points.rows());
+  const std::vector<Index>&start = node_cells.first, &holders = node_cells.second;
+  // Node k of a row's boundary ring: vertex k/2 for even k, else the node of edge k/2.
+  const auto ring = [&](Index c, int k) { return out.cells(c, k % 8 % 2 == 0 ? k % 8 / 2 : 4 + k % 8 / 2); };
+  const auto at = [&](Index node) -> Point<2> { return out.points.row(node).transpose(); };
+  const auto orientation = [](const Point<2>& a, const Point<2>& b, const Point<2>& c) {
+    return (b(0) - a(0)) * (c(1) - a(1)) - (b(1) - a(1)) * (c(0) - a(0));
+  };
+  const auto is_frozen = [&](Index node) {
+    return static_cast<std::size_t>(node) < frozen.size() && frozen[static_cast<std::size_t>(node)];
+  };
+  const FoldCheck<2> triangle_check(LagrangeElement<2>(CellType::triangle, 2));
+  // Triangle t (0, 1) of cut row c: ring nodes a, a+2, a+4 (t = 0) or a+4, a+6, a
+  // (t = 1) with a = 2 × diagonal, and the straight diagonal's midpoint.
+  const auto first_ring = [&](Index c, int t) { return 2 * diagonal[static_cast<std::size_t>(c)] + 4 * t; };
+  const auto triangle_folds = [&](Index c, int t) {
+    const int a = first_ring(c, t);
+    std::array<Point<2>, FoldCheck<2>::max_nodes> x;
+    x[0] = at(ring(c, a)), x[1] = at(ring(c, a + 2)), x[2] = at(ring(c, a + 4));
+    x[3] = at(ring(c, a + 1)), x[4] = at(ring(c, a + 3)), x[5] = 0.5 * (x[0] + x[2]);
+    return triangle_check.folds(x.data());
+  };
+  const auto cut_folds = [&](Index c) { return triangle_folds(c, 0) || triangle_folds(c, 1); };
+  std::vector<char> seen(static_cast<std::size_t>(ncells), 0);
+  while (!work.empty()) {
+    std::vector<Index> moved;
+    for (const Index c : work) {
+      if (diagonal[static_cast<std::size_t>(c)] < 0) {
+        const Point<2> p0 = at(out.cells(c, 0)), p1 = at(out.cells(c, 1)), p2 = at(out.cells(c, 2)),
+                       p3 = at(out.cells(c, 3));
+        const double along02 = std::min(orientation(p0, p1, p2), orientation(p0, p2, p3));
+        const double along13 = std::min(orientation(p0, p1, p3), orientation(p1, p2, p3));
+        if (!(std::max(along02, along13) > 0)) continue;  // not even a simple, positive quadrilateral
+        diagonal[static_cast<std::size_t>(c)] = along02 >= along13 ? 0 : 1;
+      }
+      for (int t = 0; t < 2; ++t) {
+        if (!triangle_folds(c, t)) continue;
+        const int a = first_ring(c, t);
+        for (const int k : {a + 1, a + 3}) {  // the triangle's cell edges, straight
+          const Index node = ring(c, k);
+          const Point<2> straight = 0.5 * (at(ring(c, k - 1)) + at(ring(c, k + 1)));
+          if (is_frozen(node) || at(node) == straight) continue;
+          out.points.row(node) = straight.transpose();
+          moved.push_back(node);
+        }
+      }
+    }
+    // Rows holding a moved node: cut them (again) if that folds them.
+    std::vector<Index> next;
+    std::fill(seen.begin(), seen.end(), 0);
+    for (const Index node : moved)
+      for (Index j = start[static_cast<std::size_t>(node)]; j < start[static_cast<std::size_t>(node) + 1];
+           ++j) {
+        const Index c = holders[static_cast<std::size_t>(j)];
+        if (seen[static_cast<std::size_t>(c)]) continue;
+        seen[static_cast<std::size_t>(c)] = 1;
+        if (diagonal[static_cast<std::size_t>(c)] >= 0 ? cut_folds(c) : tangled(row(c))) next.push_back(c);
+      }
+    work = std::move(next);
+  }
+  return diagonal;
+}
+
+// Writes the quadrilaterals that fold even as straight cells as quadratic
+// triangles (OutputMesh::triangle_cells). First cut_folded_quadrilaterals: two
+// triangles per cell, conforming with its neighbours. A cell that no diagonal cuts into two positive
+// triangles (its mapped vertices cross: f turns so sharply inside it that only
+// its curved edges stay apart) is triangulated over its eight mapped boundary
+// nodes by CGAL, when they form a simple polygon; its boundary is then the
+// polyline through its edge nodes, which the neighbours' curved edges pass
+// through too. Nodes are added at the midpoints of triangle edges that are no
+// cell edge (on the straight edge; the field value is the FE function's at
+// the corresponding reference point). `row_corners` holds the reference
+// corners of every row in its mesh cell, or is empty when every row is a
+// whole cell.
+template <class Tangled>
+void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>& mesh,
+                                              const mapping::Map<2>& map, const Tangled& tangled,
+                                              const std::vector<char>& frozen,
+                                              const std::vector<std::array<Point<2>, 4>>& row_corners,
+                                              std::vector<std::pair<Index, Point<2>>>& added_sources) {
+  const std::vector<int> diagonal = cut_folded_quadrilaterals(out, tangled, frozen);
+  const Index nrows = out.cells.rows();
+  const auto& edges = cell_edges(CellType::quadrilateral);
+  const LagrangeElement<2> linear(CellType::quadrilateral, 1);
+  std::array<Point<2>, 4> whole{};
+  for (int v = 0; v < 4; ++v) whole[static_cast<std::size_t>(v)] = linear.nodes().row(v).transpose();
+  const auto row_nodes = [&](Index r) {
+    std::vector<Index> nodes(9);
+    for (int k = 0; k < 9; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(r, k);
+    return nodes;
+  };
+  // Boundary nodes of a row in counter-clockwise order (vertex, edge node, ...)
+  // as output node, position and reference point.
+  struct BoundaryNode {
+    Index node;
+    Point<2> x, xi;
+  };
+  const auto boundary = [&](Index r) {
+    const auto& corners = row_corners.empty() ? whole : row_corners[static_cast<std::size_t>(r)];
+    std::vector<BoundaryNode> ring;
+    for (int v = 0; v < 4; ++v) {
+      const auto& e = edges[static_cast<std::size_t>(v)];
+      ring.push_back({out.cells(r, v), out.points.row(out.cells(r, v)).transpose(),
+                      corners[static_cast<std::size_t>(v)]});
+      ring.push_back(
+          {out.cells(r, 4 + v), out.points.row(out.cells(r, 4 + v)).transpose(),
+           0.5 * (corners[static_cast<std::size_t>(e[0])] + corners[static_cast<std::size_t>(e[1])])});
+    }
+    return ring;
+  };
+
+  // The triangles, as rows of boundary nodes plus per edge either an existing
+  // node or the index of a node to add.
+  struct NewNode {
+    Index row;
+    Point<2> xi, x;
+  };
+  std::vector<NewNode> added;
+  std::vector<std::array<Index, 6>> triangles;  // existing node ids, or -(1 + added index)
+  std::vector<Index> triangle_rows;
+  std::vector<char> replaced(static_cast<std::size_t>(nrows), 0);
+  const auto midpoint = [&](Index r, const BoundaryNode& a, const BoundaryNode& b) {
+    added.push_back({r, 0.5 * (a.xi + b.xi), 0.5 * (a.x + b.x)});
+    return -static_cast<Index>(added.size());
+  };
+  for (Index r = 0; r < nrows; ++r) {
+    const int d = diagonal[static_cast<std::size_t>(r)];
+    const std::vector<BoundaryNode> ring = boundary(r);
+    const auto at = [&](int k) -> const BoundaryNode& { return ring[static_cast<std::size_t>(k % 8)]; };
+    if (d >= 0) {
+      // Vertices 2d, 2d + 2, 2d + 4 and 2d + 4, 2d + 6, 2d of the ring.
+      const int a = 2 * d;
+      const Index mid = midpoint(r, at(a), at(a + 4));
+      triangles.push_back({at(a).node, at(a + 2).node, at(a + 4).node, at(a + 1).node, at(a + 3).node, mid});
+      triangles.push_back({at(a + 4).node, at(a + 6).node, at(a).node, at(a + 5).node, at(a + 7).node, mid});
+      triangle_rows.insert(triangle_rows.end(), 2, r);
+      replaced[static_cast<std::size_t>(r)] = 1;
+      continue;
+    }
+    if (!tangled(row_nodes(r))) continue;
+    std::vector<Point<2>> polygon;
+    for (const auto& b : ring) polygon.push_back(b.x);
+    const auto pieces = triangulate_simple_polygon(polygon);
+    if (pieces.empty()) continue;
+    for (const auto& t : pieces) {
+      std::array<Index, 6> row{};
+      for (int k = 0; k < 3; ++k) {
+        const int i = t[static_cast<std::size_t>(k)], j = t[static_cast<std::size_t>((k + 1) % 3)];
+        row[static_cast<std::size_t>(k)] = at(i).node;
+        // A ring edge is a half of a cell edge: its midpoint is new as well.
+        row[static_cast<std::size_t>(3 + k)] = midpoint(r, at(i), at(j));
+      }
+      triangles.push_back(row);
+      triangle_rows.push_back(r);
+    }
+    replaced[static_cast<std::size_t>(r)] = 1;
+  }
+  if (triangles.empty()) return;
+
+  // The added nodes: Ω0 position by the mesh cell's geometry, det J_f by f.
+  const Index nadded = static_cast<Index>(added.size());
+  Points<2> xi(nadded, 2), x0(nadded, 2);
+  for (Index j = 0; j < nadded; ++j) xi.row(j) = added[static_cast<std::size_t>(j)].xi.transpose();
+  const MatrixX weights = linear.values(xi);
+  for (Index j = 0; j < nadded; ++j) {
+    const Index row = added[static_cast<std::size_t>(j)].row;
+    const Index cell = out.cell_ids[static_cast<std::size_t>(row)];
+    Point<2> x = Point<2>::Zero();
+    for (int v = 0; v < 4; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(cell, v));
+    x0.row(j) = x.transpose();
+    added_sources.emplace_back(out.source_cells[static_cast<std::size_t>(row)],
+                               added[static_cast<std::size_t>(j)].xi);
+  }
+  VectorX det;
+  warp_nodes(map, x0, &det);
+  const Index first_new = out.points.rows();
+  out.reference_points.conservativeResize(first_new + nadded, 2);
+  out.points.conservativeResize(first_new + nadded, 2);
+  out.map_det.conservativeResize(first_new + nadded);
+  out.reference_points.bottomRows(nadded) = x0;
+  for (Index j = 0; j < nadded; ++j)
+    out.points.row(first_new + j) = added[static_cast<std::size_t>(j)].x.transpose();
+  out.map_det.tail(nadded) = det;
+
+  // Rows: the quadrilaterals kept, then the triangles (VTK order: corners, then
+  // the nodes of edges 01, 12, 20).
+  const Index nreplaced = static_cast<Index>(std::count(replaced.begin(), replaced.end(), 1));
+  IndexTable quads(nrows - nreplaced, 9), table(static_cast<Index>(triangles.size()), 6);
+  std::vector<Index> ids, sources;
+  for (Index r = 0, q = 0; r < nrows; ++r)
+    if (!replaced[static_cast<std::size_t>(r)]) {
+      quads.row(q++) = out.cells.row(r);
+      ids.push_back(out.cell_ids[static_cast<std::size_t>(r)]);
+      sources.push_back(out.source_cells[static_cast<std::size_t>(r)]);
+    }
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 6; ++k) {
+      const Index n = triangles[t][static_cast<std::size_t>(k)];
+      table(static_cast<Index>(t), k) = static_cast<TableIndex>(n >= 0 ? n : first_new + (-n - 1));
+    }
+    ids.push_back(out.cell_ids[static_cast<std::size_t>(triangle_rows[t])]);
+    sources.push_back(out.source_cells[static_cast<std::size_t>(triangle_rows[t])]);
+  }
+  out.cells = std::move(quads);
+  out.triangle_cells = std::move(table);
+  out.cell_ids = std::move(ids);
+  out.source_cells = std::move(sources);
+  out.num_split_cells = nreplaced;
+}
+
+// Written triangles (OutputMesh::triangle_cells) whose geometry folds.
+Index folded_triangles(const OutputMesh<2>& out) {
+  const FoldCheck<2> check(LagrangeElement<2>(CellType::triangle, 2));
+  Index count = 0;
+  for (Index r = 0; r < out.triangle_cells.rows(); ++r) {
+    std::array<Point<2>, FoldCheck<2>::max_nodes> x;
+    for (int k = 0; k < 6; ++k)
+      x[static_cast<std::size_t>(k)] = out.points.row(out.triangle_cells(r, k)).transpose();
+    count += check.folds(x.data()) ? 1 : 0;
+  }
+  return count;
 }
 
 }  // namespace
@@ -417,6 +673,8 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     }
   });
   std::vector<Index> folded;  // output cells still folded
+  // 2D, once cells were subdivided: the reference corners (in its mesh cell) of every row.
+  std::vector<std::array<Point<2>, 4>> row_corners;
   if constexpr (dim == 3) {
     for (Index c = 0; c < ncells; ++c)
       if (folded_cell[static_cast<std::size_t>(c)]) folded.push_back(c);
@@ -431,6 +689,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     std::vector<Index> unfolded_rows;
     std::vector<std::vector<Index>> kept;
     std::vector<Index> kept_ids, kept_sources;
+    std::vector<std::array<Point<2>, 4>> kept_corners;
     std::vector<Region> pending;
     std::vector<std::vector<Index>> pending_nodes;
     std::array<Point<2>, 4> reference_vertices{};
@@ -497,6 +756,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       kept.push_back(std::move(nodes));
       kept_ids.push_back(cells[static_cast<std::size_t>(region.cell_index)]);
       kept_sources.push_back(region.cell_index);
+      kept_corners.push_back(region.xi);
     };
     constexpr int max_depth = 4;
     for (int depth = 1; depth <= max_depth && !pending.empty(); ++depth) {
@@ -555,17 +815,42 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       out.cells = std::move(table);
       out.cell_ids = std::move(ids);
       out.source_cells = std::move(sources);
+      row_corners.assign(unfolded_rows.size(), reference_vertices);
+      row_corners.insert(row_corners.end(), kept_corners.begin(), kept_corners.end());
     }
   }
-  straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), frozen);
+  // Quadrilaterals that fold even straight become triangles first; the
+  // remaining cells are then straightened without moving the triangles' nodes.
+  std::vector<char> fixed = frozen;
+  if constexpr (dim == 2)
+    if (mesh.cell_type == CellType::quadrilateral && nloc == 9 && !folded.empty()) {
+      std::vector<std::pair<Index, Point<2>>> added;  // (local cell, reference point)
+      write_folded_quadrilaterals_as_triangles(out, mesh, map, tangled, frozen, row_corners, added);
+      for (const auto& [local, xi] : added)
+        out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
+      if (out.num_split_cells > 0) {
+        fixed.resize(static_cast<std::size_t>(out.points.rows()), 0);
+        for (Index r = 0; r < out.triangle_cells.rows(); ++r)
+          for (Index k = 0; k < out.triangle_cells.cols(); ++k)
+            fixed[static_cast<std::size_t>(out.triangle_cells(r, k))] = 1;
+        folded.clear();
+        for (Index r = 0; r < out.cells.rows(); ++r) {
+          std::vector<Index> nodes(static_cast<std::size_t>(nloc));
+          for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(r, k);
+          if (tangled(nodes)) folded.push_back(r);
+        }
+      }
+    }
+  straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), fixed);
+  if constexpr (dim == 2) out.num_tangled_cells += folded_triangles(out);
   return out;
 }
 
 template <int dim>
 void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out) {
-  long long counts[4] = {out.num_mesh_cells, out.num_subdivided_cells, out.num_straightened_cells,
-                         out.num_tangled_cells};
-  MPI_Allreduce(MPI_IN_PLACE, counts, 4, MPI_LONG_LONG, MPI_SUM, comm);
+  long long counts[5] = {out.num_mesh_cells, out.num_subdivided_cells, out.num_straightened_cells,
+                         out.num_split_cells, out.num_tangled_cells};
+  MPI_Allreduce(MPI_IN_PLACE, counts, 5, MPI_LONG_LONG, MPI_SUM, comm);
   if (counts[1] > 0)
     log::info("output: ", counts[1], " of ", counts[0],
               " cells subdivided to keep them untangled (their curved geometry folded)");
@@ -574,7 +859,11 @@ void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out) {
               " written cells drawn less curved (nodes pulled toward the straight cell) where f is not "
               "smooth enough for curved cells to follow it; the solution is unaffected");
   if (counts[3] > 0)
-    log::warning("output: ", counts[3],
+    log::info("output: ", counts[3],
+              " quadrilaterals written as two straight triangles each (even their straight cell folded: f "
+              "opens a corner there); the solution is unaffected");
+  if (counts[4] > 0)
+    log::warning("output: ", counts[4],
                  " written cells still fold and are drawn folded; the solution is unaffected (f is "
                  "strongly anisotropic there; a finer mesh or another map helps)");
 }

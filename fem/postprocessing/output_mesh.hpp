@@ -17,16 +17,24 @@ template <int dim>
 struct OutputMesh {
   CellType cell_type = dim == 2 ? CellType::triangle : CellType::tetrahedron;
   int order = 1;
-  Points<dim> reference_points;     ///< node positions in Ω0
-  Points<dim> points;               ///< node positions f(x0) in Ω1
-  VectorX map_det;                  ///< det J_f at the nodes
-  IndexTable cells;                 ///< local cells x nodes, VTK Lagrange node order
-  std::vector<Index> cell_ids;      ///< mesh cell id of every output cell
-  std::vector<Index> source_cells;  ///< index into the local cells of every output cell
+  Points<dim> reference_points;  ///< node positions in Ω0
+  Points<dim> points;            ///< node positions f(x0) in Ω1
+  VectorX map_det;               ///< det J_f at the nodes
+  IndexTable cells;              ///< local cells x nodes, VTK Lagrange node order
+  /// Quadratic quadrilateral output only: pieces written as two straight
+  /// quadratic triangles (VTK Lagrange order), after the rows of `cells`.
+  IndexTable triangle_cells;
+  std::vector<Index> cell_ids;      ///< mesh cell id of every output cell (`cells`, then `triangle_cells`)
+  std::vector<Index> source_cells;  ///< index into the local cells of every output cell (same order)
   /// Mesh cells whose curved geometry folded and were written as smaller
   /// curved cells (2D); output cells whose nodes were pulled toward their
-  /// straight cell because they still folded; output cells written folded.
-  Index num_mesh_cells = 0, num_subdivided_cells = 0, num_straightened_cells = 0, num_tangled_cells = 0;
+  /// straight cell because they still folded; quadrilaterals written as two
+  /// straight triangles because even their straight cell folded; output
+  /// cells written folded.
+  Index num_mesh_cells = 0, num_subdivided_cells = 0, num_straightened_cells = 0, num_split_cells = 0,
+        num_tangled_cells = 0;
+
+  Index num_cells() const { return cells.rows() + triangle_cells.rows(); }
 
   /// A per-local-cell field spread onto the output cells (pieces of a
   /// subdivided cell get their cell's value).
@@ -60,8 +68,9 @@ struct OutputMesh {
 /// times, with every node placed by f. A cell that still folds (2D at the
 /// depth limit, 3D at once) has its non-vertex nodes pulled toward the straight
 /// cell of its mapped vertices until it does not, unless that leaves more
-/// folded cells around it than before; what still folds is counted in
-/// num_tangled_cells.
+/// folded cells around it than before. A quadratic quadrilateral whose straight
+/// cell folds too (f opens a corner of Ω0 into a reflex corner of Ω1) is written
+/// as two straight triangles. What still folds is counted in num_tangled_cells.
 template <int dim>
 OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
                                  const mapping::Map<dim>& map, int order);

@@ -55,6 +55,35 @@ class RadialPowerMap final : public mapping::Map<dim> {
   std::string describe() const override { return "radial power"; }
 };
 
+/// f(r, θ) = (r, 3θ) in polar coordinates: bijective from the quarter plane onto
+/// three quarters (det J_f = 3), but it opens the corner at the origin into a
+/// reflex one, so the mapped vertices of the cell there form a non-convex
+/// quadrilateral and even its straight bilinear cell folds.
+class AngleTriplingMap final : public mapping::Map<2> {
+ public:
+  void eval(const Points<2>& x0, Points<2>& x) const override {
+    x.resize(x0.rows(), 2);
+    for (Index p = 0; p < x0.rows(); ++p) {
+      const double r = x0.row(p).norm(), t = 3 * std::atan2(x0(p, 1), x0(p, 0));
+      x.row(p) << r * std::cos(t), r * std::sin(t);
+    }
+  }
+  void jacobian(const Points<2>& x0, Jacobians<2>& J) const override {
+    J.setZero(x0.rows(), 4);
+    for (Index p = 0; p < x0.rows(); ++p) {
+      const double r = x0.row(p).norm();
+      if (!(r > 0)) continue;
+      const double theta = std::atan2(x0(p, 1), x0(p, 0)), t = 3 * theta;
+      Matrix<2> polar;  // columns d/dr, d/dθ
+      polar << std::cos(t), -3 * r * std::sin(t), std::sin(t), 3 * r * std::cos(t);
+      Matrix<2> inverse;  // rows dr/dx, dθ/dx
+      inverse << std::cos(theta), std::sin(theta), -std::sin(theta) / r, std::cos(theta) / r;
+      set_jacobian_at(J, p, Matrix<2>(polar * inverse));
+    }
+  }
+  std::string describe() const override { return "angle tripling"; }
+};
+
 template <int dim>
 Mesh<dim> unit_box(CellType type, int n) {
   if constexpr (dim == 2)
@@ -101,6 +130,31 @@ double vtk_det(vtkCell* cell, const Eigen::Vector3d& r, int dim) {
   return J.determinant();
 }
 
+/// Writes `out` and checks every cell VTK reads back, at its nodes and on a
+/// lattice, by VTK's own interpolation.
+template <int dim>
+void expect_written_unfolded(const fem::OutputMesh<dim>& out, const std::string& name) {
+  const std::string dir = "output/test_untangled_output";
+  io::VtkOutput<dim> vtk;
+  vtk.mesh = &out;
+  const std::string file = io::write_vtk(MPI_COMM_SELF, vtk, dir, name);
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  ASSERT_EQ(grid->GetNumberOfCells(), out.num_cells());
+  vtkIdType folded = 0;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+    vtkCell* cell = grid->GetCell(c);
+    for (const auto& r : sample_points(cell, dim))
+      if (!(vtk_det(cell, r, dim) > 0)) {
+        ++folded;
+        break;
+      }
+  }
+  EXPECT_EQ(folded, 0) << "of " << grid->GetNumberOfCells() << " " << name << " cells";
+}
+
 struct Case {
   int dim;
   CellType type;
@@ -115,7 +169,8 @@ void check_untangled(CellType type) {
   const fem::DofDistribution<dim> dist(MPI_COMM_SELF, mesh, dofs);
   const RadialPowerMap<dim> map;
   const fem::OutputMesh<dim> out = fem::make_output_mesh(mesh, dist, map, 2);
-  EXPECT_GT(out.num_straightened_cells, 0) << "the case must exercise cells whose curved geometry folds";
+  EXPECT_GT(out.num_straightened_cells + out.num_split_cells, 0)
+      << "the case must exercise cells whose curved geometry folds";
   EXPECT_EQ(out.num_tangled_cells, 0);
 
   // Vertices stay where f puts them.
@@ -126,26 +181,7 @@ void check_untangled(CellType type) {
     for (int v = 0; v < nvert; ++v)
       ASSERT_LT((out.points.row(out.cells(c, v)) - x1.row(out.cells(c, v))).norm(), 1e-14);
 
-  const std::string dir = "output/test_untangled_output";
-  const std::string name = std::string("radial_") + to_string(type);
-  io::VtkOutput<dim> vtk;
-  vtk.mesh = &out;
-  const std::string file = io::write_vtk(MPI_COMM_SELF, vtk, dir, name);
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* grid = reader->GetOutput();
-  ASSERT_EQ(grid->GetNumberOfCells(), out.cells.rows());
-  vtkIdType folded = 0;
-  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
-    vtkCell* cell = grid->GetCell(c);
-    for (const auto& r : sample_points(cell, dim))
-      if (!(vtk_det(cell, r, dim) > 0)) {
-        ++folded;
-        break;
-      }
-  }
-  EXPECT_EQ(folded, 0) << "of " << grid->GetNumberOfCells() << " " << name << " cells";
+  expect_written_unfolded(out, std::string("radial_") + to_string(type));
 }
 
 TEST_P(UntangledOutput, QuadraticCellsAtASingularPointAreWrittenUnfolded) {
@@ -159,5 +195,50 @@ INSTANTIATE_TEST_SUITE_P(CellTypes, UntangledOutput,
                          ::testing::Values(Case{2, CellType::triangle}, Case{2, CellType::quadrilateral},
                                            Case{3, CellType::tetrahedron}, Case{3, CellType::hexahedron}),
                          [](const auto& info) { return to_string(info.param.type); });
+
+TEST(UntangledOutput, QuadrilateralsAtAnOpenedCornerAreWrittenAsStraightTriangles) {
+  const Mesh<2> mesh = unit_box<2>(CellType::quadrilateral, 4);
+  const fem::DofMap<2> dofs(mesh, fem::LagrangeElement<2>(mesh.cell_type, 2));
+  const fem::DofDistribution<2> dist(MPI_COMM_SELF, mesh, dofs);
+  const AngleTriplingMap map;
+  const fem::OutputMesh<2> out = fem::make_output_mesh(mesh, dist, map, 2);
+  EXPECT_GT(out.num_split_cells, 0) << "the case must exercise quadrilaterals that fold even when straight";
+  EXPECT_EQ(out.triangle_cells.rows(), 2 * out.num_split_cells);
+  EXPECT_EQ(out.num_tangled_cells, 0);
+  ASSERT_EQ(static_cast<Index>(out.cell_ids.size()), out.num_cells());
+  ASSERT_EQ(static_cast<Index>(out.source_cells.size()), out.num_cells());
+
+  // Every vertex of a triangle is a mapped point of Ω0; the triangles cover
+  // the area of the quadrilaterals they replace (the cells cover f(Ω0) once).
+  Points<2> x1;
+  map.eval(out.reference_points, x1);
+  double area = 0;
+  const auto triangle_area = [&](Index t) {
+    const auto a = out.points.row(out.triangle_cells(t, 0)), b = out.points.row(out.triangle_cells(t, 1)),
+               c = out.points.row(out.triangle_cells(t, 2));
+    return 0.5 * ((b(0) - a(0)) * (c(1) - a(1)) - (b(1) - a(1)) * (c(0) - a(0)));
+  };
+  for (Index t = 0; t < out.triangle_cells.rows(); ++t) {
+    for (int v = 0; v < 3; ++v)
+      ASSERT_LT((out.points.row(out.triangle_cells(t, v)) - x1.row(out.triangle_cells(t, v))).norm(), 1e-14);
+    EXPECT_GT(triangle_area(t), 0);
+    area += triangle_area(t);
+  }
+  EXPECT_GT(area, 0);
+
+  // Field values at the added nodes are the FE function's: a quadratic is reproduced.
+  const auto quadratic = [](double x, double y) { return 1 + 2 * x - y + 3 * x * y + x * x; };
+  const auto& relevant = dist.relevant_dofs();
+  VectorX coefficients(static_cast<Index>(relevant.size()));
+  for (std::size_t i = 0; i < relevant.size(); ++i)
+    coefficients(static_cast<Index>(i)) =
+        quadratic(dofs.dof_points()(relevant[i], 0), dofs.dof_points()(relevant[i], 1));
+  const VectorX values = out.interpolate(dofs, dist, coefficients);
+  for (Index p = 0; p < out.reference_points.rows(); ++p)
+    ASSERT_NEAR(values(p), quadratic(out.reference_points(p, 0), out.reference_points(p, 1)), 1e-12)
+        << "node " << p;
+
+  expect_written_unfolded(out, "opened_corner_quadrilateral");
+}
 
 }  // namespace
