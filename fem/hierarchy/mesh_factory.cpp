@@ -109,6 +109,7 @@ Mesh<3> make_coarse_mesh(const Polyhedron& source, const Polyhedron&, const mapp
                 {.file = "", .key_path = "/mesh/type", .hint = "use \"tetgen\", \"structured\" or \"gmsh\""});
   TetrahedralMeshOptions options;
   options.quality_ratio = spec.quality_ratio;
+  options.min_dihedral_angle = spec.min_dihedral_angle;
   options.max_volume = spec.max_volume;
   options.keep_surface = spec.keep_surface;
   options.triangle_tags = parts.triangle_part;

@@ -28,6 +28,7 @@ struct MeshSpec {
   double shape_bound = 0.125;  ///< delaunay/quad_split/pullback: CGAL shape bound
   int nx = 4, ny = 4, nz = 4;  ///< structured: cells per direction (nz: 3D)
   double quality_ratio = 2.0;  ///< tetgen: radius-edge ratio bound (-q)
+  double min_dihedral_angle = 0;  ///< tetgen: dihedral angle bound in degrees (-q ratio/angle); 0 = none
   double max_volume = 0;       ///< tetgen: volume bound (-a); 0 = none
   bool keep_surface = true;    ///< tetgen: boundary facets are the surface's triangles (-Y)
   std::string file;            ///< gmsh: path of the .msh file
