@@ -231,7 +231,7 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
   if (dim == 2 && spec.type == "tetgen")
     throw mesh.error("type", "TetGen meshes polyhedra, but the source is a polygon",
                      "use \"delaunay\", or give a polyhedron source {\"vertices\": ..., \"triangles\": ...}");
-  for (const std::string key : {"quality_ratio", "max_volume", "keep_surface"})
+  for (const std::string key : {"quality_ratio", "min_dihedral_angle", "max_volume", "keep_surface"})
     if (mesh.has(key) && spec.type != "tetgen")
       throw mesh.error(key, "\"" + key + "\" is an option of mesh type \"tetgen\", not \"" + spec.type + "\"",
                        "remove \"" + key + "\"");
@@ -284,6 +284,9 @@ MeshSpec parse_mesh_spec(const ConfigNode& mesh, int dim) {
                      "a radius-edge ratio bound of " + number_text(spec.quality_ratio) +
                          " cannot be used: TetGen may not terminate below 1.2",
                      "use 0 (no quality bound) or a ratio of at least 1.2, e.g. 2");
+  if (spec.type == "tetgen" && spec.min_dihedral_angle > 0 && spec.quality_ratio == 0)
+    throw mesh.error("min_dihedral_angle", "a dihedral angle bound needs TetGen's quality refinement",
+                     "give \"quality_ratio\" > 0 (e.g. 2) too, or remove \"min_dihedral_angle\"");
   if (spec.type == "gmsh") {
     if (spec.file.empty())
       throw mesh.error("file", "mesh type \"gmsh\" needs a .msh file", "add \"file\": \"domain.msh\"");

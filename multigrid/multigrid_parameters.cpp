@@ -16,8 +16,9 @@ ParameterTable<MultigridSettings> make_table() {
                          {"chebyshev_sor", S::Smoother::chebyshev_sor},
                          {"sor", S::Smoother::sor}},
       "`auto`: `chebyshev_sor` for P2 Poisson on tetrahedra (with Chebyshev–Jacobi their V-cycle iterations "
-      "grow level by level on non-uniform meshes, 8, 11, 14, 16 over 2–5 levels on the L-shaped prism; "
-      "[multigrid.md](multigrid.md#quadratic-tetrahedra-in-3d)), `chebyshev_jacobi` for every other "
+      "grow level by level on non-uniform meshes, 8, 10, 12, 13 over 2–5 levels on the L-shaped prism, "
+      "7 on every level with SOR; [multigrid.md](multigrid.md#tetrahedra-of-tetgens-meshes-in-3d)), "
+      "`chebyshev_jacobi` for every other "
       "element and with `\"chebyshev_bounds\": \"gershgorin\"`. "
       "Chebyshev on the Jacobi-scaled operator; Chebyshev preconditioned by local symmetric SOR "
       "(`-mg_levels_pc_type sor`: about half the iterations on strongly warped maps, dearer per "

@@ -9,13 +9,18 @@
 // polynomial (Lottes 2022) needs only an upper end. ρ comes from power
 // iteration in the A inner product (E is A-self-adjoint and positive
 // semi-definite). Also printed: Gershgorin's bound over λmax, ρ for one and two
-// symmetric Gauss–Seidel sweeps, the shapes of the coarse tetrahedra, and
+// symmetric Gauss–Seidel sweeps, the P1/Q1 default (Chebyshev–Jacobi on
+// [0.1, 1] times Gershgorin's bound), the shapes of every level's tetrahedra, and
 // where the slowest two-grid error of the default Chebyshev–Jacobi smoother
 // lives (its share near the edge x = y = 1, the re-entrant edge of
 // examples/lshape_prism.off, and the shapes of the coarse cells around its
-// largest entry). Findings: docs/multigrid.md, "Quadratic tetrahedra in 3D".
+// largest entry). -diagonal k reorders the coarse cells (as the mesh factory
+// gives them: shortest diagonal first) so that Bey's first interior diagonal
+// joins the midpoints of the opposite edges {01, 23} (0), {02, 13} (1, no
+// change), {03, 12} (2), or is the longest of the three (4). Findings:
+// docs/multigrid.md, "Tetrahedra of TetGen's meshes in 3D".
 //
-//   two_grid_smoothing <config.json> [-refinements r] [-order p] [-shape_only 1]
+//   two_grid_smoothing <config.json> [-refinements r] [-order p] [-shape_only 1] [-diagonal k]
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -214,7 +219,9 @@ class TwoGrid {
 int main(int argc, char** argv) {
   Environment env(argc, argv);
   if (argc < 2) {
-    std::fprintf(stderr, "usage: two_grid_smoothing <config.json> [-refinements r] [-order p]\n");
+    std::fprintf(stderr,
+                 "usage: two_grid_smoothing <config.json> [-refinements r] [-order p] [-shape_only 1] "
+                 "[-diagonal k]\n");
     return 2;
   }
   auto cfg = std::get<io::PoissonRunConfig<3>>(io::load_config(argv[1]));
@@ -223,6 +230,19 @@ int main(int argc, char** argv) {
   const mapping::MapPtr<3> map = mapping::make_map(cfg.map);
   Mesh<3> coarse = fem::make_coarse_mesh(*cfg.map.source, cfg.map.target ? *cfg.map.target : *cfg.map.source,
                                          *map, cfg.mesh);
+  if (const long pair = bench::int_option("-diagonal", -1); pair >= 0) {
+    // Even permutations (orientations stay) that put the pair k of opposite edges at {02, 13}.
+    const int perms[3][4] = {{0, 3, 1, 2}, {0, 1, 2, 3}, {0, 2, 3, 1}};
+    for (Index c = 0; c < coarse.num_cells(); ++c) {
+      const auto v = [&](int k) { return Eigen::Vector3d(coarse.vertices.row(coarse.cells(c, k))); };
+      const auto len = [&](int a, int b, int d, int e) { return (0.5 * (v(a) + v(b) - v(d) - v(e))).norm(); };
+      const double l[3] = {len(0, 1, 2, 3), len(0, 2, 1, 3), len(0, 3, 1, 2)};
+      int k = static_cast<int>(std::min<long>(pair, 2));
+      if (pair == 4) k = static_cast<int>(std::max_element(l, l + 3) - l);
+      const auto old = coarse.cells.row(c).eval();
+      for (int j = 0; j < 4; ++j) coarse.cells(c, j) = old(perms[k][j]);
+    }
+  }
   fem::PoissonData<3> data;
   data.source = io::expression_function<3>(cfg.poisson.source, cfg.file, "/problem/source");
   data.dirichlet = io::make_boundary_conditions<3>(cfg.poisson.dirichlet, cfg.file);
@@ -231,12 +251,12 @@ int main(int argc, char** argv) {
   o.multigrid = cfg.solver.multigrid;
   multigrid::PoissonMultigridSolver<3> mg(PETSC_COMM_SELF, std::move(coarse), refinements, map, order,
                                           default_quadrature_degree(order), data, o);
-  {  // shape of the coarse cells: longest edge over inradius, 1 for the regular tetrahedron
-    const Mesh<3>& m = mg.hierarchy().levels[0];
+  for (int l = 0; l < mg.hierarchy().num_levels(); ++l) {  // longest edge over inradius, 1 = regular
+    const Mesh<3>& m = mg.hierarchy().levels[static_cast<std::size_t>(l)];
     std::vector<double> ratios;
     for (Index c = 0; c < m.num_cells(); ++c) ratios.push_back(aspect_ratio(m, c));
     std::sort(ratios.begin(), ratios.end());
-    std::printf("coarse cells: %zu, aspect ratio (1 = regular) min %.2f median %.2f max %.2f\n",
+    std::printf("level %d cells: %zu, aspect ratio (1 = regular) min %.2f median %.2f max %.2f\n", l,
                 ratios.size(), ratios.front(), ratios[ratios.size() / 2], ratios.back());
   }
   const std::vector<double> lowers = {0.05, 0.1, 0.2, 0.3};
@@ -250,6 +270,8 @@ int main(int argc, char** argv) {
         "(%.3f)\n",
         l, static_cast<long long>(mg.level(l).dofs().num_dofs()), exact, est, est / exact, g, g / exact);
     TwoGrid tg(A, mg.interpolation(l));
+    std::printf("  P1/Q1 default, 2 steps first kind [0.1, 1]*Gershgorin: %.3f\n",
+                tg.factor({1, 0.1 * g, g, 2}));
     for (const int steps : {2, 3, 4}) {
       std::printf("  %d steps, first kind [lower, 1.1]*estimate:", steps);
       for (const double lower : lowers)

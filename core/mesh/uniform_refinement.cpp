@@ -494,4 +494,24 @@ template RefinedMesh<3> refine_uniformly(const Mesh<3>&, const EdgeNumbering*, b
 template const Points<2>& child_reference_vertices<2>(CellType, int);
 template const Points<3>& child_reference_vertices<3>(CellType, int);
 
+void order_for_refinement(Mesh<3>& mesh) {
+  if (mesh.cell_type != CellType::tetrahedron) return;
+  // The new vertex order that makes each pair of opposite edges {02, 13}:
+  // {01, 23}, {02, 13}, {03, 12}; each an even permutation.
+  constexpr int kOrder[3][4] = {{0, 3, 1, 2}, {0, 1, 2, 3}, {0, 2, 3, 1}};
+  for (Index c = 0; c < mesh.num_cells(); ++c) {
+    const auto x = [&](int k) { return mesh.vertices.row(mesh.cells(c, k)); };
+    // Twice the distance between the midpoints of edges ab and de.
+    const auto diagonal = [&](int a, int b, int d, int e) {
+      return (x(a) + x(b) - x(d) - x(e)).squaredNorm();
+    };
+    const double length[3] = {diagonal(0, 1, 2, 3), diagonal(0, 2, 1, 3), diagonal(0, 3, 1, 2)};
+    int best = 1;  // ties keep the given order
+    for (int k : {0, 2})
+      if (length[k] < length[best]) best = k;
+    const auto old = mesh.cells.row(c).eval();
+    for (int j = 0; j < 4; ++j) mesh.cells(c, j) = old(kOrder[best][j]);
+  }
+}
+
 }  // namespace warpfem

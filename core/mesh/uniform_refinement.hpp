@@ -78,6 +78,16 @@ template <int dim>
 RefinedMesh<dim> refine_uniformly(const Mesh<dim>& coarse, const EdgeNumbering* coarse_edges = nullptr,
                                   bool number_fine_edges = false);
 
+/// Reorders the vertices of every tetrahedron of `mesh` (an even permutation,
+/// so orientations stay) so that the interior diagonal Bey's rule draws in its
+/// first refinement, m02–m13, is the shortest of the three (m01–m23, m02–m13,
+/// m03–m12). Bey's rule keeps each cell's descendants in the similarity
+/// classes its first refinement makes, and the shortest diagonal makes the
+/// best of them: TetGen's 18 tetrahedra of the L-shaped prism example keep
+/// a worst aspect ratio of 4.33 (the coarse one) on every level instead of
+/// 5.49 in TetGen's vertex order, median 1.76 instead of 1.91.
+void order_for_refinement(Mesh<3>& mesh);
+
 /// Where the vertices of child `child` of a refined cell sit in the parent's
 /// reference cell (reference_cell.hpp): one row per child vertex, in the
 /// child's vertex order. The same for every cell of a refinement, which is

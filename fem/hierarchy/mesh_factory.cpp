@@ -9,6 +9,7 @@
 #include "core/mesh/polygon_mesher.hpp"
 #include "core/mesh/structured_mesher.hpp"
 #include "core/mesh/tetgen_mesher.hpp"
+#include "core/mesh/uniform_refinement.hpp"
 #include "fem/dofs/cell_partition.hpp"
 #include "fem/hierarchy/partial_refinement.hpp"
 #include "fem/hierarchy/polyhedron_parts.hpp"
@@ -100,6 +101,7 @@ Mesh<3> make_coarse_mesh(const Polyhedron& source, const Polyhedron&, const mapp
                    (read.names[k].empty() ? "" : " \"" + read.names[k] + "\"");
       log::info("boundary parts (\"faces\") from the Gmsh file's physical groups: ", listing);
     }
+    order_for_refinement(read.mesh);  // as for TetGen's meshes below
     return read.mesh;
   }
   if (spec.type != "tetgen")
@@ -107,10 +109,16 @@ Mesh<3> make_coarse_mesh(const Polyhedron& source, const Polyhedron&, const mapp
                 {.file = "", .key_path = "/mesh/type", .hint = "use \"tetgen\", \"structured\" or \"gmsh\""});
   TetrahedralMeshOptions options;
   options.quality_ratio = spec.quality_ratio;
+  options.min_dihedral_angle = spec.min_dihedral_angle;
   options.max_volume = spec.max_volume;
   options.keep_surface = spec.keep_surface;
   options.triangle_tags = parts.triangle_part;
-  return mesh_polyhedron(source, options);
+  // TetGen's vertex order is arbitrary; the refinements take the shortest
+  // interior diagonal (a flat cell's children are as flat as the cell itself,
+  // not flatter, and the multigrid counts stay bounded over levels).
+  Mesh<3> mesh = mesh_polyhedron(source, options);
+  order_for_refinement(mesh);
+  return mesh;
 }
 
 }  // namespace warpfem::fem

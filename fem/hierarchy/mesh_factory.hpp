@@ -24,14 +24,15 @@ struct MeshSpec {
   /// hexahedra read from `file`.
   std::string type = "delaunay";
   CellType cell_type = CellType::triangle;  ///< structured, pullback: the cells
-  double max_edge_length = 0;  ///< delaunay/quad_split/pullback: 0 = meshed polygon's bbox diagonal / 10
-  double shape_bound = 0.125;  ///< delaunay/quad_split/pullback: CGAL shape bound
-  int nx = 4, ny = 4, nz = 4;  ///< structured: cells per direction (nz: 3D)
-  double quality_ratio = 2.0;  ///< tetgen: radius-edge ratio bound (-q)
-  double max_volume = 0;       ///< tetgen: volume bound (-a); 0 = none
-  bool keep_surface = true;    ///< tetgen: boundary facets are the surface's triangles (-Y)
-  std::string file;            ///< gmsh: path of the .msh file
-  int refinements = 0;         ///< uniform refinements of the generated mesh
+  double max_edge_length = 0;     ///< delaunay/quad_split/pullback: 0 = meshed polygon's bbox diagonal / 10
+  double shape_bound = 0.125;     ///< delaunay/quad_split/pullback: CGAL shape bound
+  int nx = 4, ny = 4, nz = 4;     ///< structured: cells per direction (nz: 3D)
+  double quality_ratio = 2.0;     ///< tetgen: radius-edge ratio bound (-q)
+  double min_dihedral_angle = 0;  ///< tetgen: dihedral angle bound in degrees (-q ratio/angle); 0 = none
+  double max_volume = 0;          ///< tetgen: volume bound (-a); 0 = none
+  bool keep_surface = true;       ///< tetgen: boundary facets are the surface's triangles (-Y)
+  std::string file;               ///< gmsh: path of the .msh file
+  int refinements = 0;            ///< uniform refinements of the generated mesh
   /// gmsh in 3D, found when the config is read: the file's cells and the
   /// boundary parts its physical groups give (0: the source polyhedron's parts).
   Index file_cells = 0;

@@ -41,6 +41,10 @@ ParameterTable<MeshSpec> make_table() {
   t.number("quality_ratio", &MeshSpec::quality_ratio, 0.0, inf,
            "tetgen: radius-edge ratio bound of the tetrahedra (TetGen's `-q`); 0 = no quality refinement, "
            "values in (0, 1.2) are refused (TetGen may not terminate)");
+  t.number("min_dihedral_angle", &MeshSpec::min_dihedral_angle, 0.0, 25.0,
+           "tetgen: lower bound on the dihedral angles in degrees (TetGen's `-q ratio/angle`), against "
+           "slivers; 0 = none. Needs `quality_ratio` > 0; TetGen may not reach bounds above ~18°. With "
+           "`keep_surface` it changes little (cells touching the surface cannot be split)");
   t.number("max_volume", &MeshSpec::max_volume, 0.0, inf,
            "tetgen: volume bound of the tetrahedra (`-a`); 0 = none. With `keep_surface`, tetrahedra "
            "touching the surface may exceed it");

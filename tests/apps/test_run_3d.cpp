@@ -116,6 +116,17 @@ TEST(RunRecipe3d, RefusalsNameTheFieldAndAFix) {
               load("quality.json", cube_config(R"({"type": "tetgen", "quality_ratio": 1.1})", dirichlet));
             }).find("/mesh/quality_ratio: a radius-edge ratio bound of 1.1 cannot be used"),
             std::string::npos);
+  EXPECT_NE(
+      error_text([&] {
+        load("angle.json",
+             cube_config(R"({"type": "tetgen", "quality_ratio": 0, "min_dihedral_angle": 15})", dirichlet));
+      }).find("/mesh/min_dihedral_angle: a dihedral angle bound needs TetGen's quality refinement"),
+      std::string::npos);
+  EXPECT_NE(error_text([&] {
+              load("angle_range.json",
+                   cube_config(R"({"type": "tetgen", "min_dihedral_angle": 40})", dirichlet));
+            }).find("/mesh/min_dihedral_angle: expected a number in [0, 25], got 40"),
+            std::string::npos);
   EXPECT_NE(error_text([&] {
               load("cells.json", cube_config(R"({"type": "structured", "cells": [2, 2]})", dirichlet));
             }).find("/mesh/cells: expected a positive integer or [nx, ny, nz]"),

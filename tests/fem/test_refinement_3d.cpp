@@ -241,6 +241,54 @@ TEST(TetrahedronRefinement, ShapeQualityStaysBoundedOverFiveLevels) {
   }
 }
 
+// order_for_refinement: whatever order a mesher gives the vertices of a flat
+// tetrahedron in, the reordered cell keeps its orientation, Bey's diagonal
+// m02–m13 is the shortest, and the refinements reach the same worst shape,
+// which is no worse than the given order's.
+TEST(TetrahedronRefinement, ShortestDiagonalOrderIsTheSameForEveryVertexOrder) {
+  const std::array<Point<3>, 4> x = {Point<3>(0, 0, 0), Point<3>(1, 0.1, 0), Point<3>(0.3, 1, 0.05),
+                                     Point<3>(0.4, 0.2, 0.3)};
+  const auto worst_after = [](Mesh<3> m, int levels) {
+    const MeshHierarchy<3> h(std::move(m), levels);
+    double worst = 0;
+    for (Index f = 0; f < h.finest().num_cells(); ++f)
+      worst = std::max(worst, aspect_ratio(cell_points(h.finest(), f)));
+    return worst;
+  };
+  const auto signed_volume = [](const Mesh<3>& m) {
+    const Points<3> p = cell_points(m, 0);
+    return (p.row(1) - p.row(0)).dot((p.row(2) - p.row(0)).cross(p.row(3) - p.row(0))) / 6;
+  };
+  std::array<int, 4> order = {0, 1, 2, 3};
+  std::vector<double> ordered;
+  do {
+    Mesh<3> one;
+    one.cell_type = CellType::tetrahedron;
+    one.vertices.resize(4, 3);
+    for (int v = 0; v < 4; ++v) one.vertices.row(v) = x[static_cast<std::size_t>(v)].transpose();
+    one.cells.resize(1, 4);
+    for (int v = 0; v < 4; ++v) one.cells(0, v) = order[static_cast<std::size_t>(v)];
+    if (signed_volume(one) < 0) continue;  // the 12 positively oriented orders
+    one.boundary_facets = find_boundary_facets(one);
+    one.facet_tags.assign(4, 0);
+    const double given = worst_after(one, 3);
+    order_for_refinement(one);
+    EXPECT_GT(signed_volume(one), 0);
+    const Points<3> p = cell_points(one, 0);
+    const auto diagonal = [&](int a, int b, int c, int d) {
+      return (p.row(a) + p.row(b) - p.row(c) - p.row(d)).norm();
+    };
+    EXPECT_LE(diagonal(0, 2, 1, 3), diagonal(0, 1, 2, 3));
+    EXPECT_LE(diagonal(0, 2, 1, 3), diagonal(0, 3, 1, 2));
+    ordered.push_back(worst_after(one, 3));
+    EXPECT_LE(ordered.back(), given + 1e-12);
+  } while (std::next_permutation(order.begin(), order.end()));
+  ASSERT_EQ(ordered.size(), 12u);
+  for (const double w : ordered) EXPECT_NEAR(w, ordered.front(), 1e-12);
+  std::printf("[ tet quality ] flat, shortest diagonal first: worst aspect ratio %.3f after 3 levels\n",
+              ordered.front());
+}
+
 TEST(MeshHierarchy3d, ChildrenOutsideTheTableAreRefused) {
   EXPECT_THROW(child_reference_vertices<3>(CellType::tetrahedron, 8), Error);
   EXPECT_THROW(child_reference_vertices<3>(CellType::triangle, 0), Error);
