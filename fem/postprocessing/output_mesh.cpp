@@ -420,6 +420,27 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
     added.push_back({r, 0.5 * (a.xi + b.xi), 0.5 * (a.x + b.x)});
     return -static_cast<Index>(added.size());
   };
+  // The triangles of CGAL's triangulation of a row's boundary ring, when the
+  // ring is a simple counter-clockwise polygon; a node is added at the
+  // midpoint of each triangle edge (ring edges are pieces of a cell edge).
+  const auto triangulate = [&](Index r, const std::vector<BoundaryNode>& ring) {
+    std::vector<Point<2>> polygon;
+    for (const auto& b : ring) polygon.push_back(b.x);
+    const auto pieces = triangulate_simple_polygon(polygon);
+    for (const auto& t : pieces) {
+      std::array<Index, 6> row{};
+      for (int k = 0; k < 3; ++k) {
+        const auto& a = ring[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])];
+        const auto& b = ring[static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)])];
+        row[static_cast<std::size_t>(k)] = a.node;
+        row[static_cast<std::size_t>(3 + k)] = midpoint(r, a, b);
+      }
+      triangles.push_back(row);
+      triangle_rows.push_back(r);
+    }
+    return !pieces.empty();
+  };
+  std::vector<Index> fine_rows;
   for (Index r = 0; r < nrows; ++r) {
     const int d = diagonal[static_cast<std::size_t>(r)];
     const std::vector<BoundaryNode> ring = boundary(r);
@@ -435,22 +456,68 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
       continue;
     }
     if (!tangled(row_nodes(r))) continue;
-    std::vector<Point<2>> polygon;
-    for (const auto& b : ring) polygon.push_back(b.x);
-    const auto pieces = triangulate_simple_polygon(polygon);
-    if (pieces.empty()) continue;
-    for (const auto& t : pieces) {
-      std::array<Index, 6> row{};
-      for (int k = 0; k < 3; ++k) {
-        const int i = t[static_cast<std::size_t>(k)], j = t[static_cast<std::size_t>((k + 1) % 3)];
-        row[static_cast<std::size_t>(k)] = at(i).node;
-        // A ring edge is a half of a cell edge: its midpoint is new as well.
-        row[static_cast<std::size_t>(3 + k)] = midpoint(r, at(i), at(j));
-      }
-      triangles.push_back(row);
-      triangle_rows.push_back(r);
+    if (triangulate(r, ring))
+      replaced[static_cast<std::size_t>(r)] = 1;
+    else
+      fine_rows.push_back(r);
+  }
+  // Rows whose eight boundary nodes cross: their boundary again with more
+  // nodes per edge placed by f (4, then 16 intervals per edge), which follows
+  // f's sharp turn closely enough in most cases.
+  for (const int intervals : {4, 16}) {
+    if (fine_rows.empty()) break;
+    const Index nfine = static_cast<Index>(fine_rows.size()), per_row = 4 * (intervals - 2);
+    Points<2> xi(per_row * nfine, 2), x0(per_row * nfine, 2);
+    for (Index f = 0; f < nfine; ++f) {
+      const auto ring = boundary(fine_rows[static_cast<std::size_t>(f)]);
+      Index j = per_row * f;
+      for (int e = 0; e < 4; ++e)
+        for (int i = 1; i < intervals; ++i) {
+          if (2 * i == intervals) continue;  // the edge node
+          const Point<2>&a = ring[static_cast<std::size_t>(2 * e)].xi,
+                &b = ring[static_cast<std::size_t>((2 * e + 2) % 8)].xi;
+          xi.row(j++) = (a + (static_cast<double>(i) / intervals) * (b - a)).transpose();
+        }
     }
-    replaced[static_cast<std::size_t>(r)] = 1;
+    const MatrixX weights = linear.values(xi);
+    for (Index j = 0; j < per_row * nfine; ++j) {
+      const Index cell =
+          out.cell_ids[static_cast<std::size_t>(fine_rows[static_cast<std::size_t>(j / per_row)])];
+      Point<2> x = Point<2>::Zero();
+      for (int v = 0; v < 4; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(cell, v));
+      x0.row(j) = x.transpose();
+    }
+    const Points<2> x1 = warp_nodes(map, x0, nullptr);
+    std::vector<Index> still;
+    for (Index f = 0; f < nfine; ++f) {
+      const Index r = fine_rows[static_cast<std::size_t>(f)];
+      const auto coarse = boundary(r);
+      std::vector<BoundaryNode> ring;
+      Index j = per_row * f;
+      for (int e = 0; e < 4; ++e)
+        for (int i = 0; i < intervals; ++i) {
+          if (i == 0 || 2 * i == intervals) {
+            ring.push_back(coarse[static_cast<std::size_t>(2 * e + (i == 0 ? 0 : 1))]);
+          } else {  // numbered below, once the ring is known to be simple
+            ring.push_back({std::numeric_limits<Index>::max(), x1.row(j).transpose(), xi.row(j).transpose()});
+            ++j;
+          }
+        }
+      std::vector<Point<2>> polygon;
+      for (const auto& b : ring) polygon.push_back(b.x);
+      if (triangulate_simple_polygon(polygon).empty()) {
+        still.push_back(r);
+        continue;
+      }
+      for (auto& b : ring)
+        if (b.node == std::numeric_limits<Index>::max()) {
+          added.push_back({r, b.xi, b.x});
+          b.node = -static_cast<Index>(added.size());
+        }
+      triangulate(r, ring);
+      replaced[static_cast<std::size_t>(r)] = 1;
+    }
+    fine_rows = std::move(still);
   }
   if (triangles.empty()) return;
 
@@ -860,8 +927,8 @@ void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out) {
               "smooth enough for curved cells to follow it; the solution is unaffected");
   if (counts[3] > 0)
     log::info("output: ", counts[3],
-              " quadrilaterals written as two straight triangles each (even their straight cell folded: f "
-              "opens a corner there); the solution is unaffected");
+              " quadrilaterals written as straight triangles (even their straight cell folded: f opens a "
+              "corner or turns sharply there); the solution is unaffected");
   if (counts[4] > 0)
     log::warning("output: ", counts[4],
                  " written cells still fold and are drawn folded; the solution is unaffected (f is "

@@ -21,14 +21,14 @@ struct OutputMesh {
   Points<dim> points;            ///< node positions f(x0) in Ω1
   VectorX map_det;               ///< det J_f at the nodes
   IndexTable cells;              ///< local cells x nodes, VTK Lagrange node order
-  /// Quadratic quadrilateral output only: pieces written as two straight
+  /// Quadratic quadrilateral output only: pieces written as straight-sided
   /// quadratic triangles (VTK Lagrange order), after the rows of `cells`.
   IndexTable triangle_cells;
   std::vector<Index> cell_ids;      ///< mesh cell id of every output cell (`cells`, then `triangle_cells`)
   std::vector<Index> source_cells;  ///< index into the local cells of every output cell (same order)
   /// Mesh cells whose curved geometry folded and were written as smaller
   /// curved cells (2D); output cells whose nodes were pulled toward their
-  /// straight cell because they still folded; quadrilaterals written as two
+  /// straight cell because they still folded; quadrilaterals written as
   /// straight triangles because even their straight cell folded; output
   /// cells written folded.
   Index num_mesh_cells = 0, num_subdivided_cells = 0, num_straightened_cells = 0, num_split_cells = 0,
@@ -69,8 +69,10 @@ struct OutputMesh {
 /// depth limit, 3D at once) has its non-vertex nodes pulled toward the straight
 /// cell of its mapped vertices until it does not, unless that leaves more
 /// folded cells around it than before. A quadratic quadrilateral whose straight
-/// cell folds too (f opens a corner of Ω0 into a reflex corner of Ω1) is written
-/// as two straight triangles. What still folds is counted in num_tangled_cells.
+/// cell folds too (f opens a corner of Ω0 into a reflex corner of Ω1, or turns
+/// sharply inside it) is written as triangles first: cut along a diagonal, or a
+/// triangulation of its mapped boundary. What still folds is counted in
+/// num_tangled_cells.
 template <int dim>
 OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
                                  const mapping::Map<dim>& map, int order);
