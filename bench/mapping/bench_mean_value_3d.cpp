@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
   // a face (that face alone is added in the h-factored form).
   {
     wm::detail::PolyhedronScratch s;
-    s.resize(static_cast<int>(A.size()), static_cast<int>(A.edge_a.size()));
+    s.resize(A);
     Index flagged = 0, near_plane = 0;
     for (const auto& x : chunks)
       for (Index p0 = 0; p0 < x.rows(); p0 += wm::detail::kPolyhedronBlock) {
