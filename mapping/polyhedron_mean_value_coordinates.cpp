@@ -471,7 +471,7 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
   detail::PolyhedronScratch s;
   s.resize(P);
   std::vector<Real> robust(static_cast<std::size_t>(4 * n));
-  alignas(64) double iW[B], Wx[B], Wy[B], Wz[B];
+  alignas(64) double iW[B], iWs[B], Wx[B], Wy[B], Wz[B];
   for (Index p0 = first * B; p0 < std::min(N, last * B); p0 += B) {
     const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
     for (int p = 0; p < cnt; ++p) {
@@ -479,7 +479,19 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
       s.py[p] = (Y[p0 + p] - cy) / sc;
       s.pz[p] = (Z[p0 + p] - cz) / sc;
     }
-    detail::polyhedron_block<kGrad>(P, cnt, s);
+    detail::PolyhedronPrefetch next;
+    if (p0 + B < N) {
+      next.base[0] = phi.data() + p0 + B;
+      if constexpr (kGrad) {
+        next.base[1] = dphi_dx->data() + p0 + B;
+        next.base[2] = dphi_dy->data() + p0 + B;
+        next.base[3] = dphi_dz->data() + p0 + B;
+      }
+      next.stride = static_cast<long>(N);
+      next.columns = static_cast<int>(n);
+      next.count = kGrad ? 4 : 1;
+    }
+    detail::polyhedron_block<kGrad>(P, cnt, s, p0 + B < N ? &next : nullptr);
     // A face the kernel left out because x is near its plane: its h-factored
     // contribution, unless x projects into it or is near several planes.
     for (int p = 0; p < cnt; ++p) {
@@ -514,7 +526,7 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
         }
       }
     }
-    for (int p = 0; p < cnt; ++p) iW[p] = 1 / iW[p];
+    for (int p = 0; p < cnt; ++p) iW[p] = 1 / iW[p], iWs[p] = iW[p] * isc;
     for (int v = 0; v < static_cast<int>(n); ++v) {
       const double* w = s.weight_row(v, 0);
       Real* f = phi.data() + v * N + p0;
@@ -529,9 +541,9 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
         for (int p = 0; p < cnt; ++p) {
           const Real ph = w[p] * iW[p];
           f[p] = ph;
-          dx[p] = (gx[p] - ph * Wx[p]) * iW[p] * isc;
-          dy[p] = (gy[p] - ph * Wy[p]) * iW[p] * isc;
-          dz[p] = (gz[p] - ph * Wz[p]) * iW[p] * isc;
+          dx[p] = (gx[p] - ph * Wx[p]) * iWs[p];
+          dy[p] = (gy[p] - ph * Wy[p]) * iWs[p];
+          dz[p] = (gz[p] - ph * Wz[p]) * iWs[p];
         }
       } else {
         WARPFEM_IVDEP

@@ -262,11 +262,23 @@ WARPFEM_KERNEL_INLINE void polyhedron_triangle(const PolyhedronArrays& P, Polyhe
   }
 }
 
+/// Output rows the caller writes after the next block (`count` matrices of
+/// column stride `stride`, B values at base[j] + v * stride for column v): the
+/// kernel prefetches their lines while it computes, spread over the triangles,
+/// so that the caller's stores do not wait for memory (outputs of a few
+/// thousand points are larger than L2).
+struct PolyhedronPrefetch {
+  double* base[4] = {};
+  long stride = 0;
+  int columns = 0, count = 0;
+};
+
 /// Accumulates the weights (and gradients) of `cnt` points (normalized, in
 /// s.px/py/pz) into the weight rows of s, and sets s.flag[p] for points that
-/// need the robust path.
+/// need the robust path; prefetches `next` if given.
 template <bool kGrad>
-WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, PolyhedronScratch& s) {
+WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, PolyhedronScratch& s,
+                                            const PolyhedronPrefetch* next = nullptr) {
   const double *vx = P.x.data(), *vy = P.y.data(), *vz = P.z.data();
   const int n = static_cast<int>(P.size()), m = static_cast<int>(P.triangle_count());
   constexpr int B = kPolyhedronBlock;
@@ -306,6 +318,15 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
       polyhedron_edge<kGrad>(s, P.edge_a[e], P.edge_b[e], P.edge_slot[e]);
     }
     polyhedron_triangle<kGrad>(P, s, P.order[i]);
+    if (next) {
+      const int rows = next->columns * next->count;
+      for (int r = i * rows / m; r < (i + 1) * rows / m; ++r) {
+        const double* row = next->base[r % next->count] + (r / next->count) * next->stride;
+        __builtin_prefetch(row, 1, 2);
+        __builtin_prefetch(row + B / 2, 1, 2);
+        __builtin_prefetch(row + B - 1, 1, 2);
+      }
+    }
   }
 }
 
