@@ -464,6 +464,7 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
                                            MatrixX* dphi_dz) {
   constexpr int B = detail::kPolyhedronBlock;
   const Index N = x.rows(), n = P.size();
+  const int m = static_cast<int>(P.triangle_count());
   const Real* X = x.data();
   const Real* Y = X + N;
   const Real* Z = Y + N;
@@ -488,8 +489,8 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
         next.base[3] = dphi_dz->data() + p0 + B;
       }
       next.stride = static_cast<long>(N);
-      next.columns = static_cast<int>(n);
-      next.count = kGrad ? 4 : 1;
+      next.rows = static_cast<int>(n) * (kGrad ? 4 : 1);
+      next.per_step = (next.rows + m - 1) / m;
     }
     detail::polyhedron_block<kGrad>(P, cnt, s, p0 + B < N ? &next : nullptr);
     // A face the kernel left out because x is near its plane: its h-factored

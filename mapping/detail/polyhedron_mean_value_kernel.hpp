@@ -28,6 +28,7 @@
 // form (or takes the robust path when x is near several such planes or near
 // the surface).
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -262,15 +263,15 @@ WARPFEM_KERNEL_INLINE void polyhedron_triangle(const PolyhedronArrays& P, Polyhe
   }
 }
 
-/// Output rows the caller writes after the next block (`count` matrices of
-/// column stride `stride`, B values at base[j] + v * stride for column v): the
-/// kernel prefetches their lines while it computes, spread over the triangles,
-/// so that the caller's stores do not wait for memory (outputs of a few
-/// thousand points are larger than L2).
+/// Output rows the caller writes after the next block (one matrix, or four
+/// with gradients, of column stride `stride`: B values at base[j] + v * stride
+/// for column v): the kernel prefetches their lines while it computes,
+/// `per_step` rows after each triangle, so that the caller's stores do not wait
+/// for memory (outputs of a few thousand points are larger than L2).
 struct PolyhedronPrefetch {
   double* base[4] = {};
   long stride = 0;
-  int columns = 0, count = 0;
+  int rows = 0, per_step = 0;
 };
 
 /// Accumulates the weights (and gradients) of `cnt` points (normalized, in
@@ -319,9 +320,10 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     }
     polyhedron_triangle<kGrad>(P, s, P.order[i]);
     if (next) {
-      const int rows = next->columns * next->count;
-      for (int r = i * rows / m; r < (i + 1) * rows / m; ++r) {
-        const double* row = next->base[r % next->count] + (r / next->count) * next->stride;
+      constexpr int kMatrices = kGrad ? 4 : 1;
+      const int end = std::min(next->rows, (i + 1) * next->per_step);
+      for (int r = i * next->per_step; r < end; ++r) {
+        const double* row = next->base[r % kMatrices] + (r / kMatrices) * next->stride;
         __builtin_prefetch(row, 1, 2);
         __builtin_prefetch(row + B / 2, 1, 2);
         __builtin_prefetch(row + B - 1, 1, 2);
