@@ -2,7 +2,7 @@
 // Internal: the vectorized kernel of polyhedron_mean_value_coordinates.cpp.
 //
 // For a block of up to kPolyhedronBlock points (normalized coordinates) it
-// forms, per vertex and point, s = p − x, r = |s| and 1/r²; per edge (a, b)
+// forms, per vertex and point, s = p − x and r = |s|; per edge (a, b)
 // and point, once for the two triangles that share it,
 //   L_e = |s_a × s_b|,  c_e = s_a · s_b,  β_e = angle(s_a, s_b) through atan of
 //   the half angle,  k_e = β_e / (2 L_e),  1/L_e;
@@ -16,7 +16,8 @@
 // The loops over points are branch-free (selects), so the compiler vectorizes
 // them; atan is Cephes' rational approximation (relative error ~1e-17 on
 // [0, 0.66]) behind a half-angle reduction, since libm's atan does not vectorize;
-// its division shares one reciprocal with 1/L_e. The edges are computed
+// its division shares one reciprocal with 1/L_e and, for the gradient,
+// 1/(r_a r_b)² (so the vertices need no division). The edges are computed
 // just ahead of the triangles that use them (PolyhedronArrays::order), into a
 // few reused slots, and the scratch is stored in contiguous records per vertex
 // and per slot: a block's working set stays in the L1 cache.
@@ -66,11 +67,11 @@ WARPFEM_KERNEL_INLINE void atan_fraction(double n, double d, double& numer, doub
 }
 
 /// Per-thread scratch, in records of kPolyhedronBlock points: per vertex
-/// (s_x, s_y, s_z, r, 1/r²) and the accumulated (w, ∂_x w, ∂_y w, ∂_z w), per
+/// (s_x, s_y, s_z, r) and the accumulated (w, ∂_x w, ∂_y w, ∂_z w), per
 /// edge slot (k, ∂_x k, ∂_y k, ∂_z k). Each record is contiguous, and the slots
 /// are reused (PolyhedronArrays::edge_slot), so a block's scratch fits in L1.
 struct PolyhedronScratch {
-  static constexpr int kVertexRows = 5, kWeightRows = 4, kSlotRows = 4;
+  static constexpr int kVertexRows = 4, kWeightRows = 4, kSlotRows = 4;
   std::vector<double> vertex, weight, slot;
   alignas(64) double px[kPolyhedronBlock], py[kPolyhedronBlock], pz[kPolyhedronBlock];
   alignas(64) double flag[kPolyhedronBlock];
@@ -92,8 +93,9 @@ struct PolyhedronScratch {
 /// rr = r_a r_b. tan(β/2) = L / (rr + c) = (rr − c) / L: the form whose value
 /// is <= 1 is atan(L / den) with den = rr + |c|; above 0.66 it is reduced by
 /// π/4, atan(z) = π/4 + atan((z − 1) / (z + 1)). One division gives both that
-/// argument and 1/L.
-WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& iL) {
+/// argument and 1/L, and with kGrad also irr2 = 1/rr².
+template <bool kGrad>
+WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& iL, double& irr2) {
   const double den = rr + std::abs(c);
   // 1 or 0 as a number: a boolean used three times makes GCC branch and not vectorize.
   const double big = L > 0.66 * den ? 1.0 : 0.0;
@@ -101,9 +103,20 @@ WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& i
   const double den_y = den + big * L;
   double R, Q;
   atan_fraction(num_y, den_y, R, Q);
-  const double f = 1.0 / (L * den_y * Q);
-  iL = den_y * Q * f;
-  const double a = big * 0.78539816339744830962 + num_y * R * L * f;
+  double a;
+  if constexpr (kGrad) {
+    // The same division also gives 1/rr², from which ∇k takes 1/r_a² and 1/r_b².
+    const double rr2 = rr * rr;
+    const double f = 1.0 / (L * den_y * rr2 * Q);
+    iL = den_y * rr2 * Q * f;
+    irr2 = L * den_y * Q * f;
+    a = big * 0.78539816339744830962 + num_y * R * (L * rr2) * f;
+  } else {
+    const double f = 1.0 / (L * den_y * Q);
+    iL = den_y * Q * f;
+    irr2 = 0;
+    a = big * 0.78539816339744830962 + num_y * R * L * f;
+  }
   return (c >= 0.0 ? a : 1.57079632679489661923 - a) * iL;
 }
 
@@ -115,12 +128,10 @@ WARPFEM_KERNEL_INLINE void polyhedron_edge(PolyhedronScratch& s, int a, int b, i
   const double* __restrict say = s.vertex_row(a, 1);
   const double* __restrict saz = s.vertex_row(a, 2);
   const double* __restrict ra = s.vertex_row(a, 3);
-  const double* __restrict qa = s.vertex_row(a, 4);
   const double* __restrict sbx = s.vertex_row(b, 0);
   const double* __restrict sby = s.vertex_row(b, 1);
   const double* __restrict sbz = s.vertex_row(b, 2);
   const double* __restrict rb = s.vertex_row(b, 3);
-  const double* __restrict qb = s.vertex_row(b, 4);
   double* __restrict ek = s.slot_row(slot, 0);
   double* __restrict ekx = s.slot_row(slot, 1);
   double* __restrict eky = s.slot_row(slot, 2);
@@ -134,16 +145,17 @@ WARPFEM_KERNEL_INLINE void polyhedron_edge(PolyhedronScratch& s, int a, int b, i
     const double L = std::sqrt(nx * nx + ny * ny + nz * nz);
     const double c = ax * bx + ay * by + az * bz;
     const double rr = ra[p] * rb[p];
-    double iL;
-    const double k = half_angle(L, c, rr, iL);
+    double iL, irr2;
+    const double k = half_angle<kGrad>(L, c, rr, iL, irr2);
     ek[p] = k;
     if constexpr (kGrad) {
       // ∇k = N × (q_a − q_b + 2 k (s_a − s_b)) / (2 L²), q = s / r², expanded with
       // (s_a × s_b) × v = (s_a · v) s_b − (s_b · v) s_a into α s_a + γ s_b:
-      //   α = 1 − c / r_a² + 2 k (r_b² − c),  γ = 1 − c / r_b² + 2 k (r_a² − c).
-      const double h = 0.5 * iL * iL, k2 = k + k;
-      const double al = (1.0 - c * qa[p] + k2 * (rb[p] * rb[p] - c)) * h;
-      const double ga = (1.0 - c * qb[p] + k2 * (ra[p] * ra[p] - c)) * h;
+      //   α = 1 − c / r_a² + 2 k (r_b² − c),  γ = 1 − c / r_b² + 2 k (r_a² − c),
+      // with 1 / r_a² = r_b² / rr².
+      const double h = 0.5 * iL * iL, k2 = k + k, ra2 = ra[p] * ra[p], rb2 = rb[p] * rb[p];
+      const double al = (1.0 - c * rb2 * irr2 + k2 * (rb2 - c)) * h;
+      const double ga = (1.0 - c * ra2 * irr2 + k2 * (ra2 - c)) * h;
       ekx[p] = al * ax + ga * bx;
       eky[p] = al * ay + ga * by;
       ekz[p] = al * az + ga * bz;
@@ -292,7 +304,6 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
     double* __restrict sy = s.vertex_row(v, 1);
     double* __restrict sz = s.vertex_row(v, 2);
     double* __restrict r = s.vertex_row(v, 3);
-    double* __restrict ir2 = s.vertex_row(v, 4);
     double* __restrict flag = s.flag;
     const double ax = vx[v], ay = vy[v], az = vz[v];
     WARPFEM_IVDEP
@@ -303,7 +314,6 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
       sy[p] = y;
       sz[p] = z;
       r[p] = std::sqrt(r2);
-      ir2[p] = 1.0 / r2;
       flag[p] = r[p] < kPolyhedronNearVertex ? 1.0 : flag[p];
     }
     for (int row = 0; row < (kGrad ? 4 : 1); ++row) {
