@@ -44,8 +44,8 @@ struct PolyhedronArrays {
   /// edges), and the edges computed before each: before the i-th triangle of
   /// `order`, scheduled_edges[edge_first[i] .. edge_first[i + 1]). Each edge's
   /// terms live in a slot (edge_slot) that is reused once its last triangle is
-  /// done, so that only the few edges open at any time (slot_count) take
-  /// scratch memory: it stays in the L1 cache.
+  /// done, so that only the edges open at any time (slot_count: 19 of 144 on
+  /// a 96-triangle sphere) take scratch memory.
   std::vector<int> order, edge_first, scheduled_edges, edge_slot;
   int slot_count = 0;
   Point<3> center = Point<3>::Zero();
