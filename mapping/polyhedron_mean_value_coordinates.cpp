@@ -45,6 +45,62 @@ PolyhedronArrays::PolyhedronArrays(const std::vector<Point<3>>& vertices,
     triangle_edges.push_back(edge(w, u));
     triangle_edges.push_back(edge(u, v));
   }
+  schedule_edges();
+}
+
+void PolyhedronArrays::schedule_edges() {
+  const int m = static_cast<int>(a.size()), ne = static_cast<int>(edge_a.size());
+  std::vector<std::vector<int>> edge_triangles(static_cast<std::size_t>(ne));
+  for (int t = 0; t < m; ++t)
+    for (int k = 0; k < 3; ++k)
+      edge_triangles[static_cast<std::size_t>(triangle_edges[3 * t + k])].push_back(t);
+  // Breadth first over triangles sharing an edge: the open edges are the
+  // boundary of the visited region.
+  order.clear();
+  std::vector<char> seen(static_cast<std::size_t>(m), 0);
+  for (int root = 0; root < m; ++root) {
+    if (seen[static_cast<std::size_t>(root)]) continue;
+    seen[static_cast<std::size_t>(root)] = 1;
+    for (std::size_t head = order.size(), tail = (order.push_back(root), head); tail < order.size(); ++tail)
+      for (int k = 0; k < 3; ++k)
+        for (const int u : edge_triangles[static_cast<std::size_t>(triangle_edges[3 * order[tail] + k])])
+          if (!seen[static_cast<std::size_t>(u)]) seen[static_cast<std::size_t>(u)] = 1, order.push_back(u);
+  }
+  // Each edge is computed kLookahead triangles before the first one that uses
+  // it, so that the latency of its square root and division can overlap the
+  // triangles in between.
+  constexpr int kLookahead = 2;
+  edge_first.assign(1, 0);
+  scheduled_edges.clear();
+  edge_slot.assign(static_cast<std::size_t>(ne), -1);
+  std::vector<int> uses_left(static_cast<std::size_t>(ne)), free_slots;
+  for (int e = 0; e < ne; ++e)
+    uses_left[static_cast<std::size_t>(e)] =
+        static_cast<int>(edge_triangles[static_cast<std::size_t>(e)].size());
+  slot_count = 0;
+  const auto schedule = [&](int t) {
+    for (int k = 0; k < 3; ++k) {
+      const int e = triangle_edges[3 * t + k];
+      if (edge_slot[static_cast<std::size_t>(e)] >= 0) continue;  // computed for an earlier triangle
+      if (free_slots.empty()) free_slots.push_back(slot_count++);
+      edge_slot[static_cast<std::size_t>(e)] = free_slots.back();
+      free_slots.pop_back();
+      scheduled_edges.push_back(e);
+    }
+  };
+  for (int i = 0; i < m; ++i) {
+    if (i == 0)
+      for (int j = 0; j <= kLookahead && j < m; ++j) schedule(order[static_cast<std::size_t>(j)]);
+    else if (i + kLookahead < m)
+      schedule(order[static_cast<std::size_t>(i + kLookahead)]);
+    edge_first.push_back(static_cast<int>(scheduled_edges.size()));
+    const int t = order[static_cast<std::size_t>(i)];
+    for (int k = 0; k < 3; ++k) {
+      const int e = triangle_edges[3 * t + k];
+      if (--uses_left[static_cast<std::size_t>(e)] == 0)
+        free_slots.push_back(edge_slot[static_cast<std::size_t>(e)]);
+    }
+  }
 }
 
 namespace {
@@ -408,14 +464,15 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
                                            MatrixX* dphi_dz) {
   constexpr int B = detail::kPolyhedronBlock;
   const Index N = x.rows(), n = P.size();
+  const int m = static_cast<int>(P.triangle_count());
   const Real* X = x.data();
   const Real* Y = X + N;
   const Real* Z = Y + N;
   const Real cx = P.center.x(), cy = P.center.y(), cz = P.center.z(), sc = P.scale, isc = 1 / sc;
   detail::PolyhedronScratch s;
-  s.resize(static_cast<int>(n), static_cast<int>(P.edge_a.size()));
+  s.resize(P);
   std::vector<Real> robust(static_cast<std::size_t>(4 * n));
-  alignas(64) double iW[B], Wx[B], Wy[B], Wz[B];
+  alignas(64) double iW[B], iWs[B], Wx[B], Wy[B], Wz[B];
   for (Index p0 = first * B; p0 < std::min(N, last * B); p0 += B) {
     const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
     for (int p = 0; p < cnt; ++p) {
@@ -423,7 +480,19 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
       s.py[p] = (Y[p0 + p] - cy) / sc;
       s.pz[p] = (Z[p0 + p] - cz) / sc;
     }
-    detail::polyhedron_block<kGrad>(P, cnt, s);
+    detail::PolyhedronPrefetch next;
+    if (p0 + B < N) {
+      next.base[0] = phi.data() + p0 + B;
+      if constexpr (kGrad) {
+        next.base[1] = dphi_dx->data() + p0 + B;
+        next.base[2] = dphi_dy->data() + p0 + B;
+        next.base[3] = dphi_dz->data() + p0 + B;
+      }
+      next.stride = static_cast<long>(N);
+      next.rows = static_cast<int>(n) * (kGrad ? 4 : 1);
+      next.per_step = (next.rows + m - 1) / m;
+    }
+    detail::polyhedron_block<kGrad>(P, cnt, s, p0 + B < N ? &next : nullptr);
     // A face the kernel left out because x is near its plane: its h-factored
     // contribution, unless x projects into it or is near several planes.
     for (int p = 0; p < cnt; ++p) {
@@ -436,23 +505,20 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
       }
       const int v[3] = {P.a[t], P.b[t], P.c[t]};
       for (int i = 0; i < 3; ++i) {
-        s.w[v[i] * B + p] += wf[i].v;
-        if constexpr (kGrad) {
-          s.wx[v[i] * B + p] += wf[i].d[0];
-          s.wy[v[i] * B + p] += wf[i].d[1];
-          s.wz[v[i] * B + p] += wf[i].d[2];
-        }
+        s.weight_row(v[i], 0)[p] += wf[i].v;
+        if constexpr (kGrad)
+          for (int c = 0; c < 3; ++c) s.weight_row(v[i], 1 + c)[p] += wf[i].d[c];
       }
     }
     for (int p = 0; p < cnt; ++p) iW[p] = Wx[p] = Wy[p] = Wz[p] = 0;
-    for (Index v = 0; v < n; ++v) {
-      const double* w = s.w.data() + v * B;
+    for (int v = 0; v < static_cast<int>(n); ++v) {
+      const double* w = s.weight_row(v, 0);
       WARPFEM_IVDEP
       for (int p = 0; p < cnt; ++p) iW[p] += w[p];
       if constexpr (kGrad) {
-        const double* gx = s.wx.data() + v * B;
-        const double* gy = s.wy.data() + v * B;
-        const double* gz = s.wz.data() + v * B;
+        const double* gx = s.weight_row(v, 1);
+        const double* gy = s.weight_row(v, 2);
+        const double* gz = s.weight_row(v, 3);
         WARPFEM_IVDEP
         for (int p = 0; p < cnt; ++p) {
           Wx[p] += gx[p];
@@ -461,14 +527,14 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
         }
       }
     }
-    for (int p = 0; p < cnt; ++p) iW[p] = 1 / iW[p];
-    for (Index v = 0; v < n; ++v) {
-      const double* w = s.w.data() + v * B;
+    for (int p = 0; p < cnt; ++p) iW[p] = 1 / iW[p], iWs[p] = iW[p] * isc;
+    for (int v = 0; v < static_cast<int>(n); ++v) {
+      const double* w = s.weight_row(v, 0);
       Real* f = phi.data() + v * N + p0;
       if constexpr (kGrad) {
-        const double* gx = s.wx.data() + v * B;
-        const double* gy = s.wy.data() + v * B;
-        const double* gz = s.wz.data() + v * B;
+        const double* gx = s.weight_row(v, 1);
+        const double* gy = s.weight_row(v, 2);
+        const double* gz = s.weight_row(v, 3);
         Real* dx = dphi_dx->data() + v * N + p0;
         Real* dy = dphi_dy->data() + v * N + p0;
         Real* dz = dphi_dz->data() + v * N + p0;
@@ -476,9 +542,9 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
         for (int p = 0; p < cnt; ++p) {
           const Real ph = w[p] * iW[p];
           f[p] = ph;
-          dx[p] = (gx[p] - ph * Wx[p]) * iW[p] * isc;
-          dy[p] = (gy[p] - ph * Wy[p]) * iW[p] * isc;
-          dz[p] = (gz[p] - ph * Wz[p]) * iW[p] * isc;
+          dx[p] = (gx[p] - ph * Wx[p]) * iWs[p];
+          dy[p] = (gy[p] - ph * Wy[p]) * iWs[p];
+          dz[p] = (gz[p] - ph * Wz[p]) * iWs[p];
         }
       } else {
         WARPFEM_IVDEP

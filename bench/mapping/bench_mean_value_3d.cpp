@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
   // a face (that face alone is added in the h-factored form).
   {
     wm::detail::PolyhedronScratch s;
-    s.resize(static_cast<int>(A.size()), static_cast<int>(A.edge_a.size()));
+    s.resize(A);
     Index flagged = 0, near_plane = 0;
     for (const auto& x : chunks)
       for (Index p0 = 0; p0 < x.rows(); p0 += wm::detail::kPolyhedronBlock) {
@@ -326,19 +326,19 @@ int main(int argc, char** argv) {
       "x%.1f)\n",
       vt / 1e6, v1 / vt);
   // Per point: each edge (E of them) takes 1 sqrt and 1 divide, each triangle
-  // 1 divide, each vertex 1 sqrt and 1 divide.
+  // 1 divide, each vertex 1 sqrt.
   const double edges = static_cast<double>(A.edge_a.size()), verts = static_cast<double>(P.vertex_count());
   const double rate = divide_sqrt_rate();
-  const double ops = (2 * edges + m + 2 * verts) / m;
+  const double ops = (2 * edges + m + verts) / m;
   std::printf(
       "divide+sqrt throughput: %.3g /s per core; kernel needs %.2f per point-triangle -> bound %.3f M "
       "points/s, reached %.0f %%\n",
       rate, ops, rate / ops / m / 1e6, 100 * f1 * m * ops / rate);
-  // Vector floating-point instructions (FMA, multiply, add, compare, select,
-  // divide, sqrt) per 8 points, counted in the x86-64-v4 build of the kernel
-  // (GCC 12): 78 per edge, 148 per triangle, 9 per vertex; as doubles per
-  // point-triangle that is (78 E + 148 m + 9 n) / m.
-  const double arith = (78 * edges + 148 * m + 9 * verts) / m;
+  // Vector floating-point instructions (FMA, multiply, add, subtract, compare,
+  // min, and, select or masked move, divide, sqrt) per 8 points, counted in the
+  // x86-64-v4 build of the kernel (GCC 12): 93 per edge, 151 per triangle, 9 per
+  // vertex; as doubles per point-triangle that is (93 E + 151 m + 9 n) / m.
+  const double arith = (93 * edges + 151 * m + 9 * verts) / m;
   const double peak = fp_peak_rate();
   std::printf(
       "FP peak (FMA + add pipes): %.3g doubles/s per core; kernel needs ~%.0f per point-triangle -> "

@@ -2,7 +2,7 @@
 // Internal: the vectorized kernel of polyhedron_mean_value_coordinates.cpp.
 //
 // For a block of up to kPolyhedronBlock points (normalized coordinates) it
-// forms, per vertex and point, s = p − x, r = |s| and 1/r²; per edge (a, b)
+// forms, per vertex and point, s = p − x and r = |s|; per edge (a, b)
 // and point, once for the two triangles that share it,
 //   L_e = |s_a × s_b|,  c_e = s_a · s_b,  β_e = angle(s_a, s_b) through atan of
 //   the half angle,  k_e = β_e / (2 L_e),  1/L_e;
@@ -16,7 +16,12 @@
 // The loops over points are branch-free (selects), so the compiler vectorizes
 // them; atan is Cephes' rational approximation (relative error ~1e-17 on
 // [0, 0.66]) behind a half-angle reduction, since libm's atan does not vectorize;
-// its division shares one reciprocal with 1/L_e.
+// its division shares one reciprocal with 1/L_e and, for the gradient,
+// 1/(r_a r_b)² (so the vertices need no division). The edges are computed
+// just ahead of the triangles that use them (PolyhedronArrays::order), into a
+// few reused slots, and the scratch is stored in contiguous records per vertex
+// and per slot: a block's scratch is small (61 KB for 16 points on a 50-vertex
+// cage, mostly in L1) and neighbouring triangles find their data together.
 //
 // Points where this loses accuracy are flagged for the robust path: within
 // kNearVertex of a vertex, or sin β_e < kNearLine for an edge's line. A
@@ -25,6 +30,7 @@
 // form (or takes the robust path when x is near several such planes or near
 // the surface).
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -33,7 +39,7 @@
 
 namespace warpfem::mapping::detail {
 
-inline constexpr int kPolyhedronBlock = 32;
+inline constexpr int kPolyhedronBlock = 16;
 inline constexpr double kNearPlane = 3e-4;
 inline constexpr double kNearLine = 1e-4;
 inline constexpr double kPolyhedronNearVertex = 1e-5;
@@ -61,29 +67,36 @@ WARPFEM_KERNEL_INLINE void atan_fraction(double n, double d, double& numer, doub
   denom = Q;
 }
 
-/// Per-thread scratch: per vertex and point s, r, 1/r² and the accumulated
-/// weights and gradients, per edge and point k_e and ∇k_e (rows of
-/// kPolyhedronBlock).
+/// Per-thread scratch, in records of kPolyhedronBlock points: per vertex
+/// (s_x, s_y, s_z, r) and the accumulated (w, ∂_x w, ∂_y w, ∂_z w), per
+/// edge slot (k, ∂_x k, ∂_y k, ∂_z k). Each record is contiguous, and the slots
+/// are reused (PolyhedronArrays::edge_slot), so a block's scratch stays small.
 struct PolyhedronScratch {
-  std::vector<double> sx, sy, sz, r, ir2, w, wx, wy, wz, ek, ekx, eky, ekz;
+  static constexpr int kVertexRows = 4, kWeightRows = 4, kSlotRows = 4;
+  std::vector<double> vertex, weight, slot;
   alignas(64) double px[kPolyhedronBlock], py[kPolyhedronBlock], pz[kPolyhedronBlock];
   alignas(64) double flag[kPolyhedronBlock];
   /// Faces whose plane passes near the point, left out: how many, and the sum of their indices.
   alignas(64) double plane[kPolyhedronBlock], plane_face[kPolyhedronBlock];
-  void resize(int n, int edges) {
-    const std::size_t m = static_cast<std::size_t>(n) * kPolyhedronBlock;
-    for (auto* v : {&sx, &sy, &sz, &r, &ir2, &w, &wx, &wy, &wz}) v->assign(m, 0.0);
-    const std::size_t me = static_cast<std::size_t>(edges) * kPolyhedronBlock;
-    for (auto* v : {&ek, &ekx, &eky, &ekz}) v->assign(me, 0.0);
+  void resize(const PolyhedronArrays& P) {
+    const std::size_t n = static_cast<std::size_t>(P.size()) * kPolyhedronBlock;
+    vertex.assign(kVertexRows * n, 0.0);
+    weight.assign(kWeightRows * n, 0.0);
+    slot.assign(
+        static_cast<std::size_t>(kSlotRows) * static_cast<std::size_t>(P.slot_count) * kPolyhedronBlock, 0.0);
   }
+  double* vertex_row(int v, int row) { return vertex.data() + (kVertexRows * v + row) * kPolyhedronBlock; }
+  double* weight_row(int v, int row) { return weight.data() + (kWeightRows * v + row) * kPolyhedronBlock; }
+  double* slot_row(int e, int row) { return slot.data() + (kSlotRows * e + row) * kPolyhedronBlock; }
 };
 
 /// k = β / (2 L) and 1/L for an edge with L = |s_a × s_b|, c = s_a · s_b and
 /// rr = r_a r_b. tan(β/2) = L / (rr + c) = (rr − c) / L: the form whose value
 /// is <= 1 is atan(L / den) with den = rr + |c|; above 0.66 it is reduced by
 /// π/4, atan(z) = π/4 + atan((z − 1) / (z + 1)). One division gives both that
-/// argument and 1/L.
-WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& iL) {
+/// argument and 1/L, and with kGrad also irr2 = 1/rr².
+template <bool kGrad>
+WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& iL, double& irr2) {
   const double den = rr + std::abs(c);
   // 1 or 0 as a number: a boolean used three times makes GCC branch and not vectorize.
   const double big = L > 0.66 * den ? 1.0 : 0.0;
@@ -91,37 +104,208 @@ WARPFEM_KERNEL_INLINE double half_angle(double L, double c, double rr, double& i
   const double den_y = den + big * L;
   double R, Q;
   atan_fraction(num_y, den_y, R, Q);
-  const double f = 1.0 / (L * den_y * Q);
-  iL = den_y * Q * f;
-  const double a = big * 0.78539816339744830962 + num_y * R * L * f;
+  double a;
+  if constexpr (kGrad) {
+    // The same division also gives 1/rr², from which ∇k takes 1/r_a² and 1/r_b².
+    const double rr2 = rr * rr;
+    const double f = 1.0 / (L * den_y * rr2 * Q);
+    iL = den_y * rr2 * Q * f;
+    irr2 = L * den_y * Q * f;
+    a = big * 0.78539816339744830962 + num_y * R * (L * rr2) * f;
+  } else {
+    const double f = 1.0 / (L * den_y * Q);
+    iL = den_y * Q * f;
+    irr2 = 0;
+    a = big * 0.78539816339744830962 + num_y * R * L * f;
+  }
   return (c >= 0.0 ? a : 1.57079632679489661923 - a) * iL;
 }
 
-/// Accumulates the weights (and gradients) of `cnt` points (normalized, in
-/// s.px/py/pz) into s.w (s.wx, wy, wz), and sets s.flag[p] for points that need
-/// the robust path.
+/// k and ∇k of edge (a, b) for the points of the block, into its slot.
 template <bool kGrad>
-WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, PolyhedronScratch& s) {
-  const double *vx = P.x.data(), *vy = P.y.data(), *vz = P.z.data();
-  const int *ta = P.a.data(), *tb = P.b.data(), *tc = P.c.data(), *ea = P.edge_a.data(),
-            *eb = P.edge_b.data(), *te = P.triangle_edges.data();
-  const double* two_area = P.two_area.data();
-  const int n = static_cast<int>(P.size()), m = static_cast<int>(P.triangle_count()),
-            ne = static_cast<int>(P.edge_a.size());
+WARPFEM_KERNEL_INLINE void polyhedron_edge(PolyhedronScratch& s, int a, int b, int slot) {
   constexpr int B = kPolyhedronBlock;
-  // The block is padded with copies of its first point, so that the loops over
-  // vertices and triangles run over all B points: a fixed trip count, no
-  // remainder loops. (Not the edge loop: with a fixed count GCC 12 does not
-  // vectorize it for AVX2.)
+  const double* __restrict sax = s.vertex_row(a, 0);
+  const double* __restrict say = s.vertex_row(a, 1);
+  const double* __restrict saz = s.vertex_row(a, 2);
+  const double* __restrict ra = s.vertex_row(a, 3);
+  const double* __restrict sbx = s.vertex_row(b, 0);
+  const double* __restrict sby = s.vertex_row(b, 1);
+  const double* __restrict sbz = s.vertex_row(b, 2);
+  const double* __restrict rb = s.vertex_row(b, 3);
+  double* __restrict ek = s.slot_row(slot, 0);
+  double* __restrict ekx = s.slot_row(slot, 1);
+  double* __restrict eky = s.slot_row(slot, 2);
+  double* __restrict ekz = s.slot_row(slot, 3);
+  double* __restrict flag = s.flag;
+  WARPFEM_IVDEP
+  for (int p = 0; p < B; ++p) {
+    const double ax = sax[p], ay = say[p], az = saz[p];
+    const double bx = sbx[p], by = sby[p], bz = sbz[p];
+    const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    const double L = std::sqrt(nx * nx + ny * ny + nz * nz);
+    const double c = ax * bx + ay * by + az * bz;
+    const double rr = ra[p] * rb[p];
+    double iL, irr2;
+    const double k = half_angle<kGrad>(L, c, rr, iL, irr2);
+    ek[p] = k;
+    if constexpr (kGrad) {
+      // ∇k = N × (q_a − q_b + 2 k (s_a − s_b)) / (2 L²), q = s / r², expanded with
+      // (s_a × s_b) × v = (s_a · v) s_b − (s_b · v) s_a into α s_a + γ s_b:
+      //   α = 1 − c / r_a² + 2 k (r_b² − c),  γ = 1 − c / r_b² + 2 k (r_a² − c),
+      // with 1 / r_a² = r_b² / rr².
+      const double h = 0.5 * iL * iL, k2 = k + k, ra2 = ra[p] * ra[p], rb2 = rb[p] * rb[p];
+      const double al = (1.0 - c * rb2 * irr2 + k2 * (rb2 - c)) * h;
+      const double ga = (1.0 - c * ra2 * irr2 + k2 * (ra2 - c)) * h;
+      ekx[p] = al * ax + ga * bx;
+      eky[p] = al * ay + ga * by;
+      ekz[p] = al * az + ga * bz;
+    }
+    // Flags summed as numbers: boolean logic here makes GCC branch and not vectorize.
+    flag[p] += L < kNearLine * rr ? 1.0 : 0.0;
+  }
+}
+
+/// Triangle t's contribution to the weights (and gradients) of its vertices.
+template <bool kGrad>
+WARPFEM_KERNEL_INLINE void polyhedron_triangle(const PolyhedronArrays& P, PolyhedronScratch& s, int t) {
+  constexpr int B = kPolyhedronBlock;
+  const int i1 = P.a[t], i2 = P.b[t], i3 = P.c[t];
+  const int e1 = P.edge_slot[P.triangle_edges[3 * t]], e2 = P.edge_slot[P.triangle_edges[3 * t + 1]],
+            e3 = P.edge_slot[P.triangle_edges[3 * t + 2]];
+  const double near_plane = kNearPlane * P.two_area[t], face = static_cast<double>(t);
+  const double* __restrict s1x = s.vertex_row(i1, 0);
+  const double* __restrict s1y = s.vertex_row(i1, 1);
+  const double* __restrict s1z = s.vertex_row(i1, 2);
+  const double* __restrict r1 = s.vertex_row(i1, 3);
+  const double* __restrict s2x = s.vertex_row(i2, 0);
+  const double* __restrict s2y = s.vertex_row(i2, 1);
+  const double* __restrict s2z = s.vertex_row(i2, 2);
+  const double* __restrict r2 = s.vertex_row(i2, 3);
+  const double* __restrict s3x = s.vertex_row(i3, 0);
+  const double* __restrict s3y = s.vertex_row(i3, 1);
+  const double* __restrict s3z = s.vertex_row(i3, 2);
+  const double* __restrict r3 = s.vertex_row(i3, 3);
+  const double* __restrict ek1 = s.slot_row(e1, 0);
+  const double* __restrict ek2 = s.slot_row(e2, 0);
+  const double* __restrict ek3 = s.slot_row(e3, 0);
+  const double* __restrict gk1x = s.slot_row(e1, 1);
+  const double* __restrict gk1y = s.slot_row(e1, 2);
+  const double* __restrict gk1z = s.slot_row(e1, 3);
+  const double* __restrict gk2x = s.slot_row(e2, 1);
+  const double* __restrict gk2y = s.slot_row(e2, 2);
+  const double* __restrict gk2z = s.slot_row(e2, 3);
+  const double* __restrict gk3x = s.slot_row(e3, 1);
+  const double* __restrict gk3y = s.slot_row(e3, 2);
+  const double* __restrict gk3z = s.slot_row(e3, 3);
+  double* __restrict w1 = s.weight_row(i1, 0);
+  double* __restrict w2 = s.weight_row(i2, 0);
+  double* __restrict w3 = s.weight_row(i3, 0);
+  double* __restrict g1x = s.weight_row(i1, 1);
+  double* __restrict g1y = s.weight_row(i1, 2);
+  double* __restrict g1z = s.weight_row(i1, 3);
+  double* __restrict g2x = s.weight_row(i2, 1);
+  double* __restrict g2y = s.weight_row(i2, 2);
+  double* __restrict g2z = s.weight_row(i2, 3);
+  double* __restrict g3x = s.weight_row(i3, 1);
+  double* __restrict g3y = s.weight_row(i3, 2);
+  double* __restrict g3z = s.weight_row(i3, 3);
+  double* __restrict plane = s.plane;
+  double* __restrict plane_face = s.plane_face;
+  WARPFEM_IVDEP
+  for (int p = 0; p < B; ++p) {
+    const double ax = s1x[p], ay = s1y[p], az = s1z[p];
+    const double bx = s2x[p], by = s2y[p], bz = s2z[p];
+    const double cx = s3x[p], cy = s3y[p], cz = s3z[p];
+    // N_1 = s_2 × s_3, N_2 = s_3 × s_1, N_3 = s_1 × s_2.
+    const double n1x = by * cz - bz * cy, n1y = bz * cx - bx * cz, n1z = bx * cy - by * cx;
+    const double n2x = cy * az - cz * ay, n2y = cz * ax - cx * az, n2z = cx * ay - cy * ax;
+    const double n3x = ay * bz - az * by, n3y = az * bx - ax * bz, n3z = ax * by - ay * bx;
+    const double k1 = ek1[p], k2 = ek2[p], k3 = ek3[p];
+    const double D = ax * n1x + ay * n1y + az * n1z;
+    const double r12 = r1[p] < r2[p] ? r1[p] : r2[p];
+    const double rmin = r12 < r3[p] ? r12 : r3[p];
+    // A face whose plane passes near x (and x projects outside it, or x is near the
+    // surface) loses accuracy here: it is left out (iD = 0) and recorded.
+    // (Numbers, not booleans: those make GCC branch and not vectorize.)
+    const double near = std::abs(D) < near_plane * rmin ? 1.0 : 0.0;
+    plane[p] += near;
+    plane_face[p] += near * face;  // the face, when it is the only one
+    const double iD = (1.0 - near) / (D + near);
+    const double mx = k1 * n1x + k2 * n2x + k3 * n3x;
+    const double my = k1 * n1y + k2 * n2y + k3 * n3y;
+    const double mz = k1 * n1z + k2 * n2z + k3 * n3z;
+    const double o1 = (mx * n1x + my * n1y + mz * n1z) * iD;
+    const double o2 = (mx * n2x + my * n2y + mz * n2z) * iD;
+    const double o3 = (mx * n3x + my * n3y + mz * n3z) * iD;
+    w1[p] += o1;
+    w2[p] += o2;
+    w3[p] += o3;
+    if constexpr (kGrad) {
+      // w = S⁻¹ m with S = (s_1 s_2 s_3) (rows of S⁻¹: N_i / D), and ∂S/∂x_j = −e_j 1ᵀ, so
+      // ∂_j w_i = N_i · C_j / D with C_j = ∂_j m + W e_j, W = Σ_i w_i, and
+      // ∂_j m = Σ_e ∇k_e[j] N_e + e_j × K, K = Σ_e k_e (s_a − s_b).
+      const double k1x = gk1x[p], k1y = gk1y[p], k1z = gk1z[p];
+      const double k2x = gk2x[p], k2y = gk2y[p], k2z = gk2z[p];
+      const double k3x = gk3x[p], k3y = gk3y[p], k3z = gk3z[p];
+      // K = (k_3 − k_2) s_1 + (k_1 − k_3) s_2 + (k_2 − k_1) s_3.
+      const double f1 = k3 - k2, f2 = k1 - k3, f3 = k2 - k1;
+      const double Kx = f1 * ax + f2 * bx + f3 * cx;
+      const double Ky = f1 * ay + f2 * by + f3 * cy;
+      const double Kz = f1 * az + f2 * bz + f3 * cz;
+      const double W = o1 + o2 + o3;
+      // C_j / D, component by component (e_x × K = (0, −K_z, K_y), ...).
+      const double cxx = (k1x * n1x + k2x * n2x + k3x * n3x + W) * iD;
+      const double cxy = (k1x * n1y + k2x * n2y + k3x * n3y - Kz) * iD;
+      const double cxz = (k1x * n1z + k2x * n2z + k3x * n3z + Ky) * iD;
+      const double cyx = (k1y * n1x + k2y * n2x + k3y * n3x + Kz) * iD;
+      const double cyy = (k1y * n1y + k2y * n2y + k3y * n3y + W) * iD;
+      const double cyz = (k1y * n1z + k2y * n2z + k3y * n3z - Kx) * iD;
+      const double czx = (k1z * n1x + k2z * n2x + k3z * n3x - Ky) * iD;
+      const double czy = (k1z * n1y + k2z * n2y + k3z * n3y + Kx) * iD;
+      const double czz = (k1z * n1z + k2z * n2z + k3z * n3z + W) * iD;
+      const auto grad = [&](double nx, double ny, double nz, double* gx, double* gy, double* gz) {
+        gx[p] += nx * cxx + ny * cxy + nz * cxz;
+        gy[p] += nx * cyx + ny * cyy + nz * cyz;
+        gz[p] += nx * czx + ny * czy + nz * czz;
+      };
+      grad(n1x, n1y, n1z, g1x, g1y, g1z);
+      grad(n2x, n2y, n2z, g2x, g2y, g2z);
+      grad(n3x, n3y, n3z, g3x, g3y, g3z);
+    }
+  }
+}
+
+/// Output rows the caller writes after the next block (one matrix, or four
+/// with gradients, of column stride `stride`: B values at base[j] + v * stride
+/// for column v): the kernel prefetches their lines while it computes,
+/// `per_step` rows after each triangle, so that the caller's stores do not wait
+/// for memory (outputs of a few thousand points are larger than L2).
+struct PolyhedronPrefetch {
+  double* base[4] = {};
+  long stride = 0;
+  int rows = 0, per_step = 0;
+};
+
+/// Accumulates the weights (and gradients) of `cnt` points (normalized, in
+/// s.px/py/pz) into the weight rows of s, and sets s.flag[p] for points that
+/// need the robust path; prefetches `next` if given.
+template <bool kGrad>
+WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, PolyhedronScratch& s,
+                                            const PolyhedronPrefetch* next = nullptr) {
+  const double *vx = P.x.data(), *vy = P.y.data(), *vz = P.z.data();
+  const int n = static_cast<int>(P.size()), m = static_cast<int>(P.triangle_count());
+  constexpr int B = kPolyhedronBlock;
+  // The block is padded with copies of its first point, so that every loop
+  // runs over all B points: a fixed trip count, no remainder loops.
   for (int p = cnt; p < B; ++p) s.px[p] = s.px[0], s.py[p] = s.py[0], s.pz[p] = s.pz[0];
   for (int p = 0; p < B; ++p) s.flag[p] = s.plane[p] = s.plane_face[p] = 0.0;
   for (int v = 0; v < n; ++v) {
-    double* __restrict sx = s.sx.data() + v * B;
-    double* __restrict sy = s.sy.data() + v * B;
-    double* __restrict sz = s.sz.data() + v * B;
-    double* __restrict r = s.r.data() + v * B;
-    double* __restrict ir2 = s.ir2.data() + v * B;
-    double* __restrict w = s.w.data() + v * B;
+    double* __restrict sx = s.vertex_row(v, 0);
+    double* __restrict sy = s.vertex_row(v, 1);
+    double* __restrict sz = s.vertex_row(v, 2);
+    double* __restrict r = s.vertex_row(v, 3);
+    double* __restrict flag = s.flag;
     const double ax = vx[v], ay = vy[v], az = vz[v];
     WARPFEM_IVDEP
     for (int p = 0; p < B; ++p) {
@@ -131,157 +315,29 @@ WARPFEM_KERNEL_INLINE void polyhedron_block(const PolyhedronArrays& P, int cnt, 
       sy[p] = y;
       sz[p] = z;
       r[p] = std::sqrt(r2);
-      ir2[p] = 1.0 / r2;
-      w[p] = 0.0;
-      s.flag[p] = r[p] < kPolyhedronNearVertex ? 1.0 : s.flag[p];
+      flag[p] = r[p] < kPolyhedronNearVertex ? 1.0 : flag[p];
     }
-    if constexpr (kGrad) {
-      for (int p = 0; p < B; ++p) s.wx[v * B + p] = s.wy[v * B + p] = s.wz[v * B + p] = 0.0;
-    }
-  }
-  // Per edge (shared by two triangles, the same in both up to the sign of N):
-  // k = β / (2L) and ∇k.
-  for (int e = 0; e < ne; ++e) {
-    const double* __restrict sax = s.sx.data() + ea[e] * B;
-    const double* __restrict say = s.sy.data() + ea[e] * B;
-    const double* __restrict saz = s.sz.data() + ea[e] * B;
-    const double* __restrict sbx = s.sx.data() + eb[e] * B;
-    const double* __restrict sby = s.sy.data() + eb[e] * B;
-    const double* __restrict sbz = s.sz.data() + eb[e] * B;
-    const double* __restrict ra = s.r.data() + ea[e] * B;
-    const double* __restrict rb = s.r.data() + eb[e] * B;
-    const double* __restrict qa = s.ir2.data() + ea[e] * B;
-    const double* __restrict qb = s.ir2.data() + eb[e] * B;
-    double* __restrict ek = s.ek.data() + e * B;
-    double* __restrict ekx = s.ekx.data() + e * B;
-    double* __restrict eky = s.eky.data() + e * B;
-    double* __restrict ekz = s.ekz.data() + e * B;
-    WARPFEM_IVDEP
-    for (int p = 0; p < cnt; ++p) {
-      const double ax = sax[p], ay = say[p], az = saz[p];
-      const double bx = sbx[p], by = sby[p], bz = sbz[p];
-      const double nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-      const double L = std::sqrt(nx * nx + ny * ny + nz * nz);
-      const double c = ax * bx + ay * by + az * bz;
-      const double rr = ra[p] * rb[p];
-      double iL;
-      const double k = half_angle(L, c, rr, iL);
-      ek[p] = k;
-      if constexpr (kGrad) {
-        // ∇k = N × (q_a − q_b + 2 k (s_a − s_b)) / (2 L²), q = s / r², expanded with
-        // (s_a × s_b) × v = (s_a · v) s_b − (s_b · v) s_a into α s_a + γ s_b:
-        //   α = 1 − c / r_a² + 2 k (r_b² − c),  γ = 1 − c / r_b² + 2 k (r_a² − c).
-        const double h = 0.5 * iL * iL, k2 = k + k;
-        const double al = (1.0 - c * qa[p] + k2 * (rb[p] * rb[p] - c)) * h;
-        const double ga = (1.0 - c * qb[p] + k2 * (ra[p] * ra[p] - c)) * h;
-        ekx[p] = al * ax + ga * bx;
-        eky[p] = al * ay + ga * by;
-        ekz[p] = al * az + ga * bz;
-      }
-      // Flags summed as numbers: boolean logic here makes GCC branch and not vectorize.
-      s.flag[p] += L < kNearLine * rr ? 1.0 : 0.0;
+    for (int row = 0; row < (kGrad ? 4 : 1); ++row) {
+      double* __restrict w = s.weight_row(v, row);
+      for (int p = 0; p < B; ++p) w[p] = 0.0;
     }
   }
-  for (int t = 0; t < m; ++t) {
-    const int i1 = ta[t], i2 = tb[t], i3 = tc[t];
-    const int e1 = te[3 * t], e2 = te[3 * t + 1], e3 = te[3 * t + 2];
-    const double near_plane = kNearPlane * two_area[t];
-    const double* __restrict s1x = s.sx.data() + i1 * B;
-    const double* __restrict s1y = s.sy.data() + i1 * B;
-    const double* __restrict s1z = s.sz.data() + i1 * B;
-    const double* __restrict s2x = s.sx.data() + i2 * B;
-    const double* __restrict s2y = s.sy.data() + i2 * B;
-    const double* __restrict s2z = s.sz.data() + i2 * B;
-    const double* __restrict s3x = s.sx.data() + i3 * B;
-    const double* __restrict s3y = s.sy.data() + i3 * B;
-    const double* __restrict s3z = s.sz.data() + i3 * B;
-    const double* __restrict r1 = s.r.data() + i1 * B;
-    const double* __restrict r2 = s.r.data() + i2 * B;
-    const double* __restrict r3 = s.r.data() + i3 * B;
-    const double* __restrict ek1 = s.ek.data() + e1 * B;
-    const double* __restrict ek2 = s.ek.data() + e2 * B;
-    const double* __restrict ek3 = s.ek.data() + e3 * B;
-    const double* __restrict gk1x = s.ekx.data() + e1 * B;
-    const double* __restrict gk1y = s.eky.data() + e1 * B;
-    const double* __restrict gk1z = s.ekz.data() + e1 * B;
-    const double* __restrict gk2x = s.ekx.data() + e2 * B;
-    const double* __restrict gk2y = s.eky.data() + e2 * B;
-    const double* __restrict gk2z = s.ekz.data() + e2 * B;
-    const double* __restrict gk3x = s.ekx.data() + e3 * B;
-    const double* __restrict gk3y = s.eky.data() + e3 * B;
-    const double* __restrict gk3z = s.ekz.data() + e3 * B;
-    double* __restrict w1 = s.w.data() + i1 * B;
-    double* __restrict w2 = s.w.data() + i2 * B;
-    double* __restrict w3 = s.w.data() + i3 * B;
-    double* __restrict g1x = s.wx.data() + i1 * B;
-    double* __restrict g1y = s.wy.data() + i1 * B;
-    double* __restrict g1z = s.wz.data() + i1 * B;
-    double* __restrict g2x = s.wx.data() + i2 * B;
-    double* __restrict g2y = s.wy.data() + i2 * B;
-    double* __restrict g2z = s.wz.data() + i2 * B;
-    double* __restrict g3x = s.wx.data() + i3 * B;
-    double* __restrict g3y = s.wy.data() + i3 * B;
-    double* __restrict g3z = s.wz.data() + i3 * B;
-    WARPFEM_IVDEP
-    for (int p = 0; p < B; ++p) {
-      const double ax = s1x[p], ay = s1y[p], az = s1z[p];
-      const double bx = s2x[p], by = s2y[p], bz = s2z[p];
-      const double cx = s3x[p], cy = s3y[p], cz = s3z[p];
-      // N_1 = s_2 × s_3, N_2 = s_3 × s_1, N_3 = s_1 × s_2.
-      const double n1x = by * cz - bz * cy, n1y = bz * cx - bx * cz, n1z = bx * cy - by * cx;
-      const double n2x = cy * az - cz * ay, n2y = cz * ax - cx * az, n2z = cx * ay - cy * ax;
-      const double n3x = ay * bz - az * by, n3y = az * bx - ax * bz, n3z = ax * by - ay * bx;
-      const double k1 = ek1[p], k2 = ek2[p], k3 = ek3[p];
-      const double D = ax * n1x + ay * n1y + az * n1z;
-      const double r12 = r1[p] < r2[p] ? r1[p] : r2[p];
-      const double rmin = r12 < r3[p] ? r12 : r3[p];
-      // A face whose plane passes near x (and x projects outside it, or x is near the
-      // surface) loses accuracy here: it is left out (iD = 0) and recorded.
-      // (Numbers, not booleans: those make GCC branch and not vectorize.)
-      const double near = std::abs(D) < near_plane * rmin ? 1.0 : 0.0;
-      s.plane[p] += near;
-      s.plane_face[p] += near * static_cast<double>(t);  // the face, when it is the only one
-      const double iD = (1.0 - near) / (D + near);
-      const double mx = k1 * n1x + k2 * n2x + k3 * n3x;
-      const double my = k1 * n1y + k2 * n2y + k3 * n3y;
-      const double mz = k1 * n1z + k2 * n2z + k3 * n3z;
-      const double o1 = (mx * n1x + my * n1y + mz * n1z) * iD;
-      const double o2 = (mx * n2x + my * n2y + mz * n2z) * iD;
-      const double o3 = (mx * n3x + my * n3y + mz * n3z) * iD;
-      w1[p] += o1;
-      w2[p] += o2;
-      w3[p] += o3;
-      if constexpr (kGrad) {
-        // w = S⁻¹ m with S = (s_1 s_2 s_3) (rows of S⁻¹: N_i / D), and ∂S/∂x_j = −e_j 1ᵀ, so
-        // ∂_j w_i = N_i · C_j / D with C_j = ∂_j m + W e_j, W = Σ_i w_i, and
-        // ∂_j m = Σ_e ∇k_e[j] N_e + e_j × K, K = Σ_e k_e (s_a − s_b).
-        const double k1x = gk1x[p], k1y = gk1y[p], k1z = gk1z[p];
-        const double k2x = gk2x[p], k2y = gk2y[p], k2z = gk2z[p];
-        const double k3x = gk3x[p], k3y = gk3y[p], k3z = gk3z[p];
-        // K = (k_3 − k_2) s_1 + (k_1 − k_3) s_2 + (k_2 − k_1) s_3.
-        const double f1 = k3 - k2, f2 = k1 - k3, f3 = k2 - k1;
-        const double Kx = f1 * ax + f2 * bx + f3 * cx;
-        const double Ky = f1 * ay + f2 * by + f3 * cy;
-        const double Kz = f1 * az + f2 * bz + f3 * cz;
-        const double W = o1 + o2 + o3;
-        // C_j / D, component by component (e_x × K = (0, −K_z, K_y), ...).
-        const double cxx = (k1x * n1x + k2x * n2x + k3x * n3x + W) * iD;
-        const double cxy = (k1x * n1y + k2x * n2y + k3x * n3y - Kz) * iD;
-        const double cxz = (k1x * n1z + k2x * n2z + k3x * n3z + Ky) * iD;
-        const double cyx = (k1y * n1x + k2y * n2x + k3y * n3x + Kz) * iD;
-        const double cyy = (k1y * n1y + k2y * n2y + k3y * n3y + W) * iD;
-        const double cyz = (k1y * n1z + k2y * n2z + k3y * n3z - Kx) * iD;
-        const double czx = (k1z * n1x + k2z * n2x + k3z * n3x - Ky) * iD;
-        const double czy = (k1z * n1y + k2z * n2y + k3z * n3y + Kx) * iD;
-        const double czz = (k1z * n1z + k2z * n2z + k3z * n3z + W) * iD;
-        const auto grad = [&](double nx, double ny, double nz, double* gx, double* gy, double* gz) {
-          gx[p] += nx * cxx + ny * cxy + nz * cxz;
-          gy[p] += nx * cyx + ny * cyy + nz * cyz;
-          gz[p] += nx * czx + ny * czy + nz * czz;
-        };
-        grad(n1x, n1y, n1z, g1x, g1y, g1z);
-        grad(n2x, n2y, n2z, g2x, g2y, g2z);
-        grad(n3x, n3y, n3z, g3x, g3y, g3z);
+  // Triangles in P.order; before each, the edges it is the first to use (each
+  // edge's terms serve both of its triangles, up to the sign of N).
+  for (int i = 0; i < m; ++i) {
+    for (int j = P.edge_first[i]; j < P.edge_first[i + 1]; ++j) {
+      const int e = P.scheduled_edges[j];
+      polyhedron_edge<kGrad>(s, P.edge_a[e], P.edge_b[e], P.edge_slot[e]);
+    }
+    polyhedron_triangle<kGrad>(P, s, P.order[i]);
+    if (next) {
+      constexpr int kMatrices = kGrad ? 4 : 1;
+      const int end = std::min(next->rows, (i + 1) * next->per_step);
+      for (int r = i * next->per_step; r < end; ++r) {
+        const double* row = next->base[r % kMatrices] + (r / kMatrices) * next->stride;
+        __builtin_prefetch(row, 1, 2);
+        __builtin_prefetch(row + B / 2, 1, 2);
+        __builtin_prefetch(row + B - 1, 1, 2);
       }
     }
   }
