@@ -15,6 +15,7 @@
 #include "core/log.hpp"
 #include "core/prefault.hpp"
 #include "core/threads.hpp"
+#include "core/timer.hpp"
 #include "fem/geometry/warped_geometry.hpp"
 #include "fem/postprocessing/fold_check.hpp"
 #include "fem/reference/lagrange_element.hpp"
@@ -267,6 +268,8 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
 template <int dim>
 OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
                                  const mapping::Map<dim>& map, int order) {
+  Stopwatch watch;
+  double cpu = process_cpu_seconds();
   OutputMesh<dim> out;
   out.cell_type = mesh.cell_type;
   out.order = order;
@@ -393,7 +396,15 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       }
     }
   }
+  log::debug("output mesh: ", n, " nodes numbered in ", format_seconds(watch.seconds()), " (CPU ",
+             format_seconds(process_cpu_seconds() - cpu), ")");
+  watch.reset();
+  cpu = process_cpu_seconds();
   warp_in_chunks(map, out.reference_points, out.points, out.map_det);
+  log::debug("output mesh: nodes placed by the map in ", format_seconds(watch.seconds()), " (CPU ",
+             format_seconds(process_cpu_seconds() - cpu), ")");
+  watch.reset();
+  cpu = process_cpu_seconds();
   out.num_mesh_cells = ncells;
 
   // The quadratic interpolant of f can fold a cell even where det J_f > 0 (a
@@ -558,6 +569,8 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     }
   }
   straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), frozen);
+  log::debug("output mesh: fold check in ", format_seconds(watch.seconds()), " (CPU ",
+             format_seconds(process_cpu_seconds() - cpu), ")");
   return out;
 }
 
