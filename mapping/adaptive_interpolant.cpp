@@ -8,6 +8,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/threads.hpp"
@@ -145,59 +146,181 @@ class AdaptiveInterpolant::Builder {
     m_.nodes_.push_back(Node{mid.x() - side_ / 2, mid.y() - side_ / 2, side_});
   }
 
-  void build() {
+  // The tree is built level by level: every rank classifies the cells of a
+  // level (cheap, the same everywhere), fits a deterministic share of those
+  // that need a fit (candidate k on rank k mod size, on the rank's threads),
+  // and the fits are all-gathered, so every rank ends with the same tree and
+  // the same coefficients as a build on one rank.
+  void build(MPI_Comm comm) {
+    int rank = 0, size = 1;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &size);
     std::vector<int> all(static_cast<std::size_t>(m_.source_.size()));
     for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
-    process(0, 0, all);
+    std::vector<Pending> level{{0, std::move(all)}};
+    for (int depth = 0; !level.empty(); ++depth) {
+      // 1. Classify: edges near the cell, a vertex near it, the side of its centre.
+      std::vector<Cell> cells(level.size());
+      std::vector<std::size_t> candidates;
+      for (std::size_t i = 0; i < level.size(); ++i) {
+        cells[i] = classify(level[i]);
+        if (cells[i].candidate) candidates.push_back(i);
+      }
+      // 2. This rank's fits.
+      std::vector<std::size_t> mine;
+      for (std::size_t k = static_cast<std::size_t>(rank); k < candidates.size();
+           k += static_cast<std::size_t>(size))
+        mine.push_back(k);
+      std::vector<Fit> fits(mine.size());
+      run_collectively(comm, [&] {
+        parallel_for(static_cast<Index>(mine.size()), 1, [&](Index first, Index last) {
+          for (Index j = first; j < last; ++j) {
+            const std::size_t i = candidates[mine[static_cast<std::size_t>(j)]];
+            fits[static_cast<std::size_t>(j)] = fit(level[i].id, cells[i]);
+          }
+        });
+      });
+      // 3. Every rank's fits: per fit [accepted, exact evaluations, worst f, worst J, coefficients if
+      // accepted].
+      std::vector<double> send;
+      for (const Fit& f : fits) {
+        send.insert(send.end(),
+                    {f.accepted ? 1.0 : 0.0, static_cast<double>(f.evaluations), f.worst_f, f.worst_J});
+        send.insert(send.end(), f.stored.begin(), f.stored.end());
+      }
+      std::vector<Fit> all_fits(candidates.size());
+      if (size == 1) {
+        for (std::size_t j = 0; j < fits.size(); ++j) all_fits[mine[j]] = std::move(fits[j]);
+      } else {
+        std::vector<int> counts(static_cast<std::size_t>(size)), displs(static_cast<std::size_t>(size), 0);
+        const int count = static_cast<int>(send.size());
+        require(send.size() < static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                "map interpolant: too many coefficients on one level to gather");
+        MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+        long long total = 0;
+        for (int r = 0; r < size; ++r)
+          displs[static_cast<std::size_t>(r)] = static_cast<int>(total),
+          total += counts[static_cast<std::size_t>(r)];
+        require(total < std::numeric_limits<int>::max(),
+                "map interpolant: too many coefficients on one level to gather");
+        std::vector<double> received(static_cast<std::size_t>(total));
+        MPI_Allgatherv(send.data(), count, MPI_DOUBLE, received.data(), counts.data(), displs.data(),
+                       MPI_DOUBLE, comm);
+        const std::size_t block = static_cast<std::size_t>(kComponents * n1_ * padded(n1_));
+        for (int r = 0; r < size; ++r) {
+          const double* in = received.data() + displs[static_cast<std::size_t>(r)];
+          for (std::size_t k = static_cast<std::size_t>(r); k < candidates.size();
+               k += static_cast<std::size_t>(size)) {
+            Fit& f = all_fits[k];
+            f.accepted = in[0] != 0;
+            f.evaluations = static_cast<Index>(in[1]);
+            f.worst_f = in[2];
+            f.worst_J = in[3];
+            in += 4;
+            if (f.accepted) f.stored.assign(in, in + block), in += block;
+          }
+        }
+      }
+      // 4. Apply in the order of the level: leaves, or four children for the next level.
+      std::vector<Pending> next;
+      std::size_t k = 0;
+      for (std::size_t i = 0; i < level.size(); ++i) {
+        Cell& cell = cells[i];
+        const int id = level[i].id;
+        if (cell.outside) {
+          ++m_.stats_.outside_leaves;
+          continue;
+        }
+        if (cell.candidate) {
+          Fit& f = all_fits[k++];
+          m_.stats_.exact_evaluations += f.evaluations;
+          if (f.accepted) {
+            store(id, cell, f);
+            continue;
+          }
+        }
+        if (depth < o_.max_depth) {
+          const Node node = m_.nodes_[static_cast<std::size_t>(id)];
+          const int first = static_cast<int>(m_.nodes_.size());
+          m_.nodes_[static_cast<std::size_t>(id)].child = first;
+          const Real h = node.h / 2;
+          for (int q = 0; q < 4; ++q) {
+            m_.nodes_.push_back(Node{node.x0 + (q & 1) * h, node.y0 + (q >> 1) * h, h});
+            next.push_back({first + q, cell.edges});
+          }
+          continue;
+        }
+        ++m_.stats_.exact_leaves;
+        const Node& node = m_.nodes_[static_cast<std::size_t>(id)];
+        m_.stats_.exact_area_fraction += node.h * node.h / (side_ * side_);
+      }
+      level = std::move(next);
+    }
   }
 
  private:
-  void process(int id, int depth, const std::vector<int>& parent_edges) {
-    const Node cell = m_.nodes_[static_cast<std::size_t>(id)];
+  struct Pending {
+    int id;
+    std::vector<int> parent_edges;
+  };
+  struct Cell {
+    std::vector<int> edges;  // of ∂Ω0 meeting the cell grown by its size
+    bool outside = false, candidate = false, center_inside = true;
+  };
+  struct Fit {
+    bool accepted = false;
+    Index evaluations = 0;
+    Real worst_f = 0, worst_J = 0;
+    std::vector<Real> stored;  // the leaf's coefficients, if accepted
+  };
+
+  Cell classify(const Pending& p) const {
+    const Node& node = m_.nodes_[static_cast<std::size_t>(p.id)];
     const Polygon& s = m_.source_;
     // f is singular at the vertices: a cell closer than its size to one would
     // converge slowly (and test points might miss its error peak), so it is
     // split (or left exact) without a fit. The edges kept are those meeting the
     // cell grown by that much (a superset of those meeting its children's grown cells).
-    const Real reach = cell.h;
-    const Real x0 = cell.x0 - reach, y0 = cell.y0 - reach;
-    const Real x1 = cell.x0 + cell.h + reach, y1 = cell.y0 + cell.h + reach;
-    std::vector<int> edges;
+    const Real reach = node.h;
+    const Real x0 = node.x0 - reach, y0 = node.y0 - reach;
+    const Real x1 = node.x0 + node.h + reach, y1 = node.y0 + node.h + reach;
+    Cell cell;
     bool has_vertex = false;
-    for (int e : parent_edges) {
+    for (int e : p.parent_edges) {
       const Point<2>& a = s.vertex(e);
       if (!segment_meets_box(a, s.vertex(e + 1), x0, y0, x1, y1)) continue;
-      edges.push_back(e);
+      cell.edges.push_back(e);
       has_vertex = has_vertex || (a.x() >= x0 && a.x() <= x1 && a.y() >= y0 && a.y() <= y1);
     }
-    const Point<2> center(cell.x0 + cell.h / 2, cell.y0 + cell.h / 2);
+    const Point<2> center(node.x0 + node.h / 2, node.y0 + node.h / 2);
     const int center_side = s.side_of(center);
-    if (edges.empty() && center_side < 0) {
-      ++m_.stats_.outside_leaves;
-      return;
-    }
-    const bool resolved = !has_vertex && center_side != 0 && fit(id, edges, center_side > 0);
-    if (resolved) return;
-    if (depth < o_.max_depth) {
-      subdivide(id, depth, edges);
-      return;
-    }
-    ++m_.stats_.exact_leaves;
-    m_.stats_.exact_area_fraction += cell.h * cell.h / (side_ * side_);
+    cell.outside = cell.edges.empty() && center_side < 0;
+    cell.candidate = !cell.outside && !has_vertex && center_side != 0;
+    cell.center_inside = center_side > 0;
+    return cell;
   }
 
-  void subdivide(int id, int depth, const std::vector<int>& edges) {
-    const Node cell = m_.nodes_[static_cast<std::size_t>(id)];
-    const int first = static_cast<int>(m_.nodes_.size());
-    m_.nodes_[static_cast<std::size_t>(id)].child = first;
-    const Real h = cell.h / 2;
-    for (int q = 0; q < 4; ++q) m_.nodes_.push_back(Node{cell.x0 + (q & 1) * h, cell.y0 + (q >> 1) * h, h});
-    for (int q = 0; q < 4; ++q) process(first + q, depth + 1, edges);
-  }
-
-  // Fits the cell; on success stores it as an interpolated leaf.
-  bool fit(int id, const std::vector<int>& edges, bool center_inside) {
+  // Makes node `id` an interpolated leaf with the accepted fit `f`.
+  void store(int id, const Cell& c, const Fit& f) {
     Node& cell = m_.nodes_[static_cast<std::size_t>(id)];
+    InterpolantStats& st = m_.stats_;
+    st.max_f_error = std::max(st.max_f_error, f.worst_f);
+    st.max_J_error = std::max(st.max_J_error, f.worst_J);
+    ++st.interpolated_leaves;
+    cell.kind = 1;
+    cell.coefficients = static_cast<Index>(m_.coefficients_.size());
+    m_.coefficients_.insert(m_.coefficients_.end(), f.stored.begin(), f.stored.end());
+    cell.edges_begin = static_cast<int>(m_.edge_list_.size());
+    cell.edges_count = static_cast<int>(c.edges.size());
+    cell.center_inside = c.center_inside;
+    m_.edge_list_.insert(m_.edge_list_.end(), c.edges.begin(), c.edges.end());
+  }
+
+  // Fits the cell and tests the fit (reads the tree only: fits run in parallel).
+  Fit fit(int id, const Cell& info) const {
+    const Node& cell = m_.nodes_[static_cast<std::size_t>(id)];
+    const std::vector<int>& edges = info.edges;
+    Fit result;
     const Index nn = static_cast<Index>(n1_) * n1_;
     const Index nt = static_cast<Index>(tests_.size());
     Points<2> P(nn, 2), T(nt, 2);
@@ -209,8 +332,8 @@ class AdaptiveInterpolant::Builder {
     Points<2> X;
     Jacobians<2> J;
     m_.exact_->eval_with_jacobian(P, X, J);
-    m_.stats_.exact_evaluations += nn;
-    if (!X.allFinite() || !J.allFinite()) return false;
+    result.evaluations += nn;
+    if (!X.allFinite() || !J.allFinite()) return result;
 
     std::vector<Real> C(static_cast<std::size_t>(kComponents * nn));
     const int stride = padded(n1_);
@@ -233,15 +356,15 @@ class AdaptiveInterpolant::Builder {
       Real tail = 0;  // the last row and column: a conservative estimate of the error
       for (int i = 0; i < n1_; ++i)
         tail += std::abs(C[c * nn + (n1_ - 1) + i * n1_]) + std::abs(C[c * nn + i + (n1_ - 1) * n1_]);
-      if (tail > (c < 2 ? tol_f_ : tol_J_ * small_J) / 2) return false;
+      if (tail > (c < 2 ? tol_f_ : tol_J_ * small_J) / 2) return result;
     }
     m_.exact_->eval_with_jacobian(T, X, J);
-    m_.stats_.exact_evaluations += nt;
+    result.evaluations += nt;
     Real worst_f = 0, worst_J = 0;
     for (Index t = 0; t < nt; ++t) {
       const Index r = t;
       if (!inside_by_parity(m_.source_, edges.data(), static_cast<int>(edges.size()), cell.x0 + cell.h / 2,
-                            cell.y0 + cell.h / 2, center_inside, T(r, 0), T(r, 1)))
+                            cell.y0 + cell.h / 2, info.center_inside, T(r, 0), T(r, 1)))
         continue;
       Real v[kComponents];
       evaluate_leaf(stored.data(), n1_, tests_[t].first, tests_[t].second, 0, kComponents, v);
@@ -252,22 +375,15 @@ class AdaptiveInterpolant::Builder {
         sJ = std::max(sJ, std::abs(J(r, c)));
       }
       // Half the tolerance: test points sample the error, they do not bound it.
-      if (ef > tol_f_ / 2 || eJ > tol_J_ / 2 * sJ) return false;
+      if (ef > tol_f_ / 2 || eJ > tol_J_ / 2 * sJ) return result;
       worst_f = std::max(worst_f, ef / diam_);
       worst_J = std::max(worst_J, eJ / sJ);
     }
-    InterpolantStats& st = m_.stats_;
-    st.max_f_error = std::max(st.max_f_error, worst_f);
-    st.max_J_error = std::max(st.max_J_error, worst_J);
-    ++st.interpolated_leaves;
-    cell.kind = 1;
-    cell.coefficients = static_cast<Index>(m_.coefficients_.size());
-    m_.coefficients_.insert(m_.coefficients_.end(), stored.begin(), stored.end());
-    cell.edges_begin = static_cast<int>(m_.edge_list_.size());
-    cell.edges_count = static_cast<int>(edges.size());
-    cell.center_inside = center_inside;
-    m_.edge_list_.insert(m_.edge_list_.end(), edges.begin(), edges.end());
-    return true;
+    result.accepted = true;
+    result.worst_f = worst_f;
+    result.worst_J = worst_J;
+    result.stored = std::move(stored);
+    return result;
   }
 
   AdaptiveInterpolant& m_;
@@ -279,7 +395,8 @@ class AdaptiveInterpolant::Builder {
   std::vector<std::pair<Real, Real>> tests_;
 };
 
-AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options)
+AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options,
+                                         MPI_Comm comm)
     : exact_(std::move(exact)), source_(source), options_(options) {
   if (!(options_.tolerance > 0) || options_.degree < 1 || options_.degree >= kMaxDegree ||
       options_.max_depth < 0 || options_.max_depth > 40 || options_.test_points < 0)
@@ -287,12 +404,15 @@ AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source,
         "map interpolant: the tolerance must be positive, the degree in [1, 30] and the depth in [0, 40]",
         {.file = "", .key_path = "map.interpolation_tolerance", .hint = "e.g. 1e-12"});
   const Stopwatch watch;
-  Builder(*this).build();
+  const double cpu = process_cpu_seconds();
+  Builder(*this).build(comm);
   stats_.build_seconds = watch.seconds();
+  stats_.build_cpu_seconds = process_cpu_seconds() - cpu;
   log::info("map interpolant: ", stats_.interpolated_leaves, " interpolated leaves (degree ", options_.degree,
             "), ", stats_.exact_leaves, " exact (", stats_.exact_area_fraction * 100,
             " % of the bounding square), ", stats_.exact_evaluations, " exact evaluations, built in ",
-            format_seconds(stats_.build_seconds), "; worst error at test points: f ", stats_.max_f_error,
+            format_seconds(stats_.build_seconds), " (CPU of this rank ",
+            format_seconds(stats_.build_cpu_seconds), "); worst error at test points: f ", stats_.max_f_error,
             " · diam, J_f ", stats_.max_J_error, " relative");
 }
 
