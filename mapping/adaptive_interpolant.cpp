@@ -223,9 +223,9 @@ class AdaptiveInterpolant::Builder {
   // and the fits are all-gathered, so every rank ends with the same tree and
   // the same coefficients as a build on one rank.
   void build(MPI_Comm comm) {
-    int rank = 0, size = 1;
-    MPI_Comm_rank(comm, &rank);
-    MPI_Comm_size(comm, &size);
+    int rank = 0, size = 1, initialized = 0;
+    MPI_Initialized(&initialized);  // tools without MPI build serially
+    if (initialized) MPI_Comm_rank(comm, &rank), MPI_Comm_size(comm, &size);
     std::vector<int> all(static_cast<std::size_t>(m_.source_.size()));
     for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
     std::vector<Pending> level{{0, std::move(all)}};
@@ -243,14 +243,18 @@ class AdaptiveInterpolant::Builder {
            k += static_cast<std::size_t>(size))
         mine.push_back(k);
       std::vector<Fit> fits(mine.size());
-      run_collectively(comm, [&] {
+      const auto fit_mine = [&] {
         parallel_for(static_cast<Index>(mine.size()), 1, [&](Index first, Index last) {
           for (Index j = first; j < last; ++j) {
             const std::size_t i = candidates[mine[static_cast<std::size_t>(j)]];
             fits[static_cast<std::size_t>(j)] = fit(level[i].id, cells[i]);
           }
         });
-      });
+      };
+      if (size == 1)
+        fit_mine();
+      else
+        run_collectively(comm, fit_mine);
       // 3. Every rank's fits: per fit [accepted, exact evaluations, worst f, worst J, coefficients if
       // accepted].
       std::vector<double> send;

@@ -69,9 +69,9 @@ MapCheck check_map(const Map<2>& f, const Points<2>& sample) {
 }
 
 MapCheck check_map(const Map<2>& f, const Points<2>& sample, MPI_Comm comm) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
+  int rank = 0, size = 1, initialized = 0;
+  MPI_Initialized(&initialized);  // tools without MPI check serially
+  if (initialized) MPI_Comm_rank(comm, &rank), MPI_Comm_size(comm, &size);
   if (size == 1) return check_map(f, sample);
   // Contiguous blocks in rank order: merging the ranks' checks in that order
   // with the serial check's comparisons (first strict minimum, first strict
