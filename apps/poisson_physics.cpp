@@ -38,6 +38,7 @@ class PoissonPhysics final : public Physics<dim> {
     const fem::GeometryStorage storage =
         cfg_.poisson.geometry == "streamed" ? fem::GeometryStorage::streamed : fem::GeometryStorage::cached;
     Stopwatch watch;
+    const double cpu = process_cpu_seconds();
     if (use_multigrid()) {  // builds the (partitioned) hierarchy and assembles every level
       multigrid::PoissonMultigridOptions mg_options;
       mg_options.linear = cfg_.solver.linear;
@@ -59,7 +60,8 @@ class PoissonPhysics final : public Physics<dim> {
     log::info("assembled ", simplex ? "P" : "Q", order, " Poisson", mg_ ? " on every level" : "", ": ",
               p.dofs().num_dofs(), " DOFs on ", size, " rank(s), ",
               p.geometry().num_cells() * p.geometry().points_per_cell(),
-              " warped quadrature points on rank 0 (", format_seconds(watch.seconds()), ")");
+              " warped quadrature points on rank 0 (", format_seconds(watch.seconds()), ", CPU ",
+              format_seconds(process_cpu_seconds() - cpu), ")");
     check_load_is_finite();
     return p;
   }
@@ -69,6 +71,13 @@ class PoissonPhysics final : public Physics<dim> {
     std::string levels;
     if (mg_) {
       const auto report = mg_->solve();
+      const multigrid::MultigridTimings& t = report.timings;
+      log::debug("multigrid set-up: hierarchy ", format_seconds(t.hierarchy), ", problems ",
+                 format_seconds(t.problems), " (geometry ", format_seconds(t.problem_parts.geometry),
+                 ", DOFs ", format_seconds(t.problem_parts.dof_map + t.problem_parts.distribution),
+                 ", matrices ", format_seconds(t.problem_parts.matrix), ", other ",
+                 format_seconds(t.problem_parts.other), "), assembly ", format_seconds(t.assembly),
+                 ", transfers ", format_seconds(t.transfers), ", KSPSetUp ", format_seconds(t.pc_setup));
       result.solve = report.linear;
       levels = " (" + std::to_string(report.levels) + " levels)";
       std::string dofs;

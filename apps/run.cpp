@@ -51,7 +51,12 @@ RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options
   const std::unique_ptr<Physics<dim>> physics = make_physics(cfg, comm, options);
 
   // 2. The map f: Ω0 → Ω1, built and checked (a map that folds is refused here).
-  const mapping::MapPtr<dim> map = mapping::make_map(cfg.map);
+  const mapping::MapPtr<dim> map = [&] {
+    if constexpr (dim == 2)
+      return mapping::make_map(cfg.map, nullptr, comm);  // the ranks share the check and any interpolant
+    else
+      return mapping::make_map(cfg.map);
+  }();
   log::info("map: ", map->describe(), " (", format_seconds(watch.seconds()), ")");
 
   // 3. The simple mesh of Ω0 (pulled back from Ω1 if the config asks); the physics

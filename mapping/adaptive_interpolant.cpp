@@ -7,7 +7,9 @@
 #include <numbers>
 #include <random>
 #include <sstream>
+#include <utility>
 
+#include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/threads.hpp"
@@ -106,6 +108,76 @@ WARPFEM_KERNEL_CLONES void evaluate_leaf(const Real* C, int n1, Real u, Real v, 
   }
 }
 
+// The same sums for eight points of one leaf at a time, one point per vector
+// lane: out[(c − first) · 8 + lane]. Every lane runs the same operations, so a
+// point's values do not depend on the other points of its batch (unused lanes
+// repeat a point). Eleven independent accumulators (one per j) keep the FMA
+// pipes busy; with AVX-512 a lane vector is one register.
+typedef Real Real8 __attribute__((vector_size(64)));
+constexpr int kLanes = 8;
+constexpr int kMaxBatchedN1 = 16;
+
+// GCC 12 reports the fully assigned lane arrays below as maybe uninitialized
+// once they are inlined into the AVX-512 clone (a false positive).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+template <int N1>
+WARPFEM_KERNEL_INLINE void evaluate_leaf8_fixed(const Real* C, const Real* u, const Real* v, int first,
+                                                int last, Real* out) {
+  constexpr int P = (N1 + 3) / 4 * 4;
+  Real8 U, V;
+  std::memcpy(&U, u, sizeof U);
+  std::memcpy(&V, v, sizeof V);
+  const Real8 U2 = U + U, V2 = V + V;
+  Real8 tx[N1], ty[N1];
+  tx[0] = ty[0] = Real8{1, 1, 1, 1, 1, 1, 1, 1};
+  if constexpr (N1 > 1) tx[1] = U, ty[1] = V;
+  for (int k = 2; k < N1; ++k) {
+    tx[k] = U2 * tx[k - 1] - tx[k - 2];
+    ty[k] = V2 * ty[k - 1] - ty[k - 2];
+  }
+  for (int c = first; c < last; ++c) {
+    const Real* Cc = C + c * N1 * P;
+    Real8 r[N1];
+    for (int j = 0; j < N1; ++j) {  // T_0 = 1
+      const Real a = Cc[j * P];
+      r[j] = Real8{a, a, a, a, a, a, a, a};
+    }
+    for (int i = 1; i < N1; ++i)
+      for (int j = 0; j < N1; ++j) {
+        const Real a = Cc[j * P + i];
+        r[j] += Real8{a, a, a, a, a, a, a, a} * tx[i];
+      }
+    Real8 acc = r[0] * ty[0];
+    for (int j = 1; j < N1; ++j) acc += r[j] * ty[j];
+    std::memcpy(out + (c - first) * kLanes, &acc, sizeof acc);
+  }
+}
+
+template <int... N>
+WARPFEM_KERNEL_INLINE void evaluate_leaf8_dispatch(std::integer_sequence<int, N...>, const Real* C, int n1,
+                                                   const Real* u, const Real* v, int first, int last,
+                                                   Real* out) {
+  (void)((n1 == N + 1 ? (evaluate_leaf8_fixed<N + 1>(C, u, v, first, last, out), true) : false) || ...);
+}
+
+// n1 in [1, kMaxBatchedN1].
+WARPFEM_KERNEL_CLONES void evaluate_leaf8(const Real* C, int n1, const Real* u, const Real* v, int first,
+                                          int last, Real* out) {
+  evaluate_leaf8_dispatch(std::make_integer_sequence<int, kMaxBatchedN1>{}, C, n1, u, v, first, last, out);
+}
+#pragma GCC diagnostic pop
+
+// One point through the batched kernel (its lane repeated), for the same values as in a batch.
+void evaluate_leaf_one(const Real* C, int n1, Real u, Real v, int first, int last, Real* out) {
+  if (n1 > kMaxBatchedN1) return evaluate_leaf(C, n1, u, v, first, last, out);
+  alignas(64) Real bu[kLanes], bv[kLanes], res[kComponents * kLanes];
+  std::fill(bu, bu + kLanes, u);
+  std::fill(bv, bv + kLanes, v);
+  evaluate_leaf8(C, n1, bu, bv, first, last, res);
+  for (int c = first; c < last; ++c) out[c - first] = res[(c - first) * kLanes];
+}
+
 int padded(int n1) {
   return (n1 + 3) / 4 * 4;
 }
@@ -145,59 +217,193 @@ class AdaptiveInterpolant::Builder {
     m_.nodes_.push_back(Node{mid.x() - side_ / 2, mid.y() - side_ / 2, side_});
   }
 
-  void build() {
+  // The tree is built level by level: every rank classifies the cells of a
+  // level (cheap, the same everywhere), fits a deterministic share of those
+  // that need a fit (candidate k on rank k mod size, on the rank's threads),
+  // and the fits are all-gathered, so every rank ends with the same tree and
+  // the same coefficients as a build on one rank.
+  void build(MPI_Comm comm) {
+    int rank = 0, size = 1, initialized = 0;
+    MPI_Initialized(&initialized);  // tools without MPI build serially
+    if (initialized) MPI_Comm_rank(comm, &rank), MPI_Comm_size(comm, &size);
     std::vector<int> all(static_cast<std::size_t>(m_.source_.size()));
     for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
-    process(0, 0, all);
+    std::vector<Pending> level{{0, std::move(all)}};
+    for (int depth = 0; !level.empty(); ++depth) {
+      // 1. Classify: edges near the cell, a vertex near it, the side of its centre.
+      std::vector<Cell> cells(level.size());
+      std::vector<std::size_t> candidates;
+      for (std::size_t i = 0; i < level.size(); ++i) {
+        cells[i] = classify(level[i]);
+        if (cells[i].candidate) candidates.push_back(i);
+      }
+      // 2. This rank's fits.
+      std::vector<std::size_t> mine;
+      for (std::size_t k = static_cast<std::size_t>(rank); k < candidates.size();
+           k += static_cast<std::size_t>(size))
+        mine.push_back(k);
+      std::vector<Fit> fits(mine.size());
+      const auto fit_mine = [&] {
+        parallel_for(static_cast<Index>(mine.size()), 1, [&](Index first, Index last) {
+          for (Index j = first; j < last; ++j) {
+            const std::size_t i = candidates[mine[static_cast<std::size_t>(j)]];
+            fits[static_cast<std::size_t>(j)] = fit(level[i].id, cells[i]);
+          }
+        });
+      };
+      if (size == 1)
+        fit_mine();
+      else
+        run_collectively(comm, fit_mine);
+      // 3. Every rank's fits: per fit [accepted, exact evaluations, worst f, worst J, coefficients if
+      // accepted].
+      std::vector<double> send;
+      for (const Fit& f : fits) {
+        send.insert(send.end(),
+                    {f.accepted ? 1.0 : 0.0, static_cast<double>(f.evaluations), f.worst_f, f.worst_J});
+        send.insert(send.end(), f.stored.begin(), f.stored.end());
+      }
+      std::vector<Fit> all_fits(candidates.size());
+      if (size == 1) {
+        for (std::size_t j = 0; j < fits.size(); ++j) all_fits[mine[j]] = std::move(fits[j]);
+      } else {
+        std::vector<int> counts(static_cast<std::size_t>(size)), displs(static_cast<std::size_t>(size), 0);
+        const int count = static_cast<int>(send.size());
+        require(send.size() < static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                "map interpolant: too many coefficients on one level to gather");
+        MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+        long long total = 0;
+        for (int r = 0; r < size; ++r)
+          displs[static_cast<std::size_t>(r)] = static_cast<int>(total),
+          total += counts[static_cast<std::size_t>(r)];
+        require(total < std::numeric_limits<int>::max(),
+                "map interpolant: too many coefficients on one level to gather");
+        std::vector<double> received(static_cast<std::size_t>(total));
+        MPI_Allgatherv(send.data(), count, MPI_DOUBLE, received.data(), counts.data(), displs.data(),
+                       MPI_DOUBLE, comm);
+        const std::size_t block = static_cast<std::size_t>(kComponents * n1_ * padded(n1_));
+        for (int r = 0; r < size; ++r) {
+          const double* in = received.data() + displs[static_cast<std::size_t>(r)];
+          for (std::size_t k = static_cast<std::size_t>(r); k < candidates.size();
+               k += static_cast<std::size_t>(size)) {
+            Fit& f = all_fits[k];
+            f.accepted = in[0] != 0;
+            f.evaluations = static_cast<Index>(in[1]);
+            f.worst_f = in[2];
+            f.worst_J = in[3];
+            in += 4;
+            if (f.accepted) f.stored.assign(in, in + block), in += block;
+          }
+        }
+      }
+      // 4. Apply in the order of the level: leaves, or four children for the next level.
+      std::vector<Pending> next;
+      std::size_t k = 0;
+      for (std::size_t i = 0; i < level.size(); ++i) {
+        Cell& cell = cells[i];
+        const int id = level[i].id;
+        if (cell.outside) {
+          ++m_.stats_.outside_leaves;
+          continue;
+        }
+        if (cell.candidate) {
+          Fit& f = all_fits[k++];
+          m_.stats_.exact_evaluations += f.evaluations;
+          if (f.accepted) {
+            store(id, cell, f);
+            continue;
+          }
+        }
+        if (depth < o_.max_depth) {
+          const Node node = m_.nodes_[static_cast<std::size_t>(id)];
+          const int first = static_cast<int>(m_.nodes_.size());
+          m_.nodes_[static_cast<std::size_t>(id)].child = first;
+          const Real h = node.h / 2;
+          for (int q = 0; q < 4; ++q) {
+            m_.nodes_.push_back(Node{node.x0 + (q & 1) * h, node.y0 + (q >> 1) * h, h});
+            next.push_back({first + q, cell.edges});
+          }
+          continue;
+        }
+        ++m_.stats_.exact_leaves;
+        const Node& node = m_.nodes_[static_cast<std::size_t>(id)];
+        m_.stats_.exact_area_fraction += node.h * node.h / (side_ * side_);
+      }
+      level = std::move(next);
+    }
   }
 
  private:
-  void process(int id, int depth, const std::vector<int>& parent_edges) {
-    const Node cell = m_.nodes_[static_cast<std::size_t>(id)];
+  struct Pending {
+    int id;
+    std::vector<int> parent_edges;
+  };
+  struct Cell {
+    std::vector<int> edges;  // of ∂Ω0 meeting the cell grown by its size
+    bool outside = false, candidate = false, center_inside = true;
+  };
+  struct Fit {
+    bool accepted = false;
+    Index evaluations = 0;
+    Real worst_f = 0, worst_J = 0;
+    std::vector<Real> stored;  // the leaf's coefficients, if accepted
+  };
+
+  Cell classify(const Pending& p) const {
+    const Node& node = m_.nodes_[static_cast<std::size_t>(p.id)];
     const Polygon& s = m_.source_;
     // f is singular at the vertices: a cell closer than its size to one would
     // converge slowly (and test points might miss its error peak), so it is
     // split (or left exact) without a fit. The edges kept are those meeting the
     // cell grown by that much (a superset of those meeting its children's grown cells).
-    const Real reach = cell.h;
-    const Real x0 = cell.x0 - reach, y0 = cell.y0 - reach;
-    const Real x1 = cell.x0 + cell.h + reach, y1 = cell.y0 + cell.h + reach;
-    std::vector<int> edges;
+    const Real reach = node.h;
+    const Real x0 = node.x0 - reach, y0 = node.y0 - reach;
+    const Real x1 = node.x0 + node.h + reach, y1 = node.y0 + node.h + reach;
+    Cell cell;
     bool has_vertex = false;
-    for (int e : parent_edges) {
+    for (int e : p.parent_edges) {
       const Point<2>& a = s.vertex(e);
       if (!segment_meets_box(a, s.vertex(e + 1), x0, y0, x1, y1)) continue;
-      edges.push_back(e);
+      cell.edges.push_back(e);
       has_vertex = has_vertex || (a.x() >= x0 && a.x() <= x1 && a.y() >= y0 && a.y() <= y1);
     }
-    const Point<2> center(cell.x0 + cell.h / 2, cell.y0 + cell.h / 2);
+    const Point<2> center(node.x0 + node.h / 2, node.y0 + node.h / 2);
     const int center_side = s.side_of(center);
-    if (edges.empty() && center_side < 0) {
-      ++m_.stats_.outside_leaves;
-      return;
-    }
-    const bool resolved = !has_vertex && center_side != 0 && fit(id, edges, center_side > 0);
-    if (resolved) return;
-    if (depth < o_.max_depth) {
-      subdivide(id, depth, edges);
-      return;
-    }
-    ++m_.stats_.exact_leaves;
-    m_.stats_.exact_area_fraction += cell.h * cell.h / (side_ * side_);
+    cell.outside = cell.edges.empty() && center_side < 0;
+    cell.candidate = !cell.outside && !has_vertex && center_side != 0;
+    cell.center_inside = center_side > 0;
+    return cell;
   }
 
-  void subdivide(int id, int depth, const std::vector<int>& edges) {
-    const Node cell = m_.nodes_[static_cast<std::size_t>(id)];
-    const int first = static_cast<int>(m_.nodes_.size());
-    m_.nodes_[static_cast<std::size_t>(id)].child = first;
-    const Real h = cell.h / 2;
-    for (int q = 0; q < 4; ++q) m_.nodes_.push_back(Node{cell.x0 + (q & 1) * h, cell.y0 + (q >> 1) * h, h});
-    for (int q = 0; q < 4; ++q) process(first + q, depth + 1, edges);
-  }
-
-  // Fits the cell; on success stores it as an interpolated leaf.
-  bool fit(int id, const std::vector<int>& edges, bool center_inside) {
+  // Makes node `id` an interpolated leaf with the accepted fit `f`.
+  void store(int id, const Cell& c, const Fit& f) {
     Node& cell = m_.nodes_[static_cast<std::size_t>(id)];
+    InterpolantStats& st = m_.stats_;
+    st.max_f_error = std::max(st.max_f_error, f.worst_f);
+    st.max_J_error = std::max(st.max_J_error, f.worst_J);
+    ++st.interpolated_leaves;
+    cell.kind = 1;
+    cell.coefficients = static_cast<Index>(m_.coefficients_.size());
+    m_.coefficients_.insert(m_.coefficients_.end(), f.stored.begin(), f.stored.end());
+    // Evaluation tests inside/outside only against the edges that meet the cell
+    // itself (grown by a margin far above rounding): the others can neither
+    // cross the segment from the centre nor hold the point, so the parity is
+    // the same, and most leaves near ∂Ω0 then need no test at all.
+    cell.edges_begin = static_cast<int>(m_.edge_list_.size());
+    cell.center_inside = c.center_inside;
+    const Real margin = 1e-6 * cell.h;
+    for (const int e : c.edges)
+      if (segment_meets_box(m_.source_.vertex(e), m_.source_.vertex(e + 1), cell.x0 - margin,
+                            cell.y0 - margin, cell.x0 + cell.h + margin, cell.y0 + cell.h + margin))
+        m_.edge_list_.push_back(e);
+    cell.edges_count = static_cast<int>(m_.edge_list_.size()) - cell.edges_begin;
+  }
+
+  // Fits the cell and tests the fit (reads the tree only: fits run in parallel).
+  Fit fit(int id, const Cell& info) const {
+    const Node& cell = m_.nodes_[static_cast<std::size_t>(id)];
+    const std::vector<int>& edges = info.edges;
+    Fit result;
     const Index nn = static_cast<Index>(n1_) * n1_;
     const Index nt = static_cast<Index>(tests_.size());
     Points<2> P(nn, 2), T(nt, 2);
@@ -209,8 +415,8 @@ class AdaptiveInterpolant::Builder {
     Points<2> X;
     Jacobians<2> J;
     m_.exact_->eval_with_jacobian(P, X, J);
-    m_.stats_.exact_evaluations += nn;
-    if (!X.allFinite() || !J.allFinite()) return false;
+    result.evaluations += nn;
+    if (!X.allFinite() || !J.allFinite()) return result;
 
     std::vector<Real> C(static_cast<std::size_t>(kComponents * nn));
     const int stride = padded(n1_);
@@ -233,18 +439,18 @@ class AdaptiveInterpolant::Builder {
       Real tail = 0;  // the last row and column: a conservative estimate of the error
       for (int i = 0; i < n1_; ++i)
         tail += std::abs(C[c * nn + (n1_ - 1) + i * n1_]) + std::abs(C[c * nn + i + (n1_ - 1) * n1_]);
-      if (tail > (c < 2 ? tol_f_ : tol_J_ * small_J) / 2) return false;
+      if (tail > (c < 2 ? tol_f_ : tol_J_ * small_J) / 2) return result;
     }
     m_.exact_->eval_with_jacobian(T, X, J);
-    m_.stats_.exact_evaluations += nt;
+    result.evaluations += nt;
     Real worst_f = 0, worst_J = 0;
     for (Index t = 0; t < nt; ++t) {
       const Index r = t;
       if (!inside_by_parity(m_.source_, edges.data(), static_cast<int>(edges.size()), cell.x0 + cell.h / 2,
-                            cell.y0 + cell.h / 2, center_inside, T(r, 0), T(r, 1)))
+                            cell.y0 + cell.h / 2, info.center_inside, T(r, 0), T(r, 1)))
         continue;
       Real v[kComponents];
-      evaluate_leaf(stored.data(), n1_, tests_[t].first, tests_[t].second, 0, kComponents, v);
+      evaluate_leaf_one(stored.data(), n1_, tests_[t].first, tests_[t].second, 0, kComponents, v);
       const Real ef = std::max(std::abs(v[0] - X(r, 0)), std::abs(v[1] - X(r, 1)));
       Real eJ = 0, sJ = 0;
       for (int c = 0; c < 4; ++c) {
@@ -252,22 +458,15 @@ class AdaptiveInterpolant::Builder {
         sJ = std::max(sJ, std::abs(J(r, c)));
       }
       // Half the tolerance: test points sample the error, they do not bound it.
-      if (ef > tol_f_ / 2 || eJ > tol_J_ / 2 * sJ) return false;
+      if (ef > tol_f_ / 2 || eJ > tol_J_ / 2 * sJ) return result;
       worst_f = std::max(worst_f, ef / diam_);
       worst_J = std::max(worst_J, eJ / sJ);
     }
-    InterpolantStats& st = m_.stats_;
-    st.max_f_error = std::max(st.max_f_error, worst_f);
-    st.max_J_error = std::max(st.max_J_error, worst_J);
-    ++st.interpolated_leaves;
-    cell.kind = 1;
-    cell.coefficients = static_cast<Index>(m_.coefficients_.size());
-    m_.coefficients_.insert(m_.coefficients_.end(), stored.begin(), stored.end());
-    cell.edges_begin = static_cast<int>(m_.edge_list_.size());
-    cell.edges_count = static_cast<int>(edges.size());
-    cell.center_inside = center_inside;
-    m_.edge_list_.insert(m_.edge_list_.end(), edges.begin(), edges.end());
-    return true;
+    result.accepted = true;
+    result.worst_f = worst_f;
+    result.worst_J = worst_J;
+    result.stored = std::move(stored);
+    return result;
   }
 
   AdaptiveInterpolant& m_;
@@ -279,7 +478,8 @@ class AdaptiveInterpolant::Builder {
   std::vector<std::pair<Real, Real>> tests_;
 };
 
-AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options)
+AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options,
+                                         MPI_Comm comm)
     : exact_(std::move(exact)), source_(source), options_(options) {
   if (!(options_.tolerance > 0) || options_.degree < 1 || options_.degree >= kMaxDegree ||
       options_.max_depth < 0 || options_.max_depth > 40 || options_.test_points < 0)
@@ -287,12 +487,15 @@ AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source,
         "map interpolant: the tolerance must be positive, the degree in [1, 30] and the depth in [0, 40]",
         {.file = "", .key_path = "map.interpolation_tolerance", .hint = "e.g. 1e-12"});
   const Stopwatch watch;
-  Builder(*this).build();
+  const double cpu = process_cpu_seconds();
+  Builder(*this).build(comm);
   stats_.build_seconds = watch.seconds();
+  stats_.build_cpu_seconds = process_cpu_seconds() - cpu;
   log::info("map interpolant: ", stats_.interpolated_leaves, " interpolated leaves (degree ", options_.degree,
             "), ", stats_.exact_leaves, " exact (", stats_.exact_area_fraction * 100,
             " % of the bounding square), ", stats_.exact_evaluations, " exact evaluations, built in ",
-            format_seconds(stats_.build_seconds), "; worst error at test points: f ", stats_.max_f_error,
+            format_seconds(stats_.build_seconds), " (CPU of this rank ",
+            format_seconds(stats_.build_cpu_seconds), "); worst error at test points: f ", stats_.max_f_error,
             " · diam, J_f ", stats_.max_J_error, " relative");
 }
 
@@ -317,6 +520,7 @@ void AdaptiveInterpolant::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J
   const Index N = x0.rows();
   const int first = x ? 0 : 2, last = J ? 6 : 2;
   const int n1 = options_.degree + 1;
+  const bool batched = n1 <= kMaxBatchedN1;
   // Read every input point before writing (x may alias x0); fallback points are written last.
   std::vector<char> fallback(static_cast<std::size_t>(N), 0);
   Points<2> out_x;
@@ -326,21 +530,57 @@ void AdaptiveInterpolant::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J
   if (x) X.resize(N, 2);
   if (J) JJ.resize(N, 4);
   parallel_for(N, 4096, [&](Index begin, Index end) {
+    // Consecutive points often share a leaf: a point well inside the last
+    // leaf (by a margin far above the rounding of the cell bounds) is in it,
+    // wherever the descent would put points on the cell's sides.
+    const Node* last_leaf = nullptr;
+    Real lo_x = 0, hi_x = -1, lo_y = 0, hi_y = -1;
+    // Points of one leaf go through the batched kernel eight at a time.
+    const auto put = [&](Index p, const Real* v, int stride) {
+      if (x) X(p, 0) = v[0], X(p, 1) = v[stride];
+      if (J)
+        for (int c = 0; c < 4; ++c) JJ(p, c) = v[(c + 2 - first) * stride];
+    };
+    alignas(64) Real bu[kLanes], bv[kLanes], res[kComponents * kLanes];
+    Index bp[kLanes];
+    int count = 0;
+    const Node* batch_leaf = nullptr;
+    const auto flush = [&] {
+      if (count == 0) return;
+      for (int l = count; l < kLanes; ++l) bu[l] = bu[count - 1], bv[l] = bv[count - 1];
+      evaluate_leaf8(coefficients_.data() + batch_leaf->coefficients, n1, bu, bv, first, last, res);
+      for (int l = 0; l < count; ++l) put(bp[l], res + l, kLanes);
+      count = 0;
+    };
     for (Index p = begin; p < end; ++p) {
       const Real px = x0(p, 0), py = x0(p, 1);
-      const int id = leaf_of(px, py);
-      const Node* leaf = id < 0 ? nullptr : &nodes_[static_cast<std::size_t>(id)];
+      const Node* leaf = last_leaf;
+      if (!(px > lo_x && px < hi_x && py > lo_y && py < hi_y)) {
+        const int id = leaf_of(px, py);
+        leaf = id < 0 ? nullptr : &nodes_[static_cast<std::size_t>(id)];
+        if (leaf) {
+          const Real margin = 1e-9 * leaf->h;
+          last_leaf = leaf;
+          lo_x = leaf->x0 + margin, hi_x = leaf->x0 + leaf->h - margin;
+          lo_y = leaf->y0 + margin, hi_y = leaf->y0 + leaf->h - margin;
+        }
+      }
       if (!leaf || leaf->kind == 0 || (leaf->edges_count > 0 && !inside(*leaf, px, py))) {
         fallback[static_cast<std::size_t>(p)] = 1;
         continue;
       }
-      Real v[kComponents];
       const Real u = 2 * (px - leaf->x0) / leaf->h - 1, w = 2 * (py - leaf->y0) / leaf->h - 1;
-      evaluate_leaf(coefficients_.data() + leaf->coefficients, n1, u, w, first, last, v);
-      if (x) X(p, 0) = v[0], X(p, 1) = v[1];
-      if (J)
-        for (int c = 0; c < 4; ++c) JJ(p, c) = v[c + 2 - first];
+      if (!batched) {
+        Real v[kComponents];
+        evaluate_leaf(coefficients_.data() + leaf->coefficients, n1, u, w, first, last, v);
+        put(p, v, 1);
+        continue;
+      }
+      if (leaf != batch_leaf) flush(), batch_leaf = leaf;
+      bu[count] = u, bv[count] = w, bp[count] = p;
+      if (++count == kLanes) flush();
     }
+    flush();
   });
   std::vector<Index> rest;
   for (Index p = 0; p < N; ++p)

@@ -13,6 +13,8 @@
 // outside Ω0 or outside the tree evaluate the wrapped map exactly, so such points
 // behave exactly as they would with the wrapped map.
 
+#include <mpi.h>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,13 +45,18 @@ struct InterpolantStats {
   Real max_f_error = 0;          ///< largest accepted error at test points, / diam(Ω0)
   Real max_J_error = 0;          ///< largest accepted relative J error at test points
   Real build_seconds = 0;
+  Real build_cpu_seconds = 0;  ///< of this process, every thread
 };
 
 class AdaptiveInterpolant final : public Map<2> {
  public:
   /// Builds the tree by evaluating `exact` (in batches); `source` is Ω0.
-  /// Throws warpfem::Error for a non-positive tolerance or degree.
-  AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options = {});
+  /// Collective over `comm`: the ranks share the fits and all end with the
+  /// same interpolant, bit for bit the one a single rank builds.
+  /// Throws warpfem::Error (on every rank) for a non-positive tolerance or
+  /// degree, or when an exact evaluation fails on any rank.
+  AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options = {},
+                      MPI_Comm comm = MPI_COMM_SELF);
 
   void eval(const Points<2>& x0, Points<2>& x) const override;
   void jacobian(const Points<2>& x0, Jacobians<2>& J) const override;

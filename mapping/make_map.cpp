@@ -246,8 +246,8 @@ namespace {
 /// evaluations of a mean value step: the exact map costs steps × vertices per
 /// point, the interpolant about 70 per point and its build about a million
 /// exact points; it is taken when it saves more than half its build on the
-/// estimated points, a lower bound (a Delaunay mesh has 2–4 times more). Every
-/// rank builds the whole interpolant. Harmonic maps
+/// estimated points, a lower bound (a Delaunay mesh has 2–4 times more). The
+/// ranks share the build. Harmonic maps
 /// (an inverse by Newton's method per point) are interpolated on any large run.
 bool interpolation_pays(const Map<2>& map, const MapSpec& spec) {
   const double points = spec.evaluation_points;
@@ -262,13 +262,18 @@ bool interpolation_pays(const Map<2>& map, const MapSpec& spec) {
 
 }  // namespace
 
-MapPtr<2> make_map(const MapSpec& spec, MapCheck* check) {
+MapPtr<2> make_map(const MapSpec& spec, MapCheck* check, MPI_Comm comm) {
   if (spec.type == "identity") return std::make_shared<IdentityMap<2>>();
   try {
     Stopwatch watch;
+    const double cpu = process_cpu_seconds();
     MapPtr<2> map = build_map(spec);
-    MapCheck c = check_map(*map, spec);
+    const double built = watch.seconds(), built_cpu = process_cpu_seconds() - cpu;
+    MapCheck c = check_map(*map, spec, comm);
     c.build_seconds = watch.seconds();
+    log::debug("map built in ", format_seconds(built), " (CPU ", format_seconds(built_cpu), "), checked in ",
+               format_seconds(c.build_seconds - built), " (CPU ",
+               format_seconds(process_cpu_seconds() - cpu - built_cpu), ", ", c.samples, " sample points)");
     // A requested certificate runs before the sampled verdict: a folding map
     // is then refused by the proof that fails, naming where.
     if (spec.certify) certify_into(*map, spec, c);
@@ -283,7 +288,7 @@ MapPtr<2> make_map(const MapSpec& spec, MapCheck* check) {
       InterpolantOptions o;
       o.tolerance = spec.interpolation_tolerance;
       map = with_spec_context(spec, "map.interpolation_tolerance", [&] {
-        return std::make_shared<const AdaptiveInterpolant>(map, *spec.source, o);
+        return std::make_shared<const AdaptiveInterpolant>(map, *spec.source, o, comm);
       });
     } else if (spec.evaluation != "exact" && !automatic) {
       throw Error("unknown evaluation \"" + spec.evaluation + "\"",

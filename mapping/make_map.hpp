@@ -13,8 +13,10 @@ namespace warpfem::mapping {
 /// map is refused. With spec.certify, a mean value map must also pass the
 /// certificate (mean_value_certificate.hpp), which is logged and stored in
 /// check->certificate; other maps log that they are not certified.
-/// `check`, if given, receives the check's numbers.
-MapPtr<2> make_map(const MapSpec& spec, MapCheck* check = nullptr);
+/// `check`, if given, receives the check's numbers. Collective over `comm`:
+/// the ranks share the check and the build of a map interpolant, and all
+/// return the same map (an error on any rank is thrown on every rank).
+MapPtr<2> make_map(const MapSpec& spec, MapCheck* check = nullptr, MPI_Comm comm = MPI_COMM_SELF);
 
 /// The same for polyhedra: the map is refused (an error naming spec.origin,
 /// the field, the interval or the worst sample point, and a fix) unless its

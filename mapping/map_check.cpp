@@ -4,7 +4,9 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <vector>
 
+#include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "mapping/polygon_sampling.hpp"
 
@@ -66,9 +68,51 @@ MapCheck check_map(const Map<2>& f, const Points<2>& sample) {
   return c;
 }
 
-MapCheck check_map(const Map<2>& f, const MapSpec& spec) {
+MapCheck check_map(const Map<2>& f, const Points<2>& sample, MPI_Comm comm) {
+  int rank = 0, size = 1, initialized = 0;
+  MPI_Initialized(&initialized);  // tools without MPI check serially
+  if (initialized) MPI_Comm_rank(comm, &rank), MPI_Comm_size(comm, &size);
+  if (size == 1) return check_map(f, sample);
+  // Contiguous blocks in rank order: merging the ranks' checks in that order
+  // with the serial check's comparisons (first strict minimum, first strict
+  // maximum, first non-finite point) gives the serial result.
+  const Index n = sample.rows();
+  const Index first = n * rank / size, last = n * (rank + 1) / size;
+  MapCheck local;
+  run_collectively(comm, [&] { local = check_map(f, Points<2>(sample.middleRows(first, last - first))); });
+  constexpr int fields = 11;
+  const double mine[fields] = {static_cast<double>(local.nonpositive),
+                               static_cast<double>(local.not_finite),
+                               static_cast<double>(local.failed_inverse),
+                               local.min_det,
+                               local.min_det_at.x(),
+                               local.min_det_at.y(),
+                               local.max_residual,
+                               local.max_residual_at.x(),
+                               local.max_residual_at.y(),
+                               local.first_not_finite_at.x(),
+                               local.first_not_finite_at.y()};
+  std::vector<double> all(static_cast<std::size_t>(fields * size));
+  MPI_Allgather(mine, fields, MPI_DOUBLE, all.data(), fields, MPI_DOUBLE, comm);
+  MapCheck c;
+  c.samples = n;
+  c.inverse_tolerance = f.inverse_tolerance();
+  c.min_det = std::numeric_limits<Real>::infinity();
+  for (int r = 0; r < size; ++r) {
+    const double* v = all.data() + static_cast<std::size_t>(fields * r);
+    c.nonpositive += static_cast<Index>(v[0]);
+    if (v[1] > 0 && c.not_finite == 0) c.first_not_finite_at = Point<2>(v[9], v[10]);
+    c.not_finite += static_cast<Index>(v[1]);
+    c.failed_inverse += static_cast<Index>(v[2]);
+    if (v[3] < c.min_det) c.min_det = v[3], c.min_det_at = Point<2>(v[4], v[5]);
+    if (v[6] > c.max_residual) c.max_residual = v[6], c.max_residual_at = Point<2>(v[7], v[8]);
+  }
+  return c;
+}
+
+MapCheck check_map(const Map<2>& f, const MapSpec& spec, MPI_Comm comm) {
   require(spec.source.has_value(), "map check: the map spec has no source polygon");
-  return check_map(f, bijectivity_sample(*spec.source, spec.sample_resolution));
+  return check_map(f, bijectivity_sample(*spec.source, spec.sample_resolution), comm);
 }
 
 void require_passed(const MapCheck& c, const MapSpec& spec) {

@@ -5,6 +5,8 @@
 // has det J_f ≤ 0, a value that is not finite, or a failed inverse (residual
 // above the map's inverse_tolerance()). It is a sampled check, not a proof.
 
+#include <mpi.h>
+
 #include <optional>
 #include <string>
 
@@ -39,8 +41,13 @@ struct MapCheck {
 /// Evaluates f with its Jacobians and inverse residuals at `sample` (points of Ω0).
 MapCheck check_map(const Map<2>& f, const Points<2>& sample);
 
-/// The check on bijectivity_sample(source, spec.sample_resolution).
-MapCheck check_map(const Map<2>& f, const MapSpec& spec);
+/// The same, collective over `comm`: each rank checks a share of the sample,
+/// every rank receives the result the whole sample gives on one rank (an
+/// evaluation failing on any rank throws on every rank).
+MapCheck check_map(const Map<2>& f, const Points<2>& sample, MPI_Comm comm);
+
+/// The check on bijectivity_sample(source, spec.sample_resolution), collective over `comm`.
+MapCheck check_map(const Map<2>& f, const MapSpec& spec, MPI_Comm comm = MPI_COMM_SELF);
 
 /// Throws warpfem::Error naming spec.origin unless the check passed: how many
 /// samples fail and why, the worst location, and a fix for the map type.

@@ -16,6 +16,7 @@
 #include "core/mesh/polygon_triangulation.hpp"
 #include "core/prefault.hpp"
 #include "core/threads.hpp"
+#include "core/timer.hpp"
 #include "fem/geometry/warped_geometry.hpp"
 #include "fem/postprocessing/fold_check.hpp"
 #include "fem/reference/lagrange_element.hpp"
@@ -590,6 +591,8 @@ Index folded_triangles(const OutputMesh<2>& out) {
 template <int dim>
 OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
                                  const mapping::Map<dim>& map, int order) {
+  Stopwatch watch;
+  double cpu = process_cpu_seconds();
   OutputMesh<dim> out;
   out.cell_type = mesh.cell_type;
   out.order = order;
@@ -716,7 +719,15 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       }
     }
   }
+  log::debug("output mesh: ", n, " nodes numbered in ", format_seconds(watch.seconds()), " (CPU ",
+             format_seconds(process_cpu_seconds() - cpu), ")");
+  watch.reset();
+  cpu = process_cpu_seconds();
   warp_in_chunks(map, out.reference_points, out.points, out.map_det);
+  log::debug("output mesh: nodes placed by the map in ", format_seconds(watch.seconds()), " (CPU ",
+             format_seconds(process_cpu_seconds() - cpu), ")");
+  watch.reset();
+  cpu = process_cpu_seconds();
   out.num_mesh_cells = ncells;
 
   // The quadratic interpolant of f can fold a cell even where det J_f > 0 (a
@@ -910,6 +921,8 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     }
   straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), fixed);
   if constexpr (dim == 2) out.num_tangled_cells += folded_triangles(out);
+  log::debug("output mesh: fold check in ", format_seconds(watch.seconds()), " (CPU ",
+             format_seconds(process_cpu_seconds() - cpu), ")");
   return out;
 }
 
