@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/petsc/check.hpp"
+#include "core/sanitizer.hpp"
 
 namespace warpfem {
 
@@ -32,6 +33,11 @@ Environment::Environment(int& argc, char**& argv) {
     if (!session_base_.empty() && setenv("OMPI_MCA_orte_tmpdir_base", session_base_.c_str(), 0) != 0)
       session_base_.clear();
   }
+#if WARPFEM_ADDRESS_SANITIZER
+  // PETSc's signal handler would replace AddressSanitizer's: it runs on the
+  // faulting stack (a stack overflow then dies silently) and prints no stack trace.
+  WARPFEM_PETSC_CHECK(PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr));
+#endif
   WARPFEM_PETSC_CHECK(PetscInitialize(&argc, &argv, nullptr, nullptr));
   // Let exceptions, not PETSc's default handler, report problems; PETSc still
   // returns the error code through WARPFEM_PETSC_CHECK.

@@ -6,6 +6,7 @@
 
 #include "mapping/detail/mean_value_avx512.hpp"
 #include "mapping/detail/mean_value_kernel.hpp"
+#include "mapping/detail/nudge_inside.hpp"
 
 namespace warpfem::mapping {
 namespace {
@@ -20,29 +21,6 @@ Real shorter_edge_at(const PolygonArrays& P, Index j) {
   const Index jn = (j + 1) % n, jp = (j + n - 1) % n;
   return std::min(std::hypot(P.x[jn] - P.x[j], P.y[jn] - P.y[j]),
                   std::hypot(P.x[jp] - P.x[j], P.y[jp] - P.y[j]));
-}
-
-/// Gradient at a vertex: the coordinates are only continuous there, so we take
-/// the one-sided value from a point a tiny step inside along the interior bisector.
-/// The step is far above the snap distance and above the rounding of the
-/// vertex's coordinates, so the point is never the vertex itself.
-Point<2> nudge_inside(const PolygonArrays& P, Index j) {
-  const Index n = P.size();
-  const Index jn = (j + 1) % n, jp = (j + n - 1) % n;
-  Point<2> v(P.x[j], P.y[j]);
-  Point<2> a(P.x[jn] - v.x(), P.y[jn] - v.y()), b(P.x[jp] - v.x(), P.y[jp] - v.y());
-  const Real la = a.norm(), lb = b.norm();
-  a /= la;
-  b /= lb;
-  const Real cr = a.x() * b.y() - a.y() * b.x();  // > 0: convex corner (interior angle < π)
-  Point<2> d = a + b;
-  if (std::abs(cr) < 1e-12 && a.dot(b) < 0) {
-    d = Point<2>(-a.y(), a.x());  // straight corner: inward normal
-  } else if (cr < 0) {
-    d = -d;  // reflex corner: the bisector of the two edges points outside
-  }
-  const Real ulp_floor = 64 * std::numeric_limits<Real>::epsilon() * v.cwiseAbs().maxCoeff();
-  return v + std::max(1e-7 * std::min(la, lb), ulp_floor) * d.normalized();
 }
 
 /// Normalizes scaled weights w̃ (with gradients) into φ, ∇φ. The dominant weight
@@ -90,7 +68,7 @@ void mean_value_coordinates_at(const PolygonArrays& P, Real x, Real y, Real* phi
   }
   if (rj <= kSnap * shorter_edge_at(P, j)) {  // at a vertex: Kronecker delta
     if (dx) {
-      const Point<2> q = nudge_inside(P, j);
+      const Point<2> q = detail::nudge_inside(P, j);
       off_vertex_coordinates(P, q.x(), q.y(), phi, dx, dy, work);
     }
     std::fill(phi, phi + n, Real{0});

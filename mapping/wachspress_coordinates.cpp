@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "mapping/detail/nudge_inside.hpp"
 
 namespace warpfem::mapping {
 
@@ -32,8 +34,39 @@ void require_convex_for(const Polygon& polygon, Coordinates type) {
   }
 }
 
+namespace {
+
+/// The three-point formula at a point that is not a vertex.
+void off_vertex_coordinates(Coordinates type, const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx,
+                            Real* dy, std::vector<Real>& work);
+
+}  // namespace
+
 void three_point_coordinates_at(Coordinates type, const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx,
                                 Real* dy, std::vector<Real>& work) {
+  const Index n = P.size();
+  Index j = 0;
+  Real rj = std::numeric_limits<Real>::infinity();
+  for (Index k = 0; k < n; ++k) {
+    const Real r = std::hypot(P.x[k] - x, P.y[k] - y);
+    if (r < rj) j = k, rj = r;
+  }
+  if (rj <= 1e-13 * P.scale) {  // at a vertex: Kronecker delta
+    if (dx) {                   // one-sided gradient from just inside
+      const Point<2> q = detail::nudge_inside(P, j);
+      off_vertex_coordinates(type, P, q.x(), q.y(), phi, dx, dy, work);
+    }
+    std::fill(phi, phi + n, Real{0});
+    phi[j] = 1;
+    return;
+  }
+  off_vertex_coordinates(type, P, x, y, phi, dx, dy, work);
+}
+
+namespace {
+
+void off_vertex_coordinates(Coordinates type, const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx,
+                            Real* dy, std::vector<Real>& work) {
   const Index n = P.size();
   const bool grad = dx != nullptr;
   const bool harmonic = type == Coordinates::discrete_harmonic;
@@ -47,24 +80,10 @@ void three_point_coordinates_at(Coordinates type, const PolygonArrays& P, Real x
   auto nx = [n](Index k) { return k + 1 == n ? Index{0} : k + 1; };
   auto pv = [n](Index k) { return k == 0 ? n - 1 : k - 1; };
 
-  Index j = 0;
   for (Index k = 0; k < n; ++k) {
     sx[k] = P.x[k] - x;
     sy[k] = P.y[k] - y;
     r2[k] = sx[k] * sx[k] + sy[k] * sy[k];
-    if (r2[k] < r2[j]) j = k;
-  }
-  if (std::sqrt(r2[j]) <= 1e-13 * P.scale) {  // at a vertex: Kronecker delta
-    if (grad) {                               // one-sided gradient from just inside (convex corner: bisector)
-      const Index a = nx(j), b = pv(j);
-      Point<2> ea(P.x[a] - P.x[j], P.y[a] - P.y[j]), eb(P.x[b] - P.x[j], P.y[b] - P.y[j]);
-      const Real h = 1e-7 * std::min(ea.norm(), eb.norm());
-      const Point<2> d = (ea.normalized() + eb.normalized()).normalized();
-      three_point_coordinates_at(type, P, P.x[j] + h * d.x(), P.y[j] + h * d.y(), phi, dx, dy, work);
-    }
-    std::fill(phi, phi + n, Real{0});
-    phi[j] = 1;
-    return;
   }
   // A_k and the edge k* nearest (in distance to its line) to x.
   Index ks = 0;
@@ -147,6 +166,8 @@ void three_point_coordinates_at(Coordinates type, const PolygonArrays& P, Real x
     }
   }
 }
+
+}  // namespace
 
 void three_point_coordinates(Coordinates type, const PolygonArrays& P, const Points<2>& x, MatrixX& phi,
                              MatrixX* dphi_dx, MatrixX* dphi_dy) {

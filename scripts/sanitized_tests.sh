@@ -12,6 +12,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh --sanitize
+# --timeout covers the tests without a limit of their own (the app runs); the test
+# executables have 3600 s in the sanitized build (tests/CMakeLists.txt).
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 ctest --test-dir "${WARPFEM_BUILD_DIR:-build-asan}" --output-on-failure -j "${WARPFEM_JOBS:-$(nproc)}" \

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <petscsys.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -10,6 +11,7 @@
 #include "core/environment.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/sanitizer.hpp"
 
 using namespace warpfem;
 
@@ -58,6 +60,17 @@ TEST(Environment, OwnSessionBaseIsUsedByOpenMpi) {
 
 TEST(Environment, MalformedPetscOptionStringIsAnError) {
   EXPECT_THROW(Environment::insert_petsc_options("ksp_type cg", "config.json: /solver/petsc_options"), Error);
+}
+
+// PETSc installs its own SIGSEGV handler unless told not to. It runs on the
+// faulting stack, so a stack overflow killed the process without a word; in
+// sanitized builds AddressSanitizer's handler (on an alternate stack) must stay.
+TEST(Environment, SanitizedBuildsKeepTheSanitizerCrashHandler) {
+  if (!WARPFEM_ADDRESS_SANITIZER) GTEST_SKIP() << "not an AddressSanitizer build";
+  struct sigaction action = {};
+  ASSERT_EQ(sigaction(SIGSEGV, nullptr, &action), 0);
+  EXPECT_TRUE(action.sa_flags & SA_SIGINFO);
+  EXPECT_TRUE(action.sa_flags & SA_ONSTACK) << "the SIGSEGV handler does not run on an alternate stack";
 }
 
 TEST(Log, ParsesLevelsAndRejectsUnknown) {

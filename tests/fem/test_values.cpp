@@ -7,6 +7,7 @@
 
 #include <Eigen/LU>
 #include <memory>
+#include <tuple>
 
 #include "core/mesh/polygon_mesher.hpp"
 #include "core/mesh/quadrature.hpp"
@@ -122,7 +123,9 @@ TEST_P(ValuesSeam, FacetGeometryClosesUpWithTheCellGeometry) {
 }
 
 TEST_P(ValuesSeam, FacetShapeValuesAreTheTraceOfTheCellElement) {
-  const auto [type, order] = GetParam();
+  // Not a structured binding: the lambda below captures `order` (Clang before 16 cannot capture bindings).
+  const warpfem::CellType type = std::get<0>(GetParam());
+  const int order = std::get<1>(GetParam());
   const warpfem::Mesh<2> mesh = mesh_of(pentagon(), type);
   const auto map = std::make_shared<mapping::IdentityMap<2>>();
   const fem::WarpedFacets<2> facets(mesh, all_facets(mesh), warpfem::gauss_legendre(3), *map);

@@ -261,5 +261,49 @@ TEST(ConvexCoordinates, RefuseConcavePolygonsNamingTheReflexVertex) {
   EXPECT_NO_THROW(barycentric_coordinates(Coordinates::mean_value, square, one_point(1, 1)));
 }
 
+// The gradient at a vertex is the one-sided value from a point just inside. At a
+// straight vertex (discrete harmonic allows them) the bisector of the two edges
+// vanishes, and next to an edge 1e-9 long the step inside is below the vertex snap
+// distance: both once recursed without end (a stack overflow found by fuzz_make_map).
+TEST(ConvexCoordinates, GradientsAtAStraightVertexAndNextToAShortEdge) {
+  auto check_gradients = [](Coordinates type, const Polygon& P, Real tolerance) {
+    const Index n = P.size();
+    for (Index j = 0; j < n; ++j) {
+      const Point<2> v = P.vertex(j);
+      const BarycentricValues at = barycentric_coordinates(type, P, one_point(v.x(), v.y()));
+      ASSERT_TRUE(at.dphi_dx.allFinite() && at.dphi_dy.allFinite()) << P.name() << ", vertex " << j;
+      // The gradients reproduce linear functions: Σ∇φ_i = 0, Σ v_i ⊗ ∇φ_i = I.
+      Matrix<2> V = Matrix<2>::Zero();
+      Point<2> g = Point<2>::Zero();
+      for (Index i = 0; i < n; ++i) {
+        const Point<2> d(at.dphi_dx(0, i), at.dphi_dy(0, i));
+        g += d;
+        V += P.vertex(i) * d.transpose();
+      }
+      EXPECT_LT(g.norm(), tolerance) << to_string(type) << ", " << P.name() << ", vertex " << j;
+      EXPECT_LT((V - Matrix<2>::Identity()).norm(), tolerance)
+          << to_string(type) << ", " << P.name() << ", vertex " << j;
+    }
+  };
+  const Polygon straight =
+      test::polygon({{0, 0}, {1, 0}, {2, 0}, {2, 2}, {0, 2}}, "square with a mid-edge vertex");
+  check_gradients(Coordinates::discrete_harmonic, straight, 1e-6);
+  // The gradient at the straight vertex is the limit from inside.
+  const BarycentricValues at =
+      barycentric_coordinates(Coordinates::discrete_harmonic, straight, one_point(1, 0));
+  const BarycentricValues in =
+      barycentric_coordinates(Coordinates::discrete_harmonic, straight, one_point(1, 1e-6));
+  EXPECT_LT((at.dphi_dx - in.dphi_dx).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LT((at.dphi_dy - in.dphi_dy).cwiseAbs().maxCoeff(), 1e-4);
+
+  const Polygon short_edge = test::polygon({{0, 0}, {1, 0}, {1, 1 - 1e-9}, {1 - 1e-9, 1}, {0, 1}},
+                                           "square with a corner cut by a 1e-9 edge");
+  // The step inside is then the rounding floor (64 ulp of the coordinates, 1.4e-14), so
+  // the one-sided gradient carries a rounding error of about 1e-2 (an O(1) error would
+  // be a wrong gradient).
+  for (Coordinates c : {Coordinates::wachspress, Coordinates::discrete_harmonic})
+    check_gradients(c, short_edge, 5e-2);
+}
+
 }  // namespace
 }  // namespace warpfem::mapping
