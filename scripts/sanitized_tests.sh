@@ -17,4 +17,4 @@ bash scripts/build.sh --sanitize
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 ctest --test-dir "${WARPFEM_BUILD_DIR:-build-asan}" --output-on-failure -j "${WARPFEM_JOBS:-$(nproc)}" \
-  --timeout 1800 -LE mpi "$@"
+  --timeout 3600 -LE mpi "$@"
