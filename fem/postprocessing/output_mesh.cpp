@@ -160,6 +160,24 @@ std::pair<std::vector<Index>, std::vector<Index>> node_holders(const IndexTable&
   return {std::move(start), std::move(holders)};
 }
 
+// Calls visit(c) once for every row c of the node_holders table `rows` that
+// holds one of `nodes`; `seen` has one entry per row.
+template <class Visit>
+void for_rows_holding(const std::vector<Index>& nodes,
+                      const std::pair<std::vector<Index>, std::vector<Index>>& rows, std::vector<char>& seen,
+                      const Visit& visit) {
+  const auto& [start, holders] = rows;
+  std::fill(seen.begin(), seen.end(), 0);
+  for (const Index node : nodes)
+    for (Index j = start[static_cast<std::size_t>(node)]; j < start[static_cast<std::size_t>(node) + 1];
+         ++j) {
+      const Index c = holders[static_cast<std::size_t>(j)];
+      if (seen[static_cast<std::size_t>(c)]) continue;
+      seen[static_cast<std::size_t>(c)] = 1;
+      visit(c);
+    }
+}
+
 // Cells whose curved geometry still folds — at a vertex where f is not
 // differentiable the quadratic interpolant of f folds at any subdivision
 // depth — get their non-vertex nodes pulled toward the straight cell spanned by
@@ -211,16 +229,9 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
       }
     }
     std::vector<Index> next;
-    std::fill(seen.begin(), seen.end(), 0);
-    for (const Index node : moved)
-      for (Index j = start[static_cast<std::size_t>(node)]; j < start[static_cast<std::size_t>(node) + 1];
-           ++j) {
-        const Index c = holders[static_cast<std::size_t>(j)];
-        if (!seen[static_cast<std::size_t>(c)]) {
-          seen[static_cast<std::size_t>(c)] = 1;
-          if (tangled(row(c))) next.push_back(c);
-        }
-      }
+    for_rows_holding(moved, node_cells, seen, [&](Index c) {
+      if (tangled(row(c))) next.push_back(c);
+    });
     work = std::move(next);
   }
 
@@ -296,7 +307,6 @@ std::vector<int> cut_folded_quadrilaterals(OutputMesh<2>& out, const Tangled& ta
     if (tangled(row(c))) work.push_back(c);
   if (work.empty()) return diagonal;
   const auto node_cells = node_holders(out.cells, out.points.rows());
-  const std::vector<Index>&start = node_cells.first, &holders = node_cells.second;
   // Node k of a row's boundary ring: vertex k/2 for even k, else the node of edge k/2.
   const auto ring = [&](Index c, int k) { return out.cells(c, k % 8 % 2 == 0 ? k % 8 / 2 : 4 + k % 8 / 2); };
   const auto at = [&](Index node) -> Point<2> { return out.points.row(node).transpose(); };
@@ -344,15 +354,9 @@ std::vector<int> cut_folded_quadrilaterals(OutputMesh<2>& out, const Tangled& ta
     }
     // Rows holding a moved node: cut them (again) if that folds them.
     std::vector<Index> next;
-    std::fill(seen.begin(), seen.end(), 0);
-    for (const Index node : moved)
-      for (Index j = start[static_cast<std::size_t>(node)]; j < start[static_cast<std::size_t>(node) + 1];
-           ++j) {
-        const Index c = holders[static_cast<std::size_t>(j)];
-        if (seen[static_cast<std::size_t>(c)]) continue;
-        seen[static_cast<std::size_t>(c)] = 1;
-        if (diagonal[static_cast<std::size_t>(c)] >= 0 ? cut_folds(c) : tangled(row(c))) next.push_back(c);
-      }
+    for_rows_holding(moved, node_cells, seen, [&](Index c) {
+      if (diagonal[static_cast<std::size_t>(c)] >= 0 ? cut_folds(c) : tangled(row(c))) next.push_back(c);
+    });
     work = std::move(next);
   }
   return diagonal;
