@@ -290,21 +290,23 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
 // nodes move onto the segment between its mapped vertices, for the
 // neighbours sharing them too, which are checked again and cut in turn if
 // that folds them); a straight triangle with positive vertices never folds.
-// Returns per row the diagonal cut (0: vertices 0–2, 1: vertices 1–3) or −1.
-// `frozen` edge nodes (shared with another rank) never move.
+// Starts from the rows `folded`. Returns per row the diagonal cut (0: vertices
+// 0–2, 1: vertices 1–3) or −1; `uncut` flags the folded rows no diagonal cuts
+// into two positive triangles. `frozen` edge nodes (shared with another rank)
+// never move.
 template <class Tangled>
 std::vector<int> cut_folded_quadrilaterals(OutputMesh<2>& out, const Tangled& tangled,
-                                           const std::vector<char>& frozen) {
+                                           const std::vector<char>& frozen, const std::vector<Index>& folded,
+                                           std::vector<char>& uncut) {
   const Index ncells = out.cells.rows();
   std::vector<int> diagonal(static_cast<std::size_t>(ncells), -1);
+  uncut.assign(static_cast<std::size_t>(ncells), 0);
   const auto row = [&](Index c) {
     std::vector<Index> nodes(static_cast<std::size_t>(out.cells.cols()));
     for (Index k = 0; k < out.cells.cols(); ++k) nodes[static_cast<std::size_t>(k)] = out.cells(c, k);
     return nodes;
   };
-  std::vector<Index> work;
-  for (Index c = 0; c < ncells; ++c)
-    if (tangled(row(c))) work.push_back(c);
+  std::vector<Index> work = folded;
   if (work.empty()) return diagonal;
   const auto node_cells = node_holders(out.cells, out.points.rows());
   // Node k of a row's boundary ring: vertex k/2 for even k, else the node of edge k/2.
@@ -337,7 +339,10 @@ std::vector<int> cut_folded_quadrilaterals(OutputMesh<2>& out, const Tangled& ta
                        p3 = at(out.cells(c, 3));
         const double along02 = std::min(orientation(p0, p1, p2), orientation(p0, p2, p3));
         const double along13 = std::min(orientation(p0, p1, p3), orientation(p1, p2, p3));
-        if (!(std::max(along02, along13) > 0)) continue;  // not even a simple, positive quadrilateral
+        if (!(std::max(along02, along13) > 0)) {  // not even a simple, positive quadrilateral
+          uncut[static_cast<std::size_t>(c)] = 1;
+          continue;
+        }
         diagonal[static_cast<std::size_t>(c)] = along02 >= along13 ? 0 : 1;
       }
       for (int t = 0; t < 2; ++t) {
@@ -379,8 +384,10 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
                                               const mapping::Map<2>& map, const Tangled& tangled,
                                               const std::vector<char>& frozen,
                                               const std::vector<std::array<Point<2>, 4>>& row_corners,
+                                              std::vector<Index>& folded,
                                               std::vector<std::pair<Index, Point<2>>>& added_sources) {
-  const std::vector<int> diagonal = cut_folded_quadrilaterals(out, tangled, frozen);
+  std::vector<char> uncut;
+  const std::vector<int> diagonal = cut_folded_quadrilaterals(out, tangled, frozen, folded, uncut);
   const Index nrows = out.cells.rows();
   const auto& edges = cell_edges(CellType::quadrilateral);
   const LagrangeElement<2> linear(CellType::quadrilateral, 1);
@@ -460,7 +467,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
       replaced[static_cast<std::size_t>(r)] = 1;
       continue;
     }
-    if (!tangled(row_nodes(r))) continue;
+    if (!uncut[static_cast<std::size_t>(r)] || !tangled(row_nodes(r))) continue;
     if (triangulate(r, ring))
       replaced[static_cast<std::size_t>(r)] = 1;
     else
@@ -556,8 +563,10 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   const Index nreplaced = static_cast<Index>(std::count(replaced.begin(), replaced.end(), 1));
   IndexTable quads(nrows - nreplaced, 9), table(static_cast<Index>(triangles.size()), 6);
   std::vector<Index> ids, sources;
+  folded.clear();  // rows of `quads` still folded: uncut and not triangulated
   for (Index r = 0, q = 0; r < nrows; ++r)
     if (!replaced[static_cast<std::size_t>(r)]) {
+      if (uncut[static_cast<std::size_t>(r)] && tangled(row_nodes(r))) folded.push_back(q);
       quads.row(q++) = out.cells.row(r);
       ids.push_back(out.cell_ids[static_cast<std::size_t>(r)]);
       sources.push_back(out.source_cells[static_cast<std::size_t>(r)]);
@@ -907,7 +916,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
   if constexpr (dim == 2)
     if (mesh.cell_type == CellType::quadrilateral && nloc == 9 && !folded.empty()) {
       std::vector<std::pair<Index, Point<2>>> added;  // (local cell, reference point)
-      write_folded_quadrilaterals_as_triangles(out, mesh, map, tangled, frozen, row_corners, added);
+      write_folded_quadrilaterals_as_triangles(out, mesh, map, tangled, frozen, row_corners, folded, added);
       for (const auto& [local, xi] : added)
         out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
       if (out.num_split_cells > 0) {
@@ -915,12 +924,6 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
         for (Index r = 0; r < out.triangle_cells.rows(); ++r)
           for (Index k = 0; k < out.triangle_cells.cols(); ++k)
             fixed[static_cast<std::size_t>(out.triangle_cells(r, k))] = 1;
-        folded.clear();
-        for (Index r = 0; r < out.cells.rows(); ++r) {
-          std::vector<Index> nodes(static_cast<std::size_t>(nloc));
-          for (int k = 0; k < nloc; ++k) nodes[static_cast<std::size_t>(k)] = out.cells(r, k);
-          if (tangled(nodes)) folded.push_back(r);
-        }
       }
     }
   straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), fixed);
