@@ -219,6 +219,21 @@ AdaptiveComposite build_adaptive_composite(const VertexPath& path, const Adaptiv
                  " rounds, min det J_f = ", r.composite_min_det);
       return {map, std::move(r)};
     }
+    if (!split) {
+      // Every step is positive along the sample but the product of their
+      // Jacobians is not (floating point loses it: cancellation, underflow or
+      // overflow): splitting cannot help, and the same steps would be checked
+      // again forever.
+      std::ostringstream os;
+      os.precision(6);
+      os << "composite map is not bijective in floating point: every one of its " << map->steps()
+         << " steps has det J > 0 along the sample, but the composite's min det J is " << r.composite_min_det
+         << " (the product of the steps' Jacobians loses its sign or is not finite in floating point)";
+      throw Error(os.str(), {.file = "",
+                             .key_path = "map.target",
+                             .hint = "the polygons span too many orders of magnitude (very short edges "
+                                     "next to very long ones); rescale or simplify them"});
+    }
     times = std::move(refined);
   }
 }

@@ -297,5 +297,37 @@ TEST(CompositeMap, ExtremelyDistortedPairEndsWithinBoundedWork) {
   }
 }
 
+TEST(CompositeMap, APairWhoseCompositeDeterminantIsLostInFloatingPointIsRefusedNotCheckedForever) {
+  // Found by fuzz_make_map: coordinates from 1e-308 to 1e8. Every step of the
+  // composite is positive along the sample, but the product of their Jacobians
+  // is not (floating point loses it), so no step is split; the composite check
+  // used to repeat the same steps forever.
+  MapSpec spec;
+  spec.type = "composite_mean_value";
+  spec.coordinates = "mean_value";
+  spec.vertex_path = "linear";
+  spec.partition = "adaptive";
+  spec.steps = 1;
+  spec.times = {0, 1};
+  spec.sample_resolution = 8;
+  spec.min_interval = 1e-2;
+  spec.max_steps = 16;
+  spec.source = Polygon({Point<2>(0x1.0000001p-1017, 0x1p-623), Point<2>(0x1p-383, 0),
+                         Point<2>(0x1p-383, -0x1.4p-15), Point<2>(0x1.00000013p+0, 0x1.5p-1008)},
+                        "source polygon");
+  spec.target = Polygon({Point<2>(0, 0), Point<2>(0x0.00000c197d784p-1022, -0x1.7d78400fp+26),
+                         Point<2>(1, 0x0.000000000008cp-1022), Point<2>(0, 0x0.0c01ap-1022)},
+                        "target polygon");
+  try {
+    const MapPtr<2> f = make_map(spec);
+    Points<2> x0(1, 2), x;
+    x0 << 0.5, -1e-6;
+    f->eval(x0, x);
+    EXPECT_TRUE(x.allFinite());
+  } catch (const Error& e) {
+    EXPECT_FALSE(e.context().hint.empty()) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace warpfem::mapping
