@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # The sanitizer and fuzz check sized for a 2-core CI machine (scripts/run_tests.sh
 # runs it when CI=true or WARPFEM_SANITIZERS=1): a Clang ASan + UBSan build in
-# build-asan-ci/ (WARPFEM_SANITIZER_BUILD_DIR) of only the libFuzzer targets, test_core and test_io, compiled
-# at -O1 with line tables (about a sixth less compile time than -O2 -g, stack
-# traces keep file and line; -Wno-pass-failed: at -O1 Clang does not vectorize
-# the loops marked for it, and would say so for each); every fuzz target for 20 s from its committed
-# seeds; then test_core and test_io under the sanitizers. The whole suite under
-# the sanitizers is scripts/sanitized_tests.sh; long fuzz runs are
-# scripts/fuzz.sh --runs 1000000.
+# build-asan-ci/ (WARPFEM_SANITIZER_BUILD_DIR) of only the libFuzzer targets,
+# test_core and test_io, at -O1 with line tables (a sixth less compile time
+# than -O2 -g; reports keep file and line; -Wno-pass-failed because at -O1
+# Clang does not vectorize the loops marked for it and says so for each);
+# every fuzz target for 20 s from its committed seeds; then test_core and
+# test_io under the sanitizers. The whole suite under the sanitizers is
+# scripts/sanitized_tests.sh; long fuzz runs are scripts/fuzz.sh --runs 1000000.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export WARPFEM_BUILD_DIR="${WARPFEM_SANITIZER_BUILD_DIR:-build-asan-ci}"
