@@ -119,8 +119,10 @@ constexpr int kMaxBatchedN1 = 16;
 
 // GCC 12 reports the fully assigned lane arrays below as maybe uninitialized
 // once they are inlined into the AVX-512 clone (a false positive).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 template <int N1>
 WARPFEM_KERNEL_INLINE void evaluate_leaf8_fixed(const Real* C, const Real* u, const Real* v, int first,
                                                 int last, Real* out) {
@@ -166,7 +168,9 @@ WARPFEM_KERNEL_CLONES void evaluate_leaf8(const Real* C, int n1, const Real* u, 
                                           int last, Real* out) {
   evaluate_leaf8_dispatch(std::make_integer_sequence<int, kMaxBatchedN1>{}, C, n1, u, v, first, last, out);
 }
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 
 // One point through the batched kernel (its lane repeated), for the same values as in a batch.
 void evaluate_leaf_one(const Real* C, int n1, Real u, Real v, int first, int last, Real* out) {

@@ -173,9 +173,6 @@ inline Dual atanc(const Dual& z) {
 struct DVec {
   Dual x, y, z;
 };
-inline DVec operator-(const DVec& a, const DVec& b) {
-  return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
 inline Dual dot(const DVec& a, const DVec& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
