@@ -28,6 +28,10 @@ constexpr double kMaxCoordinate = 1e30;
 constexpr double kMinExtent = 1e-30;
 constexpr double kMinRelativeExtent = 1e-9;
 constexpr double kMinRelativeArea = 1e-12;  ///< |signed area| / squared bounding-box size
+/// Shortest edge / bounding-box size: below it the coordinates' differences
+/// underflow in the maps' products (a 1e-309 edge beside a unit edge turns a
+/// mean value weight into inf).
+constexpr double kMinRelativeEdge = 1e-9;
 
 /// %g keeps tiny and huge values readable (std::to_string prints 1e-300 as 0.000000).
 std::string number_text(double v) {
@@ -79,10 +83,17 @@ void Polygon::validate() const {
                          number_text(kMinRelativeExtent) +
                          " times its largest coordinate; rescale or move it nearer the origin"});
   for (Index i = 0; i < n; ++i) {
+    const std::string edge = "edge " + std::to_string(i) + " (vertices " + std::to_string(i) + " and " +
+                             std::to_string(wrap(i + 1)) + ")";
     if (to_cgal(vertex(i)) == to_cgal(vertex(i + 1)))
-      throw Error(name_ + ": edge " + std::to_string(i) + " (vertices " + std::to_string(i) + " and " +
-                      std::to_string(wrap(i + 1)) + ") has zero length at " + vertex_text(vertex(i)),
+      throw Error(name_ + ": " + edge + " has zero length at " + vertex_text(vertex(i)),
                   {.file = "", .key_path = "", .hint = "remove the duplicated vertex"});
+    const double length = (vertex(i + 1) - vertex(i)).norm();
+    if (length < kMinRelativeEdge * size)
+      throw Error(name_ + ": " + edge + " at " + vertex_text(vertex(i)) + " has length " + number_text(length) +
+                      ", below " + number_text(kMinRelativeEdge) + " × the bounding-box size " +
+                      number_text(size),
+                  {.file = "", .key_path = "", .hint = "merge the two nearly coincident vertices"});
   }
   // Self-intersection: non-adjacent edges must not meet; adjacent edges may
   // only share their common vertex (no fold-back along a line).

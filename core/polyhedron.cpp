@@ -30,6 +30,9 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 constexpr double kMaxCoordinate = 1e30;
 constexpr double kMinExtent = 1e-30;
 constexpr double kMinRelativeExtent = 1e-9;
+/// Shortest edge / bounding-box size, as for polygons: shorter edges are not
+/// resolved by the coordinates' differences in the maps' products.
+constexpr double kMinRelativeEdge = 1e-9;
 
 KPoint to_cgal(const Point<3>& p) {
   return KPoint(p.x(), p.y(), p.z());
@@ -206,6 +209,12 @@ void Polyhedron::validate() const {
                         " belongs to no other triangle",
                     "close the hole at this edge (or, if a neighbouring triangle has this edge with the same "
                     "direction, reverse the orientation of that triangle)");
+    const double length = (vertex(edge.second) - vertex(edge.first)).norm();
+    if (edge.first < edge.second && length < kMinRelativeEdge * size)
+      throw failure(name_ + ": edge " + edge_text + " of triangle " + std::to_string(ts[0]) + " has length " +
+                        number_text(length) + ", below " + number_text(kMinRelativeEdge) +
+                        " × the bounding-box size " + number_text(size),
+                    "merge the two nearly coincident vertices (collapse the edge)");
   }
   for (Index v = 0; v < n; ++v) {
     const auto& a = around[static_cast<std::size_t>(v)];

@@ -12,7 +12,7 @@ ParameterTable<MapSpec> make_table() {
           "comments, blank lines); any other line, including `nan`, `inf` or a number beyond double range, "
           "is an error naming the line. Coordinates must satisfy \\|x\\|, \\|y\\| ≤ 1e30, and the bounding "
           "box must be at least 1e-30 and at least 1e-9 × the largest coordinate across, with a "
-          "non-negligible area");
+          "non-negligible area and no edge shorter than 1e-9 × the box's size");
   t.other("target", "as `source`", "required unless identity",
           "Ω1, same vertex count as `source`; vertex i of the source maps to vertex i of the target");
   t.choice("coordinates", &MapSpec::coordinates, {"mean_value", "wachspress", "discrete_harmonic"},

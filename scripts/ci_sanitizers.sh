@@ -5,8 +5,10 @@
 # test_core and test_io, at -O1 with line tables (a sixth less compile time
 # than -O2 -g; reports keep file and line; -Wno-pass-failed because at -O1
 # Clang does not vectorize the loops marked for it and says so for each);
-# every fuzz target for 20 s from its committed seeds; then test_core and
-# test_io under the sanitizers. The whole suite under the sanitizers is
+# every fuzz target for 20 s from its committed seeds, with a fixed
+# mutation seed so that CI tries a prefix of the same input sequence on every
+# machine (a long local run with -seed=1 covers what CI will try); then
+# test_core and test_io under the sanitizers. The whole suite under the sanitizers is
 # scripts/sanitized_tests.sh; long fuzz runs are scripts/fuzz.sh --runs 1000000.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,5 +18,5 @@ export WARPFEM_BUILD_TARGETS="${WARPFEM_BUILD_TARGETS:-test_core test_io fuzz_co
 fast=(-O1 -gline-tables-only -DNDEBUG -Wno-pass-failed)
 bash scripts/build.sh --sanitize "-DWARPFEM_TEST_MODULES=core;io" \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=${fast[*]}" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=${fast[*]}"
-WARPFEM_FUZZ_NO_BUILD=1 bash scripts/fuzz.sh "$seconds"
+WARPFEM_FUZZ_ARGS="${WARPFEM_FUZZ_ARGS:--seed=1}" WARPFEM_FUZZ_NO_BUILD=1 bash scripts/fuzz.sh "$seconds"
 bash scripts/sanitized_tests.sh -R '^test_(core|io)$'

@@ -68,7 +68,9 @@ for t in "${targets[@]}"; do
     grep -E "^stat::number_of_executed_units|^Done [0-9]+ runs" "$log" | tail -2 | sed "s/^/  /"
   else
     echo "fuzz.sh: fuzz_$t FAILED (see $log):" >&2
-    grep -E "ERROR|runtime error|deadly signal|timeout|Test unit written" "$log" | head -8 | sed "s/^/  /" >&2
+    grep -E "ERROR|runtime error|deadly signal|timeout|Test unit written|^Base64:" "$log" | head -8 | sed "s/^/  /" >&2
+    # The stack frames below libFuzzer's own, so that a CI log alone shows where it failed.
+    grep -E "^ +#[0-9]+ " "$log" | grep -v -E "fuzzer::|__sanitizer|libc\.so|_start|__libc" | head -12 | sed "s/^/  /" >&2
     failed+=("$t")
   fi
 done

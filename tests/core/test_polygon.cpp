@@ -47,6 +47,17 @@ TEST(Polygon, RejectsZeroLengthEdge) {
   EXPECT_NE(m.find("zero length"), std::string::npos) << m;
 }
 
+TEST(Polygon, RejectsAnEdgeTooShortToResolveBesideTheOthers) {
+  // Found by fuzz_make_map: a unit triangle whose third edge is 1e-309 long
+  // passed the exact zero-length test, and its Wachspress map evaluated to NaN.
+  const std::string m = validation_message({{0, 0}, {0, -0.00177}, {1, 0}, {1e-309, 1e-309}});
+  EXPECT_NE(m.find("edge 3"), std::string::npos) << m;
+  EXPECT_NE(m.find("merge the two nearly coincident vertices"), std::string::npos) << m;
+  // At the floor's scale, a short edge is still a valid polygon.
+  EXPECT_NO_THROW(Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {1e-8, 1}, {0, 1}}));
+  EXPECT_NE(validation_message({{0, 0}, {1, 0}, {1, 1}, {1e-10, 1}, {0, 1}}).find("edge 3"), std::string::npos);
+}
+
 TEST(Polygon, RejectsFoldBackAlongALine) {
   // Vertex 2 goes back along edge 1's line: adjacent edges overlap.
   const std::string m = validation_message({{0, 0}, {2, 0}, {1, 0}, {1, 1}});

@@ -87,6 +87,18 @@ TEST(Polyhedron, RejectsDegenerateTriangle) {
   EXPECT_TRUE(contains(m, "degenerate") || contains(m, "intersects itself")) << m;
 }
 
+TEST(Polyhedron, RejectsAnEdgeTooShortToResolveBesideTheOthers) {
+  // Vertex 7 of the cube pulled to 1e-11 above vertex 3: edge 3-7 is below
+  // 1e-9 of the cage's size (the same floor as for polygons).
+  auto v = cube_vertices();
+  v[7] = Point<3>(1, 1, 1e-11);
+  const std::string m = validation_message(v, cube_triangles());
+  EXPECT_TRUE(contains(m, "edge 3-7")) << m;
+  EXPECT_TRUE(contains(m, "merge the two nearly coincident vertices")) << m;
+  v[7] = Point<3>(1, 1, 1e-8);  // short, but resolvable: not refused by this rule
+  EXPECT_FALSE(contains(validation_message(v, cube_triangles()), "nearly coincident"));
+}
+
 TEST(Polyhedron, RejectsSelfIntersectionNamingTriangles) {
   // Push vertex 7 through the opposite corner: the top and side triangles cross.
   auto v = cube_vertices();
