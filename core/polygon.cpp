@@ -90,9 +90,9 @@ void Polygon::validate() const {
                   {.file = "", .key_path = "", .hint = "remove the duplicated vertex"});
     const double length = (vertex(i + 1) - vertex(i)).norm();
     if (length < kMinRelativeEdge * size)
-      throw Error(name_ + ": " + edge + " at " + vertex_text(vertex(i)) + " has length " + number_text(length) +
-                      ", below " + number_text(kMinRelativeEdge) + " × the bounding-box size " +
-                      number_text(size),
+      throw Error(name_ + ": " + edge + " at " + vertex_text(vertex(i)) + " has length " +
+                      number_text(length) + ", below " + number_text(kMinRelativeEdge) +
+                      " × the bounding-box size " + number_text(size),
                   {.file = "", .key_path = "", .hint = "merge the two nearly coincident vertices"});
   }
   // Self-intersection: non-adjacent edges must not meet; adjacent edges may

@@ -26,6 +26,7 @@
 #include "core/collective_error.hpp"
 #include "core/error.hpp"
 #include "core/prefault.hpp"
+#include "core/timer.hpp"
 #include "io/atomic_file.hpp"
 
 namespace warpfem::io {
@@ -160,6 +161,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
   require((output.mesh != nullptr) != (output.cells != nullptr), "write_vtk: give a mesh or cells");
   // Building the grid can fail on one rank only (its piece too large): agreed on by all.
   vtkSmartPointer<vtkUnstructuredGrid> grid;
+  Stopwatch watch;
   run_collectively(comm, [&] {
     grid = output.mesh ? make_grid(output.mesh->points, output.mesh->cells, output.mesh->cell_type,
                                    output.mesh->order, output, &output.mesh->triangle_cells)
@@ -167,9 +169,12 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
                                    output.cells->order, output);
   });
 
+  log::debug("vtk: grid of ", grid->GetNumberOfPoints(), " points built in ",
+             format_seconds(watch.seconds()));
   if (size == 1) {
     const std::string path = (fs::path(directory) / (name + ".vtu")).string();
     write_atomically(path, [&](const std::string& tmp) {
+      watch.reset();
       vtkNew<vtkXMLUnstructuredGridWriter> writer;
       writer->SetInputData(grid);
       writer->SetFileName(tmp.c_str());
@@ -178,7 +183,10 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
       writer->SetCompressorType(compressor_type(output.compression));
       const int ok = writer->Write();
       check_written(*writer, ok, path);
+      log::debug("vtk: ", path, " written by VTK in ", format_seconds(watch.seconds()));
+      watch.reset();
     });
+    log::debug("vtk: synced and renamed into place in ", format_seconds(watch.seconds()));
     return path;
   }
 

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -530,6 +531,127 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
       replaced[static_cast<std::size_t>(r)] = 1;
     }
     fine_rows = std::move(still);
+  }
+  // Rows whose boundary ring still crosses: next to a vertex of Ω1 where f
+  // opens a corner, f can sweep most of the corner's angle over a sliver of
+  // the row, so even its mapped edge nodes and samples interleave. Each is
+  // written as straight triangles over boxes of its reference cell, every box
+  // corner placed by f: a box is cut along the diagonal that leaves two
+  // positive triangles, or else halved across its longer mapped sides (the
+  // sweep), down to 2^-max_level of the row; if a box is still unresolved
+  // there, the row stays as it was. Hanging nodes and the boundary follow f,
+  // not the neighbours' quadratic edges, so the pieces may overlap them by
+  // slivers: drawn untangled, not watertight.
+  constexpr int max_level = 12;
+  constexpr std::int64_t unit = std::int64_t{1} << max_level;  // lattice steps per row side
+  for (const Index r : fine_rows) {
+    const auto& corners = row_corners.empty() ? whole : row_corners[static_cast<std::size_t>(r)];
+    const Index cell = out.cell_ids[static_cast<std::size_t>(r)];
+    // Lattice point (i, j), 0 ≤ i, j ≤ unit: its reference point, f there, and its node.
+    const auto key = [](std::int64_t i, std::int64_t j) { return i * (unit + 1) + j; };
+    struct LatticePoint {
+      Point<2> xi, x;
+      Index node = std::numeric_limits<Index>::max();
+    };
+    std::unordered_map<std::int64_t, LatticePoint> lattice;
+    const auto place_points = [&](const std::vector<std::array<std::int64_t, 2>>& ij) {
+      std::vector<std::int64_t> fresh;
+      for (const auto& [i, j] : ij)
+        if (lattice.try_emplace(key(i, j)).second) fresh.push_back(key(i, j));
+      if (fresh.empty()) return;
+      const Index count = static_cast<Index>(fresh.size());
+      Points<2> xi(count, 2), x0(count, 2);
+      for (Index g = 0; g < count; ++g) {
+        const double u = static_cast<double>(fresh[static_cast<std::size_t>(g)] / (unit + 1)) / unit;
+        const double w = static_cast<double>(fresh[static_cast<std::size_t>(g)] % (unit + 1)) / unit;
+        xi.row(g) = ((1 - u) * (1 - w) * corners[0] + u * (1 - w) * corners[1] + u * w * corners[2] +
+                     (1 - u) * w * corners[3])
+                        .transpose();
+      }
+      const MatrixX weights = linear.values(xi);
+      for (Index g = 0; g < count; ++g) {
+        Point<2> x = Point<2>::Zero();
+        for (int v = 0; v < 4; ++v) x += weights(g, v) * mesh.vertex(mesh.cells(cell, v));
+        x0.row(g) = x.transpose();
+      }
+      const Points<2> x1 = warp_nodes(map, x0, nullptr);
+      for (Index g = 0; g < count; ++g) {
+        LatticePoint& p = lattice[fresh[static_cast<std::size_t>(g)]];
+        p.xi = xi.row(g).transpose();
+        p.x = x1.row(g).transpose();
+      }
+    };
+    // The row's vertices are its vertex nodes, where they are.
+    const std::array<std::array<std::int64_t, 2>, 4> vertex_ij = {
+        {{0, 0}, {unit, 0}, {unit, unit}, {0, unit}}};
+    place_points({vertex_ij.begin(), vertex_ij.end()});
+    for (int v = 0; v < 4; ++v) {
+      LatticePoint& p =
+          lattice[key(vertex_ij[static_cast<std::size_t>(v)][0], vertex_ij[static_cast<std::size_t>(v)][1])];
+      p.node = out.cells(r, v);
+      p.x = out.points.row(p.node).transpose();
+    }
+    const auto orient = [&](std::int64_t a, std::int64_t b, std::int64_t c) {
+      const Point<2>&pa = lattice[a].x, &pb = lattice[b].x, &pc = lattice[c].x;
+      return (pb(0) - pa(0)) * (pc(1) - pa(1)) - (pb(1) - pa(1)) * (pc(0) - pa(0));
+    };
+    std::vector<std::array<std::int64_t, 3>> pieces;  // lattice keys, counter-clockwise
+    std::vector<std::array<std::int64_t, 4>> boxes = {{0, 0, unit, unit}}, next;  // (i, j, width, height)
+    bool resolved = true;
+    while (!boxes.empty() && resolved) {
+      std::vector<std::array<std::int64_t, 2>> ij;
+      for (const auto& [i, j, w, h] : boxes)
+        ij.insert(ij.end(), {{i, j}, {i + w, j}, {i + w, j + h}, {i, j + h}});
+      place_points(ij);
+      next.clear();
+      for (const auto& [i, j, w, h] : boxes) {
+        const std::int64_t a = key(i, j), b = key(i + w, j), c = key(i + w, j + h), d = key(i, j + h);
+        const double along_ac = std::min(orient(a, b, c), orient(a, c, d));
+        const double along_bd = std::min(orient(a, b, d), orient(b, c, d));
+        if (std::max(along_ac, along_bd) > 0) {
+          if (along_ac >= along_bd)
+            pieces.insert(pieces.end(), {{a, b, c}, {a, c, d}});
+          else
+            pieces.insert(pieces.end(), {{a, b, d}, {b, c, d}});
+          continue;
+        }
+        // Halve the pair of opposite sides whose images are longer: f
+        // stretches the box across its sweep, so that is where it is split.
+        const double along_u = (lattice[b].x - lattice[a].x).norm() + (lattice[c].x - lattice[d].x).norm();
+        const double along_w = (lattice[d].x - lattice[a].x).norm() + (lattice[c].x - lattice[b].x).norm();
+        const bool split_u = w > 1 && (along_u >= along_w || h == 1);
+        if (split_u)
+          next.insert(next.end(), {{i, j, w / 2, h}, {i + w / 2, j, w / 2, h}});
+        else if (h > 1)
+          next.insert(next.end(), {{i, j, w, h / 2}, {i, j + h / 2, w, h / 2}});
+        else
+          resolved = false;
+      }
+      boxes.swap(next);
+    }
+    if (!resolved) continue;
+    const auto node = [&](std::int64_t k) {
+      LatticePoint& p = lattice[k];
+      if (p.node == std::numeric_limits<Index>::max()) {
+        added.push_back({r, p.xi, p.x});
+        p.node = -static_cast<Index>(added.size());
+      }
+      return p.node;
+    };
+    std::map<std::pair<std::int64_t, std::int64_t>, Index> middle;
+    const auto mid = [&](std::int64_t a, std::int64_t b) {
+      const auto [it, inserted] = middle.try_emplace({std::min(a, b), std::max(a, b)}, 0);
+      if (inserted) {
+        added.push_back({r, 0.5 * (lattice[a].xi + lattice[b].xi), 0.5 * (lattice[a].x + lattice[b].x)});
+        it->second = -static_cast<Index>(added.size());
+      }
+      return it->second;
+    };
+    for (const auto& [a, b, c] : pieces) {
+      triangles.push_back({node(a), node(b), node(c), mid(a, b), mid(b, c), mid(c, a)});
+      triangle_rows.push_back(r);
+    }
+    replaced[static_cast<std::size_t>(r)] = 1;
   }
   if (triangles.empty()) return;
 

@@ -55,7 +55,8 @@ TEST(Polygon, RejectsAnEdgeTooShortToResolveBesideTheOthers) {
   EXPECT_NE(m.find("merge the two nearly coincident vertices"), std::string::npos) << m;
   // At the floor's scale, a short edge is still a valid polygon.
   EXPECT_NO_THROW(Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {1e-8, 1}, {0, 1}}));
-  EXPECT_NE(validation_message({{0, 0}, {1, 0}, {1, 1}, {1e-10, 1}, {0, 1}}).find("edge 3"), std::string::npos);
+  EXPECT_NE(validation_message({{0, 0}, {1, 0}, {1, 1}, {1e-10, 1}, {0, 1}}).find("edge 3"),
+            std::string::npos);
 }
 
 TEST(Polygon, RejectsFoldBackAlongALine) {

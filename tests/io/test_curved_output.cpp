@@ -121,7 +121,7 @@ TEST(CurvedOutput, GearCurvedCellsAreUntangled) {
   EXPECT_EQ(result.output_folded_cells, 0);
 }
 
-TEST(CurvedOutput, DefaultExampleFoldedCellsAreSubdividedAndTheCountIsTrue) {
+TEST(CurvedOutput, DefaultExampleIsWrittenUntangled) {
   const std::string dir = "output/test_curved_output_default";
   std::filesystem::remove_all(dir);
   const auto result = apps::run(example("examples/default.json", dir, 3), MPI_COMM_SELF);
@@ -130,8 +130,11 @@ TEST(CurvedOutput, DefaultExampleFoldedCellsAreSubdividedAndTheCountIsTrue) {
   vtkUnstructuredGrid* grid = reader->GetOutput();
   // More cells than mesh cells: the folded ones were written as pieces.
   EXPECT_GT(grid->GetNumberOfCells(), result.num_cells);
-  // What the log reports as still folded is exactly what VTK sees folded.
-  EXPECT_EQ(folded_cells(grid), result.output_folded_cells);
+  // No written cell folds, judged by VTK's own shape functions at every node
+  // and on a lattice; the pieces near the tooth roots, where f sweeps most of
+  // a reflex corner over a sliver of a cell, included.
+  EXPECT_EQ(folded_cells(grid), 0);
+  EXPECT_EQ(result.output_folded_cells, 0);
   // Nodes of the pieces carry the FE solution at their place: points written
   // twice at the same position (a piece's node and its parent's) agree.
   vtkDataArray* u = grid->GetPointData()->GetArray("u");
