@@ -188,8 +188,9 @@ void for_rows_holding(const std::vector<Index>& nodes,
 // `frozen` nodes (on edges and faces another rank's cells share, whose copies
 // there would not move) stay put. The field values stay those at x0.
 template <int dim, class Tangled>
-void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int nvert, const Tangled& tangled,
-                             std::vector<Index> folded, const std::vector<char>& frozen) {
+std::vector<Index> straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int nvert,
+                                           const Tangled& tangled, std::vector<Index> folded,
+                                           const std::vector<char>& frozen) {
   const Index ncells = out.cells.rows(), nloc = out.cells.cols(), npoints = out.points.rows();
   const auto row = [&](Index c) {
     std::vector<Index> nodes(static_cast<std::size_t>(nloc));
@@ -200,7 +201,7 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
   std::vector<char> folded_before(static_cast<std::size_t>(ncells), 0);
   for (const Index c : work) folded_before[static_cast<std::size_t>(c)] = 1;
   out.num_tangled_cells = static_cast<Index>(work.size());
-  if (work.empty()) return;
+  if (work.empty()) return {};
   const auto node_cells = node_holders(out.cells, npoints);
   const std::vector<Index>&start = node_cells.first, &holders = node_cells.second;
   const Points<dim> curved = out.points;
@@ -274,12 +275,182 @@ void straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& geometry, int 
     if (pulled(node) && undone(holders[static_cast<std::size_t>(start[static_cast<std::size_t>(node)])]))
       out.points.row(node) = curved.row(node);
   out.num_straightened_cells = 0;
-  out.num_tangled_cells = 0;
+  std::vector<Index> still;
   for (Index c = 0; c < ncells; ++c) {
     const bool keep = !undone(c);
     out.num_straightened_cells += keep && straightened[static_cast<std::size_t>(c)] ? 1 : 0;
-    out.num_tangled_cells += (keep ? folded_after : folded_before)[static_cast<std::size_t>(c)];
+    if ((keep ? folded_after : folded_before)[static_cast<std::size_t>(c)]) still.push_back(c);
   }
+  out.num_tangled_cells = static_cast<Index>(still.size());
+  return still;
+}
+
+// A point of the straight pieces that replace a folded output cell: its
+// reference point in the mesh cell, f there, and its output node (−1 until written).
+struct PiecePoint {
+  Point<2> xi, x;
+  Index node = -1;
+};
+
+// Straight triangles placed by f over a folded output cell, for where f opens a
+// corner of Ω1: next to such a vertex f can sweep most of the corner's angle
+// over a sliver of a cell, at every scale, so no curved cell and no regular
+// subdivision follows it. Starting from `pending` (triangles of `points`,
+// counter-clockwise in the reference cell), a piece whose mapped vertices are
+// not positively oriented is bisected at the midpoint of its edge with the
+// longest image (across the sweep), down to `max_depth` bisections.
+// Midpoints are shared by the pieces on both sides of an edge; `place` maps
+// the reference points of new points to Ω1 (one batch per round). Returns the
+// pieces, or nothing if one is still not positive at the depth limit.
+template <class Place>
+std::vector<std::array<int, 3>> bisect_until_positive(std::vector<PiecePoint>& points,
+                                                      std::vector<std::array<int, 3>> pending,
+                                                      const Place& place) {
+  constexpr int max_depth = 40;
+  const auto at = [&](int i) -> PiecePoint& { return points[static_cast<std::size_t>(i)]; };
+  const auto orient = [&](const std::array<int, 3>& t) {
+    const Point<2>&a = at(t[0]).x, &b = at(t[1]).x, &c = at(t[2]).x;
+    return (b(0) - a(0)) * (c(1) - a(1)) - (b(1) - a(1)) * (c(0) - a(0));
+  };
+  std::map<std::pair<int, int>, int> midpoint_of;
+  std::vector<std::array<int, 3>> pieces;
+  for (int depth = 0; !pending.empty(); ++depth) {
+    std::vector<std::array<int, 3>> next;
+    std::vector<int> fresh;
+    for (const auto& t : pending) {
+      if (orient(t) > 0) {
+        pieces.push_back(t);
+        continue;
+      }
+      if (depth == max_depth) return {};
+      int longest = 0;
+      double length = -1;
+      for (int e = 0; e < 3; ++e)
+        if (const double l =
+                (at(t[static_cast<std::size_t>((e + 1) % 3)]).x - at(t[static_cast<std::size_t>(e)]).x)
+                    .norm();
+            l > length)
+          length = l, longest = e;
+      const int a = t[static_cast<std::size_t>(longest)], b = t[static_cast<std::size_t>((longest + 1) % 3)],
+                c = t[static_cast<std::size_t>((longest + 2) % 3)];
+      const auto [it, inserted] =
+          midpoint_of.try_emplace({std::min(a, b), std::max(a, b)}, static_cast<int>(points.size()));
+      if (inserted) {
+        points.push_back({0.5 * (at(a).xi + at(b).xi), Point<2>::Zero(), -1});
+        fresh.push_back(it->second);
+      }
+      next.push_back({a, it->second, c});
+      next.push_back({it->second, b, c});
+    }
+    if (!fresh.empty()) place(points, fresh);
+    pending.swap(next);
+  }
+  return pieces;
+}
+
+// Ω0 positions of reference points of mesh cell `cell` (its straight geometry).
+Points<2> cell_points(const Mesh<2>& mesh, Index cell, const Points<2>& xi) {
+  const MatrixX weights = LagrangeElement<2>(mesh.cell_type, 1).values(xi);
+  Points<2> x0(xi.rows(), 2);
+  for (Index j = 0; j < xi.rows(); ++j) {
+    Point<2> x = Point<2>::Zero();
+    for (Index v = 0; v < weights.cols(); ++v) x += weights(j, v) * mesh.vertex(mesh.cells(cell, v));
+    x0.row(j) = x.transpose();
+  }
+  return x0;
+}
+
+// f at the reference points `fresh` of `points` in mesh cell `cell`.
+auto placer(const Mesh<2>& mesh, const mapping::Map<2>& map, Index cell) {
+  return [&mesh, &map, cell](std::vector<PiecePoint>& points, const std::vector<int>& fresh) {
+    Points<2> xi(static_cast<Index>(fresh.size()), 2);
+    for (std::size_t j = 0; j < fresh.size(); ++j)
+      xi.row(static_cast<Index>(j)) = points[static_cast<std::size_t>(fresh[j])].xi.transpose();
+    const Points<2> x1 = warp_nodes(map, cell_points(mesh, cell, xi), nullptr);
+    for (std::size_t j = 0; j < fresh.size(); ++j)
+      points[static_cast<std::size_t>(fresh[j])].x = x1.row(static_cast<Index>(j)).transpose();
+  };
+}
+
+// Triangles that still fold after subdivision and straightening are replaced
+// by straight pieces (bisect_until_positive): the first in the row's place,
+// the others appended. Hanging nodes and the boundary follow f, not the
+// neighbours' quadratic edges (untangled, not watertight). A row with a
+// piece still negative at the depth limit stays as it was. Returns the rows
+// replaced.
+Index cut_folded_triangles(OutputMesh<2>& out, const Mesh<2>& mesh, const mapping::Map<2>& map,
+                           const std::vector<std::array<Point<2>, 4>>& row_corners,
+                           const std::vector<Index>& rows,
+                           std::vector<std::pair<Index, Point<2>>>& added_sources) {
+  const LagrangeElement<2> linear(CellType::triangle, 1);
+  Index replaced = 0;
+  for (const Index r : rows) {
+    const Index cell = out.cell_ids[static_cast<std::size_t>(r)];
+    std::vector<PiecePoint> points;
+    for (int v = 0; v < 3; ++v) {
+      const Point<2> xi = row_corners.empty()
+                              ? Point<2>(linear.nodes().row(v).transpose())
+                              : row_corners[static_cast<std::size_t>(r)][static_cast<std::size_t>(v)];
+      points.push_back({xi, out.points.row(out.cells(r, v)).transpose(), out.cells(r, v)});
+    }
+    const auto pieces = bisect_until_positive(points, {{0, 1, 2}}, placer(mesh, map, cell));
+    if (pieces.empty()) continue;
+    // New nodes: the pieces' vertices placed by f, and their edge midpoints (straight edges).
+    std::vector<std::pair<Point<2>, Point<2>>> fresh;  // (xi, x)
+    const Index first_new = out.points.rows();
+    const auto new_node = [&](const Point<2>& xi, const Point<2>& x) {
+      fresh.emplace_back(xi, x);
+      return first_new + static_cast<Index>(fresh.size()) - 1;
+    };
+    const auto vertex_node = [&](int p) {
+      PiecePoint& q = points[static_cast<std::size_t>(p)];
+      if (q.node < 0) q.node = new_node(q.xi, q.x);
+      return q.node;
+    };
+    std::map<std::pair<int, int>, Index> edge_node;
+    const auto mid_node = [&](int a, int b) {
+      const auto [it, inserted] = edge_node.try_emplace({std::min(a, b), std::max(a, b)}, 0);
+      if (inserted) {
+        const PiecePoint &p = points[static_cast<std::size_t>(a)], &q = points[static_cast<std::size_t>(b)];
+        it->second = new_node(0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x));
+      }
+      return it->second;
+    };
+    std::vector<std::array<Index, 6>> rows_out;
+    for (const auto& [a, b, c] : pieces)
+      rows_out.push_back(
+          {vertex_node(a), vertex_node(b), vertex_node(c), mid_node(a, b), mid_node(b, c), mid_node(c, a)});
+    const Index nfresh = static_cast<Index>(fresh.size());
+    Points<2> xi(nfresh, 2);
+    for (Index j = 0; j < nfresh; ++j) {
+      xi.row(j) = fresh[static_cast<std::size_t>(j)].first.transpose();
+      added_sources.emplace_back(out.source_cells[static_cast<std::size_t>(r)],
+                                 fresh[static_cast<std::size_t>(j)].first);
+    }
+    const Points<2> x0 = cell_points(mesh, cell, xi);
+    VectorX det;
+    warp_nodes(map, x0, &det);
+    out.reference_points.conservativeResize(first_new + nfresh, 2);
+    out.points.conservativeResize(first_new + nfresh, 2);
+    out.map_det.conservativeResize(first_new + nfresh);
+    out.reference_points.bottomRows(nfresh) = x0;
+    for (Index j = 0; j < nfresh; ++j)
+      out.points.row(first_new + j) = fresh[static_cast<std::size_t>(j)].second.transpose();
+    out.map_det.tail(nfresh) = det;
+    const Index old_rows = out.cells.rows(), extra = static_cast<Index>(rows_out.size()) - 1;
+    out.cells.conservativeResize(old_rows + extra, 6);
+    for (std::size_t p = 0; p < rows_out.size(); ++p) {
+      const Index row = p == 0 ? r : old_rows + static_cast<Index>(p) - 1;
+      for (int k = 0; k < 6; ++k)
+        out.cells(row, k) = static_cast<TableIndex>(rows_out[p][static_cast<std::size_t>(k)]);
+      if (p > 0) {
+        out.cell_ids.push_back(out.cell_ids[static_cast<std::size_t>(r)]);
+        out.source_cells.push_back(out.source_cells[static_cast<std::size_t>(r)]);
+      }
+    }
+    ++replaced;
+  }
+  return replaced;
 }
 
 // Quadratic quadrilaterals that fold even as straight cells: where f opens a
@@ -384,7 +555,7 @@ template <class Tangled>
 void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>& mesh,
                                               const mapping::Map<2>& map, const Tangled& tangled,
                                               const std::vector<char>& frozen,
-                                              const std::vector<std::array<Point<2>, 4>>& row_corners,
+                                              std::vector<std::array<Point<2>, 4>>& row_corners,
                                               std::vector<Index>& folded,
                                               std::vector<std::pair<Index, Point<2>>>& added_sources) {
   std::vector<char> uncut;
@@ -532,121 +703,34 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
     }
     fine_rows = std::move(still);
   }
-  // Rows whose boundary ring still crosses: next to a vertex of Ω1 where f
-  // opens a corner, f can sweep most of the corner's angle over a sliver of
-  // the row, so even its mapped edge nodes and samples interleave. Each is
-  // written as straight triangles over boxes of its reference cell, every box
-  // corner placed by f: a box is cut along the diagonal that leaves two
-  // positive triangles, or else halved across its longer mapped sides (the
-  // sweep), down to 2^-max_level of the row; if a box is still unresolved
-  // there, the row stays as it was. Hanging nodes and the boundary follow f,
-  // not the neighbours' quadratic edges, so the pieces may overlap them by
-  // slivers: drawn untangled, not watertight.
-  constexpr int max_level = 12;
-  constexpr std::int64_t unit = std::int64_t{1} << max_level;  // lattice steps per row side
+  // Rows whose boundary ring still crosses (next to a vertex of Ω1 where f
+  // opens a corner): straight pieces placed by f (bisect_until_positive),
+  // from the row's two triangles along diagonal 0–2.
   for (const Index r : fine_rows) {
     const auto& corners = row_corners.empty() ? whole : row_corners[static_cast<std::size_t>(r)];
-    const Index cell = out.cell_ids[static_cast<std::size_t>(r)];
-    // Lattice point (i, j), 0 ≤ i, j ≤ unit: its reference point, f there, and its node.
-    const auto key = [](std::int64_t i, std::int64_t j) { return i * (unit + 1) + j; };
-    struct LatticePoint {
-      Point<2> xi, x;
-      Index node = std::numeric_limits<Index>::max();
-    };
-    std::unordered_map<std::int64_t, LatticePoint> lattice;
-    const auto place_points = [&](const std::vector<std::array<std::int64_t, 2>>& ij) {
-      std::vector<std::int64_t> fresh;
-      for (const auto& [i, j] : ij)
-        if (lattice.try_emplace(key(i, j)).second) fresh.push_back(key(i, j));
-      if (fresh.empty()) return;
-      const Index count = static_cast<Index>(fresh.size());
-      Points<2> xi(count, 2), x0(count, 2);
-      for (Index g = 0; g < count; ++g) {
-        const double u = static_cast<double>(fresh[static_cast<std::size_t>(g)] / (unit + 1)) / unit;
-        const double w = static_cast<double>(fresh[static_cast<std::size_t>(g)] % (unit + 1)) / unit;
-        xi.row(g) = ((1 - u) * (1 - w) * corners[0] + u * (1 - w) * corners[1] + u * w * corners[2] +
-                     (1 - u) * w * corners[3])
-                        .transpose();
-      }
-      const MatrixX weights = linear.values(xi);
-      for (Index g = 0; g < count; ++g) {
-        Point<2> x = Point<2>::Zero();
-        for (int v = 0; v < 4; ++v) x += weights(g, v) * mesh.vertex(mesh.cells(cell, v));
-        x0.row(g) = x.transpose();
-      }
-      const Points<2> x1 = warp_nodes(map, x0, nullptr);
-      for (Index g = 0; g < count; ++g) {
-        LatticePoint& p = lattice[fresh[static_cast<std::size_t>(g)]];
-        p.xi = xi.row(g).transpose();
-        p.x = x1.row(g).transpose();
-      }
-    };
-    // The row's vertices are its vertex nodes, where they are.
-    const std::array<std::array<std::int64_t, 2>, 4> vertex_ij = {
-        {{0, 0}, {unit, 0}, {unit, unit}, {0, unit}}};
-    place_points({vertex_ij.begin(), vertex_ij.end()});
-    for (int v = 0; v < 4; ++v) {
-      LatticePoint& p =
-          lattice[key(vertex_ij[static_cast<std::size_t>(v)][0], vertex_ij[static_cast<std::size_t>(v)][1])];
-      p.node = out.cells(r, v);
-      p.x = out.points.row(p.node).transpose();
-    }
-    const auto orient = [&](std::int64_t a, std::int64_t b, std::int64_t c) {
-      const Point<2>&pa = lattice[a].x, &pb = lattice[b].x, &pc = lattice[c].x;
-      return (pb(0) - pa(0)) * (pc(1) - pa(1)) - (pb(1) - pa(1)) * (pc(0) - pa(0));
-    };
-    std::vector<std::array<std::int64_t, 3>> pieces;  // lattice keys, counter-clockwise
-    std::vector<std::array<std::int64_t, 4>> boxes = {{0, 0, unit, unit}}, next;  // (i, j, width, height)
-    bool resolved = true;
-    while (!boxes.empty() && resolved) {
-      std::vector<std::array<std::int64_t, 2>> ij;
-      for (const auto& [i, j, w, h] : boxes)
-        ij.insert(ij.end(), {{i, j}, {i + w, j}, {i + w, j + h}, {i, j + h}});
-      place_points(ij);
-      next.clear();
-      for (const auto& [i, j, w, h] : boxes) {
-        const std::int64_t a = key(i, j), b = key(i + w, j), c = key(i + w, j + h), d = key(i, j + h);
-        const double along_ac = std::min(orient(a, b, c), orient(a, c, d));
-        const double along_bd = std::min(orient(a, b, d), orient(b, c, d));
-        if (std::max(along_ac, along_bd) > 0) {
-          if (along_ac >= along_bd)
-            pieces.insert(pieces.end(), {{a, b, c}, {a, c, d}});
-          else
-            pieces.insert(pieces.end(), {{a, b, d}, {b, c, d}});
-          continue;
-        }
-        // Halve the pair of opposite sides whose images are longer: f
-        // stretches the box across its sweep, so that is where it is split.
-        const double along_u = (lattice[b].x - lattice[a].x).norm() + (lattice[c].x - lattice[d].x).norm();
-        const double along_w = (lattice[d].x - lattice[a].x).norm() + (lattice[c].x - lattice[b].x).norm();
-        const bool split_u = w > 1 && (along_u >= along_w || h == 1);
-        if (split_u)
-          next.insert(next.end(), {{i, j, w / 2, h}, {i + w / 2, j, w / 2, h}});
-        else if (h > 1)
-          next.insert(next.end(), {{i, j, w, h / 2}, {i, j + h / 2, w, h / 2}});
-        else
-          resolved = false;
-      }
-      boxes.swap(next);
-    }
-    if (!resolved) continue;
-    const auto node = [&](std::int64_t k) {
-      LatticePoint& p = lattice[k];
-      if (p.node == std::numeric_limits<Index>::max()) {
+    std::vector<PiecePoint> points;
+    for (int v = 0; v < 4; ++v)
+      points.push_back({corners[static_cast<std::size_t>(v)], out.points.row(out.cells(r, v)).transpose(),
+                        out.cells(r, v)});
+    const auto pieces = bisect_until_positive(points, {{0, 1, 2}, {0, 2, 3}},
+                                              placer(mesh, map, out.cell_ids[static_cast<std::size_t>(r)]));
+    if (pieces.empty()) continue;
+    for (auto& p : points)
+      if (p.node < 0) {
         added.push_back({r, p.xi, p.x});
         p.node = -static_cast<Index>(added.size());
       }
-      return p.node;
-    };
-    std::map<std::pair<std::int64_t, std::int64_t>, Index> middle;
-    const auto mid = [&](std::int64_t a, std::int64_t b) {
+    std::map<std::pair<int, int>, Index> middle;
+    const auto mid = [&](int a, int b) {
       const auto [it, inserted] = middle.try_emplace({std::min(a, b), std::max(a, b)}, 0);
       if (inserted) {
-        added.push_back({r, 0.5 * (lattice[a].xi + lattice[b].xi), 0.5 * (lattice[a].x + lattice[b].x)});
+        const PiecePoint &p = points[static_cast<std::size_t>(a)], &q = points[static_cast<std::size_t>(b)];
+        added.push_back({r, 0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x)});
         it->second = -static_cast<Index>(added.size());
       }
       return it->second;
     };
+    const auto node = [&](int i) { return points[static_cast<std::size_t>(i)].node; };
     for (const auto& [a, b, c] : pieces) {
       triangles.push_back({node(a), node(b), node(c), mid(a, b), mid(b, c), mid(c, a)});
       triangle_rows.push_back(r);
@@ -680,11 +764,13 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
     out.points.row(first_new + j) = added[static_cast<std::size_t>(j)].x.transpose();
   out.map_det.tail(nadded) = det;
 
-  // Rows: the quadrilaterals kept, then the triangles (VTK order: corners, then
-  // the nodes of edges 01, 12, 20).
+  // Rows: the quadrilaterals kept, then the triangles of an earlier call, then
+  // the new triangles (VTK order: corners, then the nodes of edges 01, 12, 20).
   const Index nreplaced = static_cast<Index>(std::count(replaced.begin(), replaced.end(), 1));
-  IndexTable quads(nrows - nreplaced, 9), table(static_cast<Index>(triangles.size()), 6);
+  const Index nold = out.triangle_cells.rows();
+  IndexTable quads(nrows - nreplaced, 9), table(nold + static_cast<Index>(triangles.size()), 6);
   std::vector<Index> ids, sources;
+  std::vector<std::array<Point<2>, 4>> corners_kept;
   folded.clear();  // rows of `quads` still folded: uncut and not triangulated
   for (Index r = 0, q = 0; r < nrows; ++r)
     if (!replaced[static_cast<std::size_t>(r)]) {
@@ -692,11 +778,17 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
       quads.row(q++) = out.cells.row(r);
       ids.push_back(out.cell_ids[static_cast<std::size_t>(r)]);
       sources.push_back(out.source_cells[static_cast<std::size_t>(r)]);
+      if (!row_corners.empty()) corners_kept.push_back(row_corners[static_cast<std::size_t>(r)]);
     }
+  table.topRows(nold) = out.triangle_cells;
+  for (Index t = 0; t < nold; ++t) {
+    ids.push_back(out.cell_ids[static_cast<std::size_t>(nrows + t)]);
+    sources.push_back(out.source_cells[static_cast<std::size_t>(nrows + t)]);
+  }
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     for (int k = 0; k < 6; ++k) {
       const Index n = triangles[t][static_cast<std::size_t>(k)];
-      table(static_cast<Index>(t), k) = static_cast<TableIndex>(n >= 0 ? n : first_new + (-n - 1));
+      table(nold + static_cast<Index>(t), k) = static_cast<TableIndex>(n >= 0 ? n : first_new + (-n - 1));
     }
     ids.push_back(out.cell_ids[static_cast<std::size_t>(triangle_rows[t])]);
     sources.push_back(out.source_cells[static_cast<std::size_t>(triangle_rows[t])]);
@@ -705,7 +797,8 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   out.triangle_cells = std::move(table);
   out.cell_ids = std::move(ids);
   out.source_cells = std::move(sources);
-  out.num_split_cells = nreplaced;
+  if (!row_corners.empty()) row_corners = std::move(corners_kept);
+  out.num_split_cells += nreplaced;
 }
 
 // Written triangles (OutputMesh::triangle_cells) whose geometry folds.
@@ -1048,7 +1141,28 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
             fixed[static_cast<std::size_t>(out.triangle_cells(r, k))] = 1;
       }
     }
-  straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), fixed);
+  const std::vector<Index> still =
+      straighten_folded_cells(out, geometry, nvert, tangled, std::move(folded), fixed);
+  if constexpr (dim == 2)
+    if (mesh.cell_type == CellType::quadrilateral && nloc == 9 && !still.empty()) {
+      // Quadrilaterals the pulls did not untangle (or folded): cut as above,
+      // now without moving any node of the cells written so far.
+      std::vector<Index> rows = still;
+      std::vector<std::pair<Index, Point<2>>> added;
+      write_folded_quadrilaterals_as_triangles(out, mesh, map, tangled, fixed, row_corners, rows, added);
+      for (const auto& [local, xi] : added)
+        out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
+      out.num_tangled_cells = static_cast<Index>(rows.size());  // the quadrilaterals still folded
+    }
+  if constexpr (dim == 2)
+    if (mesh.cell_type == CellType::triangle && nloc == 6 && !still.empty()) {
+      std::vector<std::pair<Index, Point<2>>> added;  // (local cell, reference point)
+      const Index cut = cut_folded_triangles(out, mesh, map, row_corners, still, added);
+      for (const auto& [local, xi] : added)
+        out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
+      out.num_split_cells += cut;
+      out.num_tangled_cells -= cut;
+    }
   if constexpr (dim == 2) out.num_tangled_cells += folded_triangles(out);
   log::debug("output mesh: fold check in ", format_seconds(watch.seconds()), " (CPU ",
              format_seconds(process_cpu_seconds() - cpu), ")");
@@ -1069,7 +1183,7 @@ void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out) {
               "smooth enough for curved cells to follow it; the solution is unaffected");
   if (counts[3] > 0)
     log::info("output: ", counts[3],
-              " quadrilaterals written as straight triangles (even their straight cell folded: f opens a "
+              " cells written as straight triangles (even their straight cell folded: f opens a "
               "corner or turns sharply there); the solution is unaffected");
   if (counts[4] > 0)
     log::warning("output: ", counts[4],

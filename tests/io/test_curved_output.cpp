@@ -121,6 +121,18 @@ TEST(CurvedOutput, GearCurvedCellsAreUntangled) {
   EXPECT_EQ(result.output_folded_cells, 0);
 }
 
+TEST(CurvedOutput, PulledBackGearTrianglesAreWrittenUntangled) {
+  // Quadratic triangles: five cells at tooth-root vertices fold after
+  // subdivision and straightening, and are cut into straight triangles.
+  const std::string dir = "output/test_curved_output_gear64";
+  std::filesystem::remove_all(dir);
+  const auto result = apps::run(example("examples/poisson_gear64_pullback.json", dir, 3), MPI_COMM_SELF);
+  auto reader = read(result.output_file);
+  EXPECT_GT(reader->GetOutput()->GetNumberOfCells(), result.num_cells);
+  EXPECT_EQ(folded_cells(reader->GetOutput()), 0);
+  EXPECT_EQ(result.output_folded_cells, 0);
+}
+
 TEST(CurvedOutput, DefaultExampleIsWrittenUntangled) {
   const std::string dir = "output/test_curved_output_default";
   std::filesystem::remove_all(dir);
