@@ -287,35 +287,38 @@ std::vector<Index> straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& 
 
 // A point of the straight pieces that replace a folded output cell: its
 // reference point in the mesh cell, f there, and its output node (−1 until written).
+template <int dim>
 struct PiecePoint {
-  Point<2> xi, x;
+  Point<dim> xi, x;
   Index node = -1;
 };
+template <int dim>
+using Simplex = std::array<int, dim + 1>;
 
-// Straight triangles placed by f over a folded output cell, for where f opens a
-// corner of Ω1: next to such a vertex f can sweep most of the corner's angle
+// Straight simplices placed by f over a folded output cell, for where f opens
+// a corner or edge of Ω1: next to it f can sweep most of the corner's angle
 // over a sliver of a cell, at every scale, so no curved cell and no regular
-// subdivision follows it. Starting from `pending` (triangles of `points`,
-// counter-clockwise in the reference cell), a piece whose mapped vertices are
-// not positively oriented is bisected at the midpoint of its edge with the
-// longest image (across the sweep), down to `max_depth` bisections.
+// subdivision follows it. Starting from `pending` (simplices of `points`,
+// positively oriented in the reference cell), a piece whose mapped vertices
+// are not positively oriented is bisected at the midpoint of its edge with
+// the longest image (across the sweep), down to `max_depth` bisections.
 // Midpoints are shared by the pieces on both sides of an edge; `place` maps
 // the reference points of new points to Ω1 (one batch per round). Returns the
 // pieces, or nothing if one is still not positive at the depth limit.
-template <class Place>
-std::vector<std::array<int, 3>> bisect_until_positive(std::vector<PiecePoint>& points,
-                                                      std::vector<std::array<int, 3>> pending,
-                                                      const Place& place) {
+template <int dim, class Place>
+std::vector<Simplex<dim>> bisect_until_positive(std::vector<PiecePoint<dim>>& points,
+                                                std::vector<Simplex<dim>> pending, const Place& place) {
   constexpr int max_depth = 40;
-  const auto at = [&](int i) -> PiecePoint& { return points[static_cast<std::size_t>(i)]; };
-  const auto orient = [&](const std::array<int, 3>& t) {
-    const Point<2>&a = at(t[0]).x, &b = at(t[1]).x, &c = at(t[2]).x;
-    return (b(0) - a(0)) * (c(1) - a(1)) - (b(1) - a(1)) * (c(0) - a(0));
+  const auto at = [&](int i) -> PiecePoint<dim>& { return points[static_cast<std::size_t>(i)]; };
+  const auto orient = [&](const Simplex<dim>& t) {
+    Matrix<dim> edges;
+    for (int d = 0; d < dim; ++d) edges.col(d) = at(t[static_cast<std::size_t>(d + 1)]).x - at(t[0]).x;
+    return edges.determinant();
   };
   std::map<std::pair<int, int>, int> midpoint_of;
-  std::vector<std::array<int, 3>> pieces;
+  std::vector<Simplex<dim>> pieces;
   for (int depth = 0; !pending.empty(); ++depth) {
-    std::vector<std::array<int, 3>> next;
+    std::vector<Simplex<dim>> next;
     std::vector<int> fresh;
     for (const auto& t : pending) {
       if (orient(t) > 0) {
@@ -323,24 +326,25 @@ std::vector<std::array<int, 3>> bisect_until_positive(std::vector<PiecePoint>& p
         continue;
       }
       if (depth == max_depth) return {};
-      int longest = 0;
+      std::size_t i_long = 0, j_long = 1;
       double length = -1;
-      for (int e = 0; e < 3; ++e)
-        if (const double l =
-                (at(t[static_cast<std::size_t>((e + 1) % 3)]).x - at(t[static_cast<std::size_t>(e)]).x)
-                    .norm();
-            l > length)
-          length = l, longest = e;
-      const int a = t[static_cast<std::size_t>(longest)], b = t[static_cast<std::size_t>((longest + 1) % 3)],
-                c = t[static_cast<std::size_t>((longest + 2) % 3)];
+      for (std::size_t i = 0; i <= dim; ++i)
+        for (std::size_t j = i + 1; j <= dim; ++j)
+          if (const double l = (at(t[j]).x - at(t[i]).x).norm(); l > length)
+            length = l, i_long = i, j_long = j;
+      const int a = t[i_long], b = t[j_long];
       const auto [it, inserted] =
           midpoint_of.try_emplace({std::min(a, b), std::max(a, b)}, static_cast<int>(points.size()));
       if (inserted) {
-        points.push_back({0.5 * (at(a).xi + at(b).xi), Point<2>::Zero(), -1});
+        points.push_back({0.5 * (at(a).xi + at(b).xi), Point<dim>::Zero(), -1});
         fresh.push_back(it->second);
       }
-      next.push_back({a, it->second, c});
-      next.push_back({it->second, b, c});
+      // The midpoint in place of either end keeps the orientation.
+      Simplex<dim> first = t, second = t;
+      first[j_long] = it->second;
+      second[i_long] = it->second;
+      next.push_back(first);
+      next.push_back(second);
     }
     if (!fresh.empty()) place(points, fresh);
     pending.swap(next);
@@ -349,11 +353,12 @@ std::vector<std::array<int, 3>> bisect_until_positive(std::vector<PiecePoint>& p
 }
 
 // Ω0 positions of reference points of mesh cell `cell` (its straight geometry).
-Points<2> cell_points(const Mesh<2>& mesh, Index cell, const Points<2>& xi) {
-  const MatrixX weights = LagrangeElement<2>(mesh.cell_type, 1).values(xi);
-  Points<2> x0(xi.rows(), 2);
+template <int dim>
+Points<dim> cell_points(const Mesh<dim>& mesh, Index cell, const Points<dim>& xi) {
+  const MatrixX weights = LagrangeElement<dim>(mesh.cell_type, 1).values(xi);
+  Points<dim> x0(xi.rows(), dim);
   for (Index j = 0; j < xi.rows(); ++j) {
-    Point<2> x = Point<2>::Zero();
+    Point<dim> x = Point<dim>::Zero();
     for (Index v = 0; v < weights.cols(); ++v) x += weights(j, v) * mesh.vertex(mesh.cells(cell, v));
     x0.row(j) = x.transpose();
   }
@@ -361,87 +366,93 @@ Points<2> cell_points(const Mesh<2>& mesh, Index cell, const Points<2>& xi) {
 }
 
 // f at the reference points `fresh` of `points` in mesh cell `cell`.
-auto placer(const Mesh<2>& mesh, const mapping::Map<2>& map, Index cell) {
-  return [&mesh, &map, cell](std::vector<PiecePoint>& points, const std::vector<int>& fresh) {
-    Points<2> xi(static_cast<Index>(fresh.size()), 2);
+template <int dim>
+auto placer(const Mesh<dim>& mesh, const mapping::Map<dim>& map, Index cell) {
+  return [&mesh, &map, cell](std::vector<PiecePoint<dim>>& points, const std::vector<int>& fresh) {
+    Points<dim> xi(static_cast<Index>(fresh.size()), dim);
     for (std::size_t j = 0; j < fresh.size(); ++j)
       xi.row(static_cast<Index>(j)) = points[static_cast<std::size_t>(fresh[j])].xi.transpose();
-    const Points<2> x1 = warp_nodes(map, cell_points(mesh, cell, xi), nullptr);
+    const Points<dim> x1 = warp_nodes(map, cell_points(mesh, cell, xi), nullptr);
     for (std::size_t j = 0; j < fresh.size(); ++j)
       points[static_cast<std::size_t>(fresh[j])].x = x1.row(static_cast<Index>(j)).transpose();
   };
 }
 
-// Triangles that still fold after subdivision and straightening are replaced
-// by straight pieces (bisect_until_positive): the first in the row's place,
-// the others appended. Hanging nodes and the boundary follow f, not the
-// neighbours' quadratic edges (untangled, not watertight). A row with a
-// piece still negative at the depth limit stays as it was. Returns the rows
+// Quadratic triangles and tetrahedra that still fold after subdivision and
+// straightening are replaced by straight pieces (bisect_until_positive),
+// their edge nodes on the chords: the first in the row's place, the others
+// appended. Hanging nodes and the boundary follow f, not the neighbours'
+// quadratic edges and faces (untangled, not watertight). A row with a piece
+// still negative at the depth limit stays as it was. `corner(row, v)` is the
+// reference point of the row's vertex v in its mesh cell. Returns the rows
 // replaced.
-Index cut_folded_triangles(OutputMesh<2>& out, const Mesh<2>& mesh, const mapping::Map<2>& map,
-                           const std::vector<std::array<Point<2>, 4>>& row_corners,
-                           const std::vector<Index>& rows,
-                           std::vector<std::pair<Index, Point<2>>>& added_sources) {
-  const LagrangeElement<2> linear(CellType::triangle, 1);
+template <int dim, class Corner>
+Index cut_folded_simplices(OutputMesh<dim>& out, const Mesh<dim>& mesh, const mapping::Map<dim>& map,
+                           const Corner& corner, const std::vector<Index>& rows,
+                           std::vector<std::pair<Index, Point<dim>>>& added_sources) {
+  const auto& edges = cell_edges(mesh.cell_type);
+  const Index nloc = out.cells.cols();
   Index replaced = 0;
   for (const Index r : rows) {
     const Index cell = out.cell_ids[static_cast<std::size_t>(r)];
-    std::vector<PiecePoint> points;
-    for (int v = 0; v < 3; ++v) {
-      const Point<2> xi = row_corners.empty()
-                              ? Point<2>(linear.nodes().row(v).transpose())
-                              : row_corners[static_cast<std::size_t>(r)][static_cast<std::size_t>(v)];
-      points.push_back({xi, out.points.row(out.cells(r, v)).transpose(), out.cells(r, v)});
+    std::vector<PiecePoint<dim>> points;
+    Simplex<dim> whole;
+    for (int v = 0; v <= dim; ++v) {
+      points.push_back({corner(r, v), out.points.row(out.cells(r, v)).transpose(), out.cells(r, v)});
+      whole[static_cast<std::size_t>(v)] = v;
     }
-    const auto pieces = bisect_until_positive(points, {{0, 1, 2}}, placer(mesh, map, cell));
+    const auto pieces = bisect_until_positive<dim>(points, {whole}, placer(mesh, map, cell));
     if (pieces.empty()) continue;
     // New nodes: the pieces' vertices placed by f, and their edge midpoints (straight edges).
-    std::vector<std::pair<Point<2>, Point<2>>> fresh;  // (xi, x)
+    std::vector<std::pair<Point<dim>, Point<dim>>> fresh;  // (xi, x)
     const Index first_new = out.points.rows();
-    const auto new_node = [&](const Point<2>& xi, const Point<2>& x) {
+    const auto new_node = [&](const Point<dim>& xi, const Point<dim>& x) {
       fresh.emplace_back(xi, x);
       return first_new + static_cast<Index>(fresh.size()) - 1;
     };
-    const auto vertex_node = [&](int p) {
-      PiecePoint& q = points[static_cast<std::size_t>(p)];
-      if (q.node < 0) q.node = new_node(q.xi, q.x);
-      return q.node;
-    };
     std::map<std::pair<int, int>, Index> edge_node;
-    const auto mid_node = [&](int a, int b) {
-      const auto [it, inserted] = edge_node.try_emplace({std::min(a, b), std::max(a, b)}, 0);
-      if (inserted) {
-        const PiecePoint &p = points[static_cast<std::size_t>(a)], &q = points[static_cast<std::size_t>(b)];
-        it->second = new_node(0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x));
+    std::vector<std::vector<Index>> rows_out;
+    for (const auto& t : pieces) {
+      std::vector<Index> row;
+      for (const int p : t) {
+        PiecePoint<dim>& q = points[static_cast<std::size_t>(p)];
+        if (q.node < 0) q.node = new_node(q.xi, q.x);
+        row.push_back(q.node);
       }
-      return it->second;
-    };
-    std::vector<std::array<Index, 6>> rows_out;
-    for (const auto& [a, b, c] : pieces)
-      rows_out.push_back(
-          {vertex_node(a), vertex_node(b), vertex_node(c), mid_node(a, b), mid_node(b, c), mid_node(c, a)});
+      for (const auto& e : edges) {
+        const int a = t[static_cast<std::size_t>(e[0])], b = t[static_cast<std::size_t>(e[1])];
+        const auto [it, inserted] = edge_node.try_emplace({std::min(a, b), std::max(a, b)}, 0);
+        if (inserted) {
+          const PiecePoint<dim>&p = points[static_cast<std::size_t>(a)],
+                &q = points[static_cast<std::size_t>(b)];
+          it->second = new_node(0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x));
+        }
+        row.push_back(it->second);
+      }
+      rows_out.push_back(std::move(row));
+    }
     const Index nfresh = static_cast<Index>(fresh.size());
-    Points<2> xi(nfresh, 2);
+    Points<dim> xi(nfresh, dim);
     for (Index j = 0; j < nfresh; ++j) {
       xi.row(j) = fresh[static_cast<std::size_t>(j)].first.transpose();
       added_sources.emplace_back(out.source_cells[static_cast<std::size_t>(r)],
                                  fresh[static_cast<std::size_t>(j)].first);
     }
-    const Points<2> x0 = cell_points(mesh, cell, xi);
+    const Points<dim> x0 = cell_points(mesh, cell, xi);
     VectorX det;
     warp_nodes(map, x0, &det);
-    out.reference_points.conservativeResize(first_new + nfresh, 2);
-    out.points.conservativeResize(first_new + nfresh, 2);
+    out.reference_points.conservativeResize(first_new + nfresh, dim);
+    out.points.conservativeResize(first_new + nfresh, dim);
     out.map_det.conservativeResize(first_new + nfresh);
     out.reference_points.bottomRows(nfresh) = x0;
     for (Index j = 0; j < nfresh; ++j)
       out.points.row(first_new + j) = fresh[static_cast<std::size_t>(j)].second.transpose();
     out.map_det.tail(nfresh) = det;
     const Index old_rows = out.cells.rows(), extra = static_cast<Index>(rows_out.size()) - 1;
-    out.cells.conservativeResize(old_rows + extra, 6);
+    out.cells.conservativeResize(old_rows + extra, nloc);
     for (std::size_t p = 0; p < rows_out.size(); ++p) {
       const Index row = p == 0 ? r : old_rows + static_cast<Index>(p) - 1;
-      for (int k = 0; k < 6; ++k)
+      for (Index k = 0; k < nloc; ++k)
         out.cells(row, k) = static_cast<TableIndex>(rows_out[p][static_cast<std::size_t>(k)]);
       if (p > 0) {
         out.cell_ids.push_back(out.cell_ids[static_cast<std::size_t>(r)]);
@@ -708,12 +719,12 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   // from the row's two triangles along diagonal 0–2.
   for (const Index r : fine_rows) {
     const auto& corners = row_corners.empty() ? whole : row_corners[static_cast<std::size_t>(r)];
-    std::vector<PiecePoint> points;
+    std::vector<PiecePoint<2>> points;
     for (int v = 0; v < 4; ++v)
       points.push_back({corners[static_cast<std::size_t>(v)], out.points.row(out.cells(r, v)).transpose(),
                         out.cells(r, v)});
-    const auto pieces = bisect_until_positive(points, {{0, 1, 2}, {0, 2, 3}},
-                                              placer(mesh, map, out.cell_ids[static_cast<std::size_t>(r)]));
+    const auto pieces = bisect_until_positive<2>(
+        points, {{0, 1, 2}, {0, 2, 3}}, placer(mesh, map, out.cell_ids[static_cast<std::size_t>(r)]));
     if (pieces.empty()) continue;
     for (auto& p : points)
       if (p.node < 0) {
@@ -724,7 +735,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
     const auto mid = [&](int a, int b) {
       const auto [it, inserted] = middle.try_emplace({std::min(a, b), std::max(a, b)}, 0);
       if (inserted) {
-        const PiecePoint &p = points[static_cast<std::size_t>(a)], &q = points[static_cast<std::size_t>(b)];
+        const PiecePoint<2>&p = points[static_cast<std::size_t>(a)], &q = points[static_cast<std::size_t>(b)];
         added.push_back({r, 0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x)});
         it->second = -static_cast<Index>(added.size());
       }
@@ -1154,15 +1165,22 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
         out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
       out.num_tangled_cells = static_cast<Index>(rows.size());  // the quadrilaterals still folded
     }
-  if constexpr (dim == 2)
-    if (mesh.cell_type == CellType::triangle && nloc == 6 && !still.empty()) {
-      std::vector<std::pair<Index, Point<2>>> added;  // (local cell, reference point)
-      const Index cut = cut_folded_triangles(out, mesh, map, row_corners, still, added);
-      for (const auto& [local, xi] : added)
-        out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
-      out.num_split_cells += cut;
-      out.num_tangled_cells -= cut;
-    }
+  // Triangles and tetrahedra that still fold: straight pieces placed by f.
+  const bool simplex = mesh.cell_type == CellType::triangle || mesh.cell_type == CellType::tetrahedron;
+  if (simplex && nloc == (dim == 2 ? 6 : 10) && !still.empty()) {
+    const auto corner = [&](Index row, int v) -> Point<dim> {
+      if constexpr (dim == 2)
+        if (!row_corners.empty())
+          return row_corners[static_cast<std::size_t>(row)][static_cast<std::size_t>(v)];
+      return linear.nodes().row(v).transpose();
+    };
+    std::vector<std::pair<Index, Point<dim>>> added;  // (local cell, reference point)
+    const Index cut = cut_folded_simplices(out, mesh, map, corner, still, added);
+    for (const auto& [local, xi] : added)
+      out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
+    out.num_split_cells += cut;
+    out.num_tangled_cells -= cut;
+  }
   if constexpr (dim == 2) out.num_tangled_cells += folded_triangles(out);
   log::debug("output mesh: fold check in ", format_seconds(watch.seconds()), " (CPU ",
              format_seconds(process_cpu_seconds() - cpu), ")");
@@ -1183,8 +1201,8 @@ void log_untangling(MPI_Comm comm, const OutputMesh<dim>& out) {
               "smooth enough for curved cells to follow it; the solution is unaffected");
   if (counts[3] > 0)
     log::info("output: ", counts[3],
-              " cells written as straight triangles (even their straight cell folded: f opens a "
-              "corner or turns sharply there); the solution is unaffected");
+              " cells written as straight triangles or tetrahedra (even their straight cell folded: f "
+              "opens a corner or turns sharply there); the solution is unaffected");
   if (counts[4] > 0)
     log::warning("output: ", counts[4],
                  " written cells still fold and are drawn folded; the solution is unaffected (f is "

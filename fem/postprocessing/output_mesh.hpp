@@ -71,9 +71,10 @@ struct OutputMesh {
 /// folded cells around it than before. A quadratic quadrilateral whose straight
 /// cell folds too (f opens a corner of Ω0 into a reflex corner of Ω1, or turns
 /// sharply inside it) is written as triangles first: cut along a diagonal, or a
-/// triangulation of its mapped boundary. 2D cells that still fold are written
-/// as straight triangles placed by f, bisected across f's sweep until every
-/// one is positive. What still folds is counted in num_tangled_cells.
+/// triangulation of its mapped boundary. Quadrilaterals, triangles and
+/// tetrahedra that still fold are written as straight simplices placed by f,
+/// bisected across f's sweep until every one is positive. What still folds is
+/// counted in num_tangled_cells.
 template <int dim>
 OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
                                  const mapping::Map<dim>& map, int order);
