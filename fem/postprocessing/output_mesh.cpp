@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -286,11 +287,13 @@ std::vector<Index> straighten_folded_cells(OutputMesh<dim>& out, const MatrixX& 
 }
 
 // A point of the straight pieces that replace a folded output cell: its
-// reference point in the mesh cell, f there, and its output node (−1 until written).
+// reference point in the mesh cell, f and det J_f there, and its output node
+// (−1 until written).
 template <int dim>
 struct PiecePoint {
   Point<dim> xi, x;
   Index node = -1;
+  double det = std::numeric_limits<double>::quiet_NaN();
 };
 template <int dim>
 using Simplex = std::array<int, dim + 1>;
@@ -352,12 +355,14 @@ std::vector<Simplex<dim>> bisect_until_positive(std::vector<PiecePoint<dim>>& po
   return pieces;
 }
 
-// Ω0 positions of reference points of mesh cell `cell` (its straight geometry).
-template <int dim>
-Points<dim> cell_points(const Mesh<dim>& mesh, Index cell, const Points<dim>& xi) {
+// Ω0 positions of reference points xi.row(j), each in mesh cell cell_of(j)
+// (the cell's straight geometry).
+template <int dim, class CellOf>
+Points<dim> omega0_points(const Mesh<dim>& mesh, const Points<dim>& xi, const CellOf& cell_of) {
   const MatrixX weights = LagrangeElement<dim>(mesh.cell_type, 1).values(xi);
   Points<dim> x0(xi.rows(), dim);
   for (Index j = 0; j < xi.rows(); ++j) {
+    const Index cell = cell_of(j);
     Point<dim> x = Point<dim>::Zero();
     for (Index v = 0; v < weights.cols(); ++v) x += weights(j, v) * mesh.vertex(mesh.cells(cell, v));
     x0.row(j) = x.transpose();
@@ -365,17 +370,42 @@ Points<dim> cell_points(const Mesh<dim>& mesh, Index cell, const Points<dim>& xi
   return x0;
 }
 
-// f at the reference points `fresh` of `points` in mesh cell `cell`.
+// Ω0 positions of reference points of mesh cell `cell`.
+template <int dim>
+Points<dim> cell_points(const Mesh<dim>& mesh, Index cell, const Points<dim>& xi) {
+  return omega0_points(mesh, xi, [cell](Index) { return cell; });
+}
+
+// f and det J_f at the reference points `fresh` of `points` in mesh cell `cell`.
 template <int dim>
 auto placer(const Mesh<dim>& mesh, const mapping::Map<dim>& map, Index cell) {
   return [&mesh, &map, cell](std::vector<PiecePoint<dim>>& points, const std::vector<int>& fresh) {
     Points<dim> xi(static_cast<Index>(fresh.size()), dim);
     for (std::size_t j = 0; j < fresh.size(); ++j)
       xi.row(static_cast<Index>(j)) = points[static_cast<std::size_t>(fresh[j])].xi.transpose();
-    const Points<dim> x1 = warp_nodes(map, cell_points(mesh, cell, xi), nullptr);
-    for (std::size_t j = 0; j < fresh.size(); ++j)
-      points[static_cast<std::size_t>(fresh[j])].x = x1.row(static_cast<Index>(j)).transpose();
+    VectorX det;
+    const Points<dim> x1 = warp_nodes(map, cell_points(mesh, cell, xi), &det);
+    for (std::size_t j = 0; j < fresh.size(); ++j) {
+      PiecePoint<dim>& p = points[static_cast<std::size_t>(fresh[j])];
+      p.x = x1.row(static_cast<Index>(j)).transpose();
+      p.det = det(static_cast<Index>(j));
+    }
   };
+}
+
+// det J_f at the rows of `x0` whose entry of `det` is still NaN (the nodes
+// not placed by f: midpoints of straight piece edges).
+template <int dim>
+void fill_missing_det(const mapping::Map<dim>& map, const Points<dim>& x0, VectorX& det) {
+  std::vector<Index> missing;
+  for (Index j = 0; j < det.size(); ++j)
+    if (std::isnan(det(j))) missing.push_back(j);
+  if (missing.empty()) return;
+  Points<dim> at(static_cast<Index>(missing.size()), dim);
+  for (std::size_t k = 0; k < missing.size(); ++k) at.row(static_cast<Index>(k)) = x0.row(missing[k]);
+  VectorX found;
+  warp_nodes(map, at, &found);
+  for (std::size_t k = 0; k < missing.size(); ++k) det(missing[k]) = found(static_cast<Index>(k));
 }
 
 // Quadratic triangles and tetrahedra that still fold after subdivision and
@@ -403,11 +433,12 @@ Index cut_folded_simplices(OutputMesh<dim>& out, const Mesh<dim>& mesh, const ma
     }
     const auto pieces = bisect_until_positive<dim>(points, {whole}, placer(mesh, map, cell));
     if (pieces.empty()) continue;
-    // New nodes: the pieces' vertices placed by f, and their edge midpoints (straight edges).
-    std::vector<std::pair<Point<dim>, Point<dim>>> fresh;  // (xi, x)
+    // New nodes: the pieces' vertices placed by f, and their edge midpoints
+    // (straight edges; their det J_f is found below).
+    std::vector<PiecePoint<dim>> fresh;
     const Index first_new = out.points.rows();
-    const auto new_node = [&](const Point<dim>& xi, const Point<dim>& x) {
-      fresh.emplace_back(xi, x);
+    const auto new_node = [&](const PiecePoint<dim>& p) {
+      fresh.push_back(p);
       return first_new + static_cast<Index>(fresh.size()) - 1;
     };
     std::map<std::pair<int, int>, Index> edge_node;
@@ -416,7 +447,7 @@ Index cut_folded_simplices(OutputMesh<dim>& out, const Mesh<dim>& mesh, const ma
       std::vector<Index> row;
       for (const int p : t) {
         PiecePoint<dim>& q = points[static_cast<std::size_t>(p)];
-        if (q.node < 0) q.node = new_node(q.xi, q.x);
+        if (q.node < 0) q.node = new_node(q);
         row.push_back(q.node);
       }
       for (const auto& e : edges) {
@@ -425,7 +456,7 @@ Index cut_folded_simplices(OutputMesh<dim>& out, const Mesh<dim>& mesh, const ma
         if (inserted) {
           const PiecePoint<dim>&p = points[static_cast<std::size_t>(a)],
                 &q = points[static_cast<std::size_t>(b)];
-          it->second = new_node(0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x));
+          it->second = new_node({0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x)});
         }
         row.push_back(it->second);
       }
@@ -433,20 +464,21 @@ Index cut_folded_simplices(OutputMesh<dim>& out, const Mesh<dim>& mesh, const ma
     }
     const Index nfresh = static_cast<Index>(fresh.size());
     Points<dim> xi(nfresh, dim);
+    VectorX det(nfresh);
     for (Index j = 0; j < nfresh; ++j) {
-      xi.row(j) = fresh[static_cast<std::size_t>(j)].first.transpose();
-      added_sources.emplace_back(out.source_cells[static_cast<std::size_t>(r)],
-                                 fresh[static_cast<std::size_t>(j)].first);
+      const PiecePoint<dim>& p = fresh[static_cast<std::size_t>(j)];
+      xi.row(j) = p.xi.transpose();
+      det(j) = p.det;
+      added_sources.emplace_back(out.source_cells[static_cast<std::size_t>(r)], p.xi);
     }
     const Points<dim> x0 = cell_points(mesh, cell, xi);
-    VectorX det;
-    warp_nodes(map, x0, &det);
+    fill_missing_det(map, x0, det);
     out.reference_points.conservativeResize(first_new + nfresh, dim);
     out.points.conservativeResize(first_new + nfresh, dim);
     out.map_det.conservativeResize(first_new + nfresh);
     out.reference_points.bottomRows(nfresh) = x0;
     for (Index j = 0; j < nfresh; ++j)
-      out.points.row(first_new + j) = fresh[static_cast<std::size_t>(j)].second.transpose();
+      out.points.row(first_new + j) = fresh[static_cast<std::size_t>(j)].x.transpose();
     out.map_det.tail(nfresh) = det;
     const Index old_rows = out.cells.rows(), extra = static_cast<Index>(rows_out.size()) - 1;
     out.cells.conservativeResize(old_rows + extra, nloc);
@@ -586,6 +618,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   struct BoundaryNode {
     Index node;
     Point<2> x, xi;
+    double det = std::numeric_limits<double>::quiet_NaN();  // det J_f, if f placed the node
   };
   const auto boundary = [&](Index r) {
     const auto& corners = row_corners.empty() ? whole : row_corners[static_cast<std::size_t>(r)];
@@ -606,6 +639,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   struct NewNode {
     Index row;
     Point<2> xi, x;
+    double det = std::numeric_limits<double>::quiet_NaN();  // det J_f, if f placed the node
   };
   std::vector<NewNode> added;
   std::vector<std::array<Index, 6>> triangles;  // existing node ids, or -(1 + added index)
@@ -662,7 +696,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   for (const int intervals : {4, 16}) {
     if (fine_rows.empty()) break;
     const Index nfine = static_cast<Index>(fine_rows.size()), per_row = 4 * (intervals - 2);
-    Points<2> xi(per_row * nfine, 2), x0(per_row * nfine, 2);
+    Points<2> xi(per_row * nfine, 2);
     for (Index f = 0; f < nfine; ++f) {
       const auto ring = boundary(fine_rows[static_cast<std::size_t>(f)]);
       Index j = per_row * f;
@@ -674,15 +708,15 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
           xi.row(j++) = (a + (static_cast<double>(i) / intervals) * (b - a)).transpose();
         }
     }
-    const MatrixX weights = linear.values(xi);
-    for (Index j = 0; j < per_row * nfine; ++j) {
-      const Index cell =
-          out.cell_ids[static_cast<std::size_t>(fine_rows[static_cast<std::size_t>(j / per_row)])];
-      Point<2> x = Point<2>::Zero();
-      for (int v = 0; v < 4; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(cell, v));
-      x0.row(j) = x.transpose();
-    }
-    const Points<2> x1 = warp_nodes(map, x0, nullptr);
+    VectorX det;
+    const Points<2> x1 = warp_nodes(
+        map,
+        omega0_points(
+            mesh, xi,
+            [&](Index j) {
+              return out.cell_ids[static_cast<std::size_t>(fine_rows[static_cast<std::size_t>(j / per_row)])];
+            }),
+        &det);
     std::vector<Index> still;
     for (Index f = 0; f < nfine; ++f) {
       const Index r = fine_rows[static_cast<std::size_t>(f)];
@@ -694,7 +728,8 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
           if (i == 0 || 2 * i == intervals) {
             ring.push_back(coarse[static_cast<std::size_t>(2 * e + (i == 0 ? 0 : 1))]);
           } else {  // numbered below, once the ring is known to be simple
-            ring.push_back({std::numeric_limits<Index>::max(), x1.row(j).transpose(), xi.row(j).transpose()});
+            ring.push_back(
+                {std::numeric_limits<Index>::max(), x1.row(j).transpose(), xi.row(j).transpose(), det(j)});
             ++j;
           }
         }
@@ -706,7 +741,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
       }
       for (auto& b : ring)
         if (b.node == std::numeric_limits<Index>::max()) {
-          added.push_back({r, b.xi, b.x});
+          added.push_back({r, b.xi, b.x, b.det});
           b.node = -static_cast<Index>(added.size());
         }
       triangulate(r, ring);
@@ -728,7 +763,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
     if (pieces.empty()) continue;
     for (auto& p : points)
       if (p.node < 0) {
-        added.push_back({r, p.xi, p.x});
+        added.push_back({r, p.xi, p.x, p.det});
         p.node = -static_cast<Index>(added.size());
       }
     std::map<std::pair<int, int>, Index> middle;
@@ -752,20 +787,18 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
 
   // The added nodes: Ω0 position by the mesh cell's geometry, det J_f by f.
   const Index nadded = static_cast<Index>(added.size());
-  Points<2> xi(nadded, 2), x0(nadded, 2);
-  for (Index j = 0; j < nadded; ++j) xi.row(j) = added[static_cast<std::size_t>(j)].xi.transpose();
-  const MatrixX weights = linear.values(xi);
+  Points<2> xi(nadded, 2);
+  VectorX det(nadded);
   for (Index j = 0; j < nadded; ++j) {
-    const Index row = added[static_cast<std::size_t>(j)].row;
-    const Index cell = out.cell_ids[static_cast<std::size_t>(row)];
-    Point<2> x = Point<2>::Zero();
-    for (int v = 0; v < 4; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(cell, v));
-    x0.row(j) = x.transpose();
-    added_sources.emplace_back(out.source_cells[static_cast<std::size_t>(row)],
-                               added[static_cast<std::size_t>(j)].xi);
+    const NewNode& a = added[static_cast<std::size_t>(j)];
+    xi.row(j) = a.xi.transpose();
+    det(j) = a.det;
+    added_sources.emplace_back(out.source_cells[static_cast<std::size_t>(a.row)], a.xi);
   }
-  VectorX det;
-  warp_nodes(map, x0, &det);
+  const Points<2> x0 = omega0_points(mesh, xi, [&](Index j) {
+    return out.cell_ids[static_cast<std::size_t>(added[static_cast<std::size_t>(j)].row)];
+  });
+  fill_missing_det(map, x0, det);
   const Index first_new = out.points.rows();
   out.reference_points.conservativeResize(first_new + nadded, 2);
   out.points.conservativeResize(first_new + nadded, 2);
@@ -1046,15 +1079,10 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
       const Index added = static_cast<Index>(sources.size());
       Points<2> xi(added, 2);
       for (Index j = 0; j < added; ++j) xi.row(j) = sources[static_cast<std::size_t>(j)].second.transpose();
-      const MatrixX weights = linear.values(xi);
       Placed placed;
-      placed.x0.resize(added, 2);
-      for (Index j = 0; j < added; ++j) {
-        const Index c = cells[static_cast<std::size_t>(sources[static_cast<std::size_t>(j)].first)];
-        Point<2> x = Point<2>::Zero();
-        for (int v = 0; v < nvert; ++v) x += weights(j, v) * mesh.vertex(mesh.cells(c, v));
-        placed.x0.row(j) = x.transpose();
-      }
+      placed.x0 = omega0_points(mesh, xi, [&](Index j) {
+        return cells[static_cast<std::size_t>(sources[static_cast<std::size_t>(j)].first)];
+      });
       placed.x1 = warp_nodes(map, placed.x0, &placed.det);
       return placed;
     };
