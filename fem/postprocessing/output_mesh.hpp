@@ -33,6 +33,11 @@ struct OutputMesh {
   /// cells written folded.
   Index num_mesh_cells = 0, num_subdivided_cells = 0, num_straightened_cells = 0, num_split_cells = 0,
         num_tangled_cells = 0;
+  /// Straight pieces below 1e-6 of their cell's size that f still folds (next
+  /// to points where it is not differentiable) and are left out of the
+  /// output, and their total volume in units of a cell's volume.
+  Index num_left_out_pieces = 0;
+  double left_out_volume = 0;
 
   Index num_cells() const { return cells.rows() + triangle_cells.rows(); }
 
@@ -73,8 +78,9 @@ struct OutputMesh {
 /// sharply inside it) is written as triangles first: cut along a diagonal, or a
 /// triangulation of its mapped boundary. Quadrilaterals, triangles and
 /// tetrahedra that still fold are written as straight simplices placed by f,
-/// bisected across f's sweep until every one is positive. What still folds is
-/// counted in num_tangled_cells.
+/// bisected across f's sweep until every one is positive (pieces below 1e-6
+/// of the cell that still fold are left out). What still folds is counted in
+/// num_tangled_cells.
 template <int dim>
 OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<dim>& dist,
                                  const mapping::Map<dim>& map, int order);

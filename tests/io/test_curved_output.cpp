@@ -189,9 +189,12 @@ vtkIdType folded_tetrahedra(vtkUnstructuredGrid* grid) {
 
 TEST(CurvedOutput, WarpedPolyhedronFoldedTetrahedraAreCutIntoStraightOnes) {
   // P2 on TetGen's mesh of a polyhedron warped by a composite mean value map:
-  // 10 quadratic tetrahedra next to target vertices still folded after their
-  // nodes were pulled toward the straight cells; 9 of them are now written as
-  // straight tetrahedra bisected across f's sweep.
+  // 10 quadratic tetrahedra next to target vertices still fold after their
+  // nodes were pulled toward the straight cells; they are written as straight
+  // tetrahedra bisected across f's sweep. In one of them f is not
+  // differentiable at a boundary point (the cage's boundary map kinks there),
+  // and pieces touching it fold at every scale until they are left out below
+  // 1e-6 of the cell.
   const std::string dir = "output/test_curved_output_warped_3d";
   std::filesystem::remove_all(dir);
   io::Config cfg = io::load_config("examples/poisson_warped_3d.json");
@@ -200,9 +203,9 @@ TEST(CurvedOutput, WarpedPolyhedronFoldedTetrahedraAreCutIntoStraightOnes) {
   auto reader = read(result.output_file);
   vtkUnstructuredGrid* grid = reader->GetOutput();
   EXPECT_GT(grid->GetNumberOfCells(), result.num_cells) << "the case must exercise the cut";
-  // The logged count is what VTK sees, and the cut leaves at most one folded cell.
-  EXPECT_EQ(folded_tetrahedra(grid), result.output_folded_cells);
-  EXPECT_LE(result.output_folded_cells, 1);
+  // No written cell folds, judged by VTK's own shape functions.
+  EXPECT_EQ(folded_tetrahedra(grid), 0);
+  EXPECT_EQ(result.output_folded_cells, 0);
 }
 
 TEST(CurvedOutput, DefaultExampleIsWrittenUntangled) {
