@@ -251,12 +251,43 @@ Real point_det(const StepData& s, Real x, Real y) {
                        "\"adaptive\"), or \"certify\": false (sampled check only)"});
 }
 
+/// The least det J_k at the points of a grid × grid lattice over P_k's
+/// bounding box that lie inside P_k and outside the ρ-disks (+∞ if none):
+/// an upper bound of the minimum the certificate bounds from below.
+Real sampled_min_det(const StepData& s, Real rho, int grid) {
+  const Polygon& P = s.polygon;
+  const Point<2> lo = P.bbox_min(), hi = P.bbox_max();
+  std::vector<Point<2>> inside;
+  for (int i = 0; i < grid; ++i)
+    for (int j = 0; j < grid; ++j) {
+      const Point<2> x(lo.x() + (hi.x() - lo.x()) * (i + 0.5) / grid,
+                       lo.y() + (hi.y() - lo.y()) * (j + 0.5) / grid);
+      bool in_disk = false;
+      for (Index v = 0; v < P.size() && !in_disk; ++v) in_disk = (x - P.vertex(v)).norm() <= rho;
+      if (!in_disk && P.side_of(x) > 0) inside.push_back(x);
+    }
+  if (inside.empty()) return std::numeric_limits<Real>::infinity();
+  Points<2> x(static_cast<Index>(inside.size()), 2), fx;
+  for (Index p = 0; p < x.rows(); ++p) x.row(p) = inside[static_cast<std::size_t>(p)].transpose();
+  const BarycentricStep step(P, targets_of(P, s.ux, s.uy), Coordinates::mean_value);
+  Jacobians<2> J;
+  step.apply(x, fx, &J);
+  Real m = std::numeric_limits<Real>::infinity();
+  for (Index p = 0; p < x.rows(); ++p) m = std::min(m, J(p, 0) * J(p, 3) - J(p, 1) * J(p, 2));
+  return m;
+}
+
 StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index step) {
   const Polygon& P = s.polygon;
   const Point<2> lo = P.bbox_min(), hi = P.bbox_max();
   const Real diam = (hi - lo).norm();
   StepCertificate c;
   c.rho = o.rho_fraction * diam;
+  // Cells whose lower end is already above tightness × the sampled minimum
+  // do not decide b_k: they stop at their first positive interval. (A
+  // sampled minimum ≤ 0 means the step folds; the quadtree then finds where.)
+  const Real sampled = o.tightness > 0 ? sampled_min_det(s, c.rho, o.sample_grid) : 0;
+  const Real tight_enough = std::isfinite(sampled) ? o.tightness * std::max(sampled, Real{0}) : 0;
   c.lower_bound = std::numeric_limits<Real>::infinity();
   const Real min_size = o.min_cell_fraction * c.rho;
   std::vector<Kernel::Segment_2> edges;
@@ -307,9 +338,10 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
               {.file = "",
                .key_path = "map.certify",
                .hint = "use a finer partition (more steps), or \"certify\": false (sampled check only)"});
-        // A positive but loose interval is split further while cells are not
-        // tiny, so that b_k is close to the true minimum, not just above zero.
-        const bool loose = det.inf() < o.tightness * det.sup() && cell.h / 2 >= 16 * min_size;
+        // A positive interval whose lower end is far below the sampled
+        // minimum is split further while cells are not tiny, so that b_k is
+        // close to the true minimum, not just above zero.
+        const bool loose = det.inf() < tight_enough && cell.h / 2 >= 16 * min_size;
         if (det.inf() > 0 && !loose) {
           if (det.inf() < part.lower_bound) {
             part.lower_bound = det.inf();

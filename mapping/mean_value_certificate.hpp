@@ -39,9 +39,14 @@ struct CertifyOptions {
   /// without a positive bound refuses the certificate.
   Real min_cell_fraction = 1.0 / 1024;
   /// A cell whose interval [lo, hi] of det J_k is positive is still split (down
-  /// to 16 × the smallest size) while lo < tightness × hi: a tighter bound for
-  /// more cells; 0 stops at the first positive interval.
-  Real tightness = 0.5;
+  /// to 16 × the smallest size) while lo < tightness × m, m the least det J_k
+  /// sampled on a grid of P_k before the quadtree (an upper bound of the true
+  /// minimum): cells near the minimum are split until b_k is within about
+  /// 1/tightness of it, the others stop at their first positive interval.
+  /// 0 stops every cell there.
+  Real tightness = 0.7;
+  /// Grid points per side of P_k's bounding box for that sample.
+  int sample_grid = 128;
   /// Refusal when the quadtree of one step would exceed this many cells.
   Index max_cells = 4'000'000;
   /// Points per vertex disk of Ω0 at which det J_f is sampled (not certified).

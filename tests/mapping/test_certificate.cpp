@@ -154,6 +154,46 @@ TEST(Certificate, TestPairsAreCertifiedAndTheBoundIsBelowEverySample) {
   expect_true_lower_bound(concave);
 }
 
+/// Per step, min det J_k at the bijectivity sample of P_k outside its ρ_k-disks.
+Real sampled_step_min(const CompositeMeanValueMap& f, Index k, Real rho) {
+  const Polygon& P = f.polygons()[static_cast<std::size_t>(k)];
+  Points<2> x = bijectivity_sample(P, 96);
+  Real m = std::numeric_limits<Real>::infinity();
+  for (Index p = 0; p < x.rows(); ++p) {
+    bool in_disk = false;
+    for (Index i = 0; i < P.size(); ++i)
+      in_disk = in_disk || (x.row(p).transpose() - P.vertex(i)).norm() <= rho;
+    if (!in_disk) m = std::min(m, det_at(f.step(k), x.row(p).transpose()));
+  }
+  return m;
+}
+
+TEST(Certificate, StepBoundsAreCloseToTheSampledMinimumNotJustPositive) {
+  // Cells whose lower end is near the step's least det J_k are split until the
+  // bound is within a small factor of it; the others stop at their first
+  // positive interval (and would leave a bound many orders of magnitude lower).
+  MapSpec spec = test::load_example("square_to_dart");
+  const auto dart = std::dynamic_pointer_cast<const CompositeMeanValueMap>(make_map(spec));
+  ASSERT_TRUE(dart);
+  const Polygon c32 = test::concave32();
+  const CompositeMeanValueMap concave(
+      VertexPath(c32, Polygon(shifted(c32, {0.1, 0.05}, 8)), VertexPathType::linear), uniform_partition(2));
+  for (const CompositeMeanValueMap* f : {dart.get(), &concave}) {
+    const MapCertificate tight = certify_composite(*f);
+    CertifyOptions positive_only;
+    positive_only.tightness = 0;
+    const MapCertificate loose = certify_composite(*f, positive_only);
+    for (Index k = 0; k < f->steps(); ++k) {
+      const StepCertificate& s = tight.steps[static_cast<std::size_t>(k)];
+      const Real m = sampled_step_min(*f, k, s.rho);
+      EXPECT_LE(s.lower_bound, m) << "step " << k;
+      EXPECT_GE(s.lower_bound, 0.25 * m) << "step " << k;
+    }
+    EXPECT_LT(loose.lower_bound, 1e-3 * tight.lower_bound);
+    EXPECT_LT(loose.cells, tight.cells);
+  }
+}
+
 TEST(Certificate, RefusesAFoldingSingleStep) {
   // Thesis §2.1.2: one mean value step from the diamond onto the dart folds.
   const BarycentricMap fold(test::diamond(), test::dart(), Coordinates::mean_value);
