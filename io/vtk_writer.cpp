@@ -73,11 +73,11 @@ template <class PointTable, int dim>
 vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const IndexTable& table,
                                                warpfem::CellType type, int order,
                                                const VtkOutput<dim>& output,
-                                               const IndexTable* triangles = nullptr) {
+                                               const IndexTable* simplices = nullptr) {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   constexpr int cols = PointTable::ColsAtCompileTime;
   const Index npoints = xyz.rows(), ncells = table.rows(), nodes_per_cell = table.cols();
-  const Index ntriangles = triangles ? triangles->rows() : 0;
+  const Index nsimplices = simplices ? simplices->rows() : 0;
   vtkNew<vtkDoubleArray> coordinates;
   coordinates->SetNumberOfComponents(3);
   coordinates->SetNumberOfTuples(npoints);
@@ -89,16 +89,16 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const Inde
   points->SetData(coordinates);
   grid->SetPoints(points);
   static_assert(std::is_same_v<IndexTable::Scalar, vtkTypeInt32> && IndexTable::IsRowMajor);
-  const Index references = ncells * nodes_per_cell + ntriangles * (triangles ? triangles->cols() : 0);
+  const Index references = ncells * nodes_per_cell + nsimplices * (simplices ? simplices->cols() : 0);
   require(references < std::numeric_limits<vtkTypeInt32>::max(),
           "write_vtk: too many cells for one piece (more than 2^31 node references)");
   vtkNew<vtkTypeInt32Array> offsets, connectivity;
-  offsets->SetNumberOfTuples(ncells + ntriangles + 1);
+  offsets->SetNumberOfTuples(ncells + nsimplices + 1);
   vtkTypeInt32* offset = offsets->GetPointer(0);
-  prefault(offset, static_cast<std::size_t>(ncells + ntriangles + 1) * sizeof(vtkTypeInt32));
+  prefault(offset, static_cast<std::size_t>(ncells + nsimplices + 1) * sizeof(vtkTypeInt32));
   for (Index c = 0; c <= ncells; ++c) offset[c] = static_cast<vtkTypeInt32>(c * nodes_per_cell);
   vtkNew<vtkCellArray> cells;
-  if (ntriangles == 0) {
+  if (nsimplices == 0) {
     // Every cell has the same number of nodes, so the offsets are a ramp; the
     // connectivity is the row-major node table itself, lent to VTK like the
     // fields, and written as 32-bit integers.
@@ -106,21 +106,23 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const Inde
     cells->SetData(offsets, connectivity);
     grid->SetCells(vtk_cell_type(type, order), cells);
   } else {
-    // Quadrilaterals followed by the triangles some of them were cut into.
-    const Index per_triangle = triangles->cols();
-    for (Index t = 1; t <= ntriangles; ++t)
-      offset[ncells + t] = static_cast<vtkTypeInt32>(ncells * nodes_per_cell + t * per_triangle);
+    // Quadrilaterals (hexahedra) followed by the triangles (tetrahedra) some of
+    // them were cut into.
+    const Index per_simplex = simplices->cols();
+    for (Index t = 1; t <= nsimplices; ++t)
+      offset[ncells + t] = static_cast<vtkTypeInt32>(ncells * nodes_per_cell + t * per_simplex);
     connectivity->SetNumberOfTuples(references);
     vtkTypeInt32* to = connectivity->GetPointer(0);
     std::copy_n(table.data(), ncells * nodes_per_cell, to);
-    std::copy_n(triangles->data(), ntriangles * per_triangle, to + ncells * nodes_per_cell);
+    std::copy_n(simplices->data(), nsimplices * per_simplex, to + ncells * nodes_per_cell);
     cells->SetData(offsets, connectivity);
     vtkNew<vtkUnsignedCharArray> types;
-    types->SetNumberOfTuples(ncells + ntriangles);
+    types->SetNumberOfTuples(ncells + nsimplices);
     unsigned char* type_out = types->GetPointer(0);
     std::fill_n(type_out, ncells, static_cast<unsigned char>(vtk_cell_type(type, order)));
-    std::fill_n(type_out + ncells, ntriangles,
-                static_cast<unsigned char>(vtk_cell_type(warpfem::CellType::triangle, order)));
+    std::fill_n(type_out + ncells, nsimplices,
+                static_cast<unsigned char>(vtk_cell_type(
+                    dim == 2 ? warpfem::CellType::triangle : warpfem::CellType::tetrahedron, order)));
     grid->SetCells(types, cells);
   }
   for (const auto& f : output.point_fields) grid->GetPointData()->AddArray(make_array(f));
@@ -164,7 +166,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
   Stopwatch watch;
   run_collectively(comm, [&] {
     grid = output.mesh ? make_grid(output.mesh->points, output.mesh->cells, output.mesh->cell_type,
-                                   output.mesh->order, output, &output.mesh->triangle_cells)
+                                   output.mesh->order, output, &output.mesh->simplex_cells)
                        : make_grid(output.cells->points, output.cells->cells, output.cells->cell_type,
                                    output.cells->order, output);
   });

@@ -531,6 +531,131 @@ Index cut_folded_simplices(OutputMesh<dim>& out, const Mesh<dim>& mesh, const ma
   return replaced;
 }
 
+// Quadratic hexahedra that still fold after the pulls toward straight cells
+// (where f opens an edge of Ω0 into a reflex one, the mapped vertices of a
+// cell along it span no hexahedron, and even the straight trilinear cell
+// folds) are written as straight tetrahedra placed by f: the six of the
+// cell's Kuhn subdivision (around its diagonal from vertex 0 to vertex 6),
+// bisected until each is positive (bisect_until_positive), their edge nodes
+// on the chords. They follow f, not the neighbours' curved faces (untangled,
+// not watertight). The rows cut move from `cells` to `simplex_cells`; the
+// added nodes' sources are appended to `added_sources` in node order.
+// Returns how many of `rows` stay folded.
+Index write_folded_hexahedra_as_tetrahedra(OutputMesh<3>& out, const Mesh<3>& mesh,
+                                           const mapping::Map<3>& map, const std::vector<Index>& rows,
+                                           std::vector<std::pair<Index, Point<3>>>& added_sources) {
+  const LagrangeElement<3> linear(CellType::hexahedron, 1);
+  const auto& tet_edges = cell_edges(CellType::tetrahedron);
+  constexpr std::array<Simplex<3>, 6> kuhn = {
+      {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}}};
+  const Index nrows = out.cells.rows();
+  std::vector<PiecePoint<3>> added;  // new nodes, with the row that added them
+  std::vector<Index> added_row;
+  std::vector<std::array<Index, 10>> tets;  // node ids, or −(1 + index into `added`)
+  std::vector<Index> tet_rows;
+  std::vector<char> replaced(static_cast<std::size_t>(nrows), 0);
+  Index left_folded = 0;
+  for (const Index r : rows) {
+    std::vector<PiecePoint<3>> points;
+    for (int v = 0; v < 8; ++v)
+      points.push_back(
+          {linear.nodes().row(v).transpose(), out.points.row(out.cells(r, v)).transpose(), out.cells(r, v)});
+    std::vector<Simplex<3>> start;
+    for (Simplex<3> t : kuhn) {
+      Matrix<3> edges;
+      for (int d = 0; d < 3; ++d)
+        edges.col(d) = points[static_cast<std::size_t>(t[static_cast<std::size_t>(d + 1)])].xi -
+                       points[static_cast<std::size_t>(t[0])].xi;
+      if (edges.determinant() < 0) std::swap(t[1], t[2]);
+      start.push_back(t);
+    }
+    const Bisection<3> bisection =
+        bisect_until_positive<3>(points, start, placer(mesh, map, out.cell_ids[static_cast<std::size_t>(r)]));
+    if (bisection.pieces.empty()) {
+      ++left_folded;
+      continue;
+    }
+    out.num_left_out_pieces += bisection.left_out;
+    out.left_out_volume += bisection.left_out_volume / 6;  // the reference cube holds six unit tetrahedra
+    const auto new_node = [&](const PiecePoint<3>& p) {
+      added.push_back(p);
+      added_row.push_back(r);
+      return -static_cast<Index>(added.size());
+    };
+    for (auto& p : points)
+      if (p.node < 0) p.node = new_node(p);
+    std::map<std::pair<int, int>, Index> middle;
+    for (const auto& t : bisection.pieces) {
+      std::array<Index, 10> row{};
+      for (std::size_t v = 0; v < 4; ++v) row[v] = points[static_cast<std::size_t>(t[v])].node;
+      for (std::size_t e = 0; e < tet_edges.size(); ++e) {
+        const int a = t[static_cast<std::size_t>(tet_edges[e][0])],
+                  b = t[static_cast<std::size_t>(tet_edges[e][1])];
+        const auto [it, inserted] = middle.try_emplace({std::min(a, b), std::max(a, b)}, 0);
+        if (inserted) {
+          const PiecePoint<3>&p = points[static_cast<std::size_t>(a)],
+                &q = points[static_cast<std::size_t>(b)];
+          it->second = new_node({0.5 * (p.xi + q.xi), 0.5 * (p.x + q.x)});
+        }
+        row[4 + e] = it->second;
+      }
+      tets.push_back(row);
+      tet_rows.push_back(r);
+    }
+    replaced[static_cast<std::size_t>(r)] = 1;
+  }
+  if (tets.empty()) return left_folded;
+
+  // The added nodes: Ω0 position by the mesh cell's geometry, det J_f by f.
+  const Index nadded = static_cast<Index>(added.size()), first_new = out.points.rows();
+  Points<3> xi(nadded, 3);
+  VectorX det(nadded);
+  for (Index j = 0; j < nadded; ++j) {
+    const PiecePoint<3>& a = added[static_cast<std::size_t>(j)];
+    xi.row(j) = a.xi.transpose();
+    det(j) = a.det;
+    added_sources.emplace_back(
+        out.source_cells[static_cast<std::size_t>(added_row[static_cast<std::size_t>(j)])], a.xi);
+  }
+  const Points<3> x0 = omega0_points(mesh, xi, [&](Index j) {
+    return out.cell_ids[static_cast<std::size_t>(added_row[static_cast<std::size_t>(j)])];
+  });
+  fill_missing_det(map, x0, det);
+  out.reference_points.conservativeResize(first_new + nadded, 3);
+  out.points.conservativeResize(first_new + nadded, 3);
+  out.map_det.conservativeResize(first_new + nadded);
+  out.reference_points.bottomRows(nadded) = x0;
+  for (Index j = 0; j < nadded; ++j)
+    out.points.row(first_new + j) = added[static_cast<std::size_t>(j)].x.transpose();
+  out.map_det.tail(nadded) = det;
+
+  // Rows: the hexahedra kept, then the tetrahedra (VTK order: corners, then
+  // the nodes of edges 01, 12, 02, 03, 13, 23).
+  const Index nreplaced = static_cast<Index>(std::count(replaced.begin(), replaced.end(), 1));
+  IndexTable kept(nrows - nreplaced, out.cells.cols()), table(static_cast<Index>(tets.size()), 10);
+  std::vector<Index> ids, sources;
+  for (Index r = 0, q = 0; r < nrows; ++r)
+    if (!replaced[static_cast<std::size_t>(r)]) {
+      kept.row(q++) = out.cells.row(r);
+      ids.push_back(out.cell_ids[static_cast<std::size_t>(r)]);
+      sources.push_back(out.source_cells[static_cast<std::size_t>(r)]);
+    }
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    for (int k = 0; k < 10; ++k) {
+      const Index n = tets[t][static_cast<std::size_t>(k)];
+      table(static_cast<Index>(t), k) = static_cast<TableIndex>(n >= 0 ? n : first_new + (-n - 1));
+    }
+    ids.push_back(out.cell_ids[static_cast<std::size_t>(tet_rows[t])]);
+    sources.push_back(out.source_cells[static_cast<std::size_t>(tet_rows[t])]);
+  }
+  out.cells = std::move(kept);
+  out.simplex_cells = std::move(table);
+  out.cell_ids = std::move(ids);
+  out.source_cells = std::move(sources);
+  out.num_split_cells += nreplaced;
+  return left_folded;
+}
+
 // Quadratic quadrilaterals that fold even as straight cells: where f opens a
 // corner of Ω0 into a reflex corner of Ω1, the mapped vertices of a cell at
 // that corner form a non-convex quadrilateral, and no bilinear cell over them
@@ -618,7 +743,7 @@ std::vector<int> cut_folded_quadrilaterals(OutputMesh<2>& out, const Tangled& ta
 }
 
 // Writes the quadrilaterals that fold even as straight cells as quadratic
-// triangles (OutputMesh::triangle_cells). First cut_folded_quadrilaterals: two
+// triangles (OutputMesh::simplex_cells). First cut_folded_quadrilaterals: two
 // triangles per cell, conforming with its neighbours. A cell that no diagonal cuts into two positive
 // triangles (its mapped vertices cross: f turns so sharply inside it that only
 // its curved edges stay apart) is triangulated over its eight mapped boundary
@@ -849,7 +974,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   // Rows: the quadrilaterals kept, then the triangles of an earlier call, then
   // the new triangles (VTK order: corners, then the nodes of edges 01, 12, 20).
   const Index nreplaced = static_cast<Index>(std::count(replaced.begin(), replaced.end(), 1));
-  const Index nold = out.triangle_cells.rows();
+  const Index nold = out.simplex_cells.rows();
   IndexTable quads(nrows - nreplaced, 9), table(nold + static_cast<Index>(triangles.size()), 6);
   std::vector<Index> ids, sources;
   std::vector<std::array<Point<2>, 4>> corners_kept;
@@ -862,7 +987,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
       sources.push_back(out.source_cells[static_cast<std::size_t>(r)]);
       if (!row_corners.empty()) corners_kept.push_back(row_corners[static_cast<std::size_t>(r)]);
     }
-  table.topRows(nold) = out.triangle_cells;
+  table.topRows(nold) = out.simplex_cells;
   for (Index t = 0; t < nold; ++t) {
     ids.push_back(out.cell_ids[static_cast<std::size_t>(nrows + t)]);
     sources.push_back(out.source_cells[static_cast<std::size_t>(nrows + t)]);
@@ -876,21 +1001,21 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
     sources.push_back(out.source_cells[static_cast<std::size_t>(triangle_rows[t])]);
   }
   out.cells = std::move(quads);
-  out.triangle_cells = std::move(table);
+  out.simplex_cells = std::move(table);
   out.cell_ids = std::move(ids);
   out.source_cells = std::move(sources);
   if (!row_corners.empty()) row_corners = std::move(corners_kept);
   out.num_split_cells += nreplaced;
 }
 
-// Written triangles (OutputMesh::triangle_cells) whose geometry folds.
+// Written triangles (OutputMesh::simplex_cells) whose geometry folds.
 Index folded_triangles(const OutputMesh<2>& out) {
   const FoldCheck<2> check(LagrangeElement<2>(CellType::triangle, 2));
   Index count = 0;
-  for (Index r = 0; r < out.triangle_cells.rows(); ++r) {
+  for (Index r = 0; r < out.simplex_cells.rows(); ++r) {
     std::array<Point<2>, FoldCheck<2>::max_nodes> x;
     for (int k = 0; k < 6; ++k)
-      x[static_cast<std::size_t>(k)] = out.points.row(out.triangle_cells(r, k)).transpose();
+      x[static_cast<std::size_t>(k)] = out.points.row(out.simplex_cells(r, k)).transpose();
     count += check.folds(x.data()) ? 1 : 0;
   }
   return count;
@@ -1213,9 +1338,9 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
         out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
       if (out.num_split_cells > 0) {
         fixed.resize(static_cast<std::size_t>(out.points.rows()), 0);
-        for (Index r = 0; r < out.triangle_cells.rows(); ++r)
-          for (Index k = 0; k < out.triangle_cells.cols(); ++k)
-            fixed[static_cast<std::size_t>(out.triangle_cells(r, k))] = 1;
+        for (Index r = 0; r < out.simplex_cells.rows(); ++r)
+          for (Index k = 0; k < out.simplex_cells.cols(); ++k)
+            fixed[static_cast<std::size_t>(out.simplex_cells(r, k))] = 1;
       }
     }
   const std::vector<Index> still =
@@ -1247,6 +1372,13 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
     out.num_split_cells += cut;
     out.num_tangled_cells -= cut;
   }
+  if constexpr (dim == 3)
+    if (mesh.cell_type == CellType::hexahedron && nloc == 27 && !still.empty()) {
+      std::vector<std::pair<Index, Point<3>>> added;  // (local cell, reference point)
+      out.num_tangled_cells = write_folded_hexahedra_as_tetrahedra(out, mesh, map, still, added);
+      for (const auto& [local, xi] : added)
+        out.added_node_source_.push_back({cells[static_cast<std::size_t>(local)], xi});
+    }
   if constexpr (dim == 2) out.num_tangled_cells += folded_triangles(out);
   log::debug("output mesh: fold check in ", format_seconds(watch.seconds()), " (CPU ",
              format_seconds(process_cpu_seconds() - cpu), ")");

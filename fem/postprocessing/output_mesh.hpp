@@ -21,10 +21,11 @@ struct OutputMesh {
   Points<dim> points;            ///< node positions f(x0) in Ω1
   VectorX map_det;               ///< det J_f at the nodes
   IndexTable cells;              ///< local cells x nodes, VTK Lagrange node order
-  /// Quadratic quadrilateral output only: pieces written as straight-sided
-  /// quadratic triangles (VTK Lagrange order), after the rows of `cells`.
-  IndexTable triangle_cells;
-  std::vector<Index> cell_ids;      ///< mesh cell id of every output cell (`cells`, then `triangle_cells`)
+  /// Quadratic quadrilateral and hexahedral output only: pieces written as
+  /// straight-sided quadratic triangles or tetrahedra (VTK Lagrange order),
+  /// after the rows of `cells`.
+  IndexTable simplex_cells;
+  std::vector<Index> cell_ids;      ///< mesh cell id of every output cell (`cells`, then `simplex_cells`)
   std::vector<Index> source_cells;  ///< index into the local cells of every output cell (same order)
   /// Mesh cells whose curved geometry folded and were written as smaller
   /// curved cells (2D); output cells whose nodes were pulled toward their
@@ -39,7 +40,7 @@ struct OutputMesh {
   Index num_left_out_pieces = 0;
   double left_out_volume = 0;
 
-  Index num_cells() const { return cells.rows() + triangle_cells.rows(); }
+  Index num_cells() const { return cells.rows() + simplex_cells.rows(); }
 
   /// A per-local-cell field spread onto the output cells (pieces of a
   /// subdivided cell get their cell's value).

@@ -84,6 +84,37 @@ class AngleTriplingMap final : public mapping::Map<2> {
   std::string describe() const override { return "angle tripling"; }
 };
 
+/// f(r, θ, z) = (r, 3θ, z) in cylindrical coordinates: the 3D counterpart of
+/// AngleTriplingMap, opening the edge along the z axis into a reflex one, so
+/// the mapped vertices of the hexahedra along it do not span a hexahedron and
+/// even their straight trilinear cells fold.
+class AngleTriplingPrismMap final : public mapping::Map<3> {
+ public:
+  void eval(const Points<3>& x0, Points<3>& x) const override {
+    Points<2> xy(x0.rows(), 2), fxy;
+    xy = x0.leftCols(2);
+    planar_.eval(xy, fxy);
+    x.resize(x0.rows(), 3);
+    x.leftCols(2) = fxy;
+    x.col(2) = x0.col(2);
+  }
+  void jacobian(const Points<3>& x0, Jacobians<3>& J) const override {
+    Points<2> xy(x0.rows(), 2);
+    xy = x0.leftCols(2);
+    Jacobians<2> J2;
+    planar_.jacobian(xy, J2);
+    J.setZero(x0.rows(), 9);
+    for (Index p = 0; p < x0.rows(); ++p) {
+      J(p, 0) = J2(p, 0), J(p, 1) = J2(p, 1), J(p, 3) = J2(p, 2), J(p, 4) = J2(p, 3);
+      J(p, 8) = 1;
+    }
+  }
+  std::string describe() const override { return "angle tripling prism"; }
+
+ private:
+  AngleTriplingMap planar_;
+};
+
 template <int dim>
 Mesh<dim> unit_box(CellType type, int n) {
   if constexpr (dim == 2)
@@ -203,7 +234,7 @@ TEST(UntangledOutput, QuadrilateralsAtAnOpenedCornerAreWrittenAsStraightTriangle
   const AngleTriplingMap map;
   const fem::OutputMesh<2> out = fem::make_output_mesh(mesh, dist, map, 2);
   EXPECT_GT(out.num_split_cells, 0) << "the case must exercise quadrilaterals that fold even when straight";
-  EXPECT_EQ(out.triangle_cells.rows(), 2 * out.num_split_cells);
+  EXPECT_EQ(out.simplex_cells.rows(), 2 * out.num_split_cells);
   EXPECT_EQ(out.num_tangled_cells, 0);
   ASSERT_EQ(static_cast<Index>(out.cell_ids.size()), out.num_cells());
   ASSERT_EQ(static_cast<Index>(out.source_cells.size()), out.num_cells());
@@ -214,13 +245,13 @@ TEST(UntangledOutput, QuadrilateralsAtAnOpenedCornerAreWrittenAsStraightTriangle
   map.eval(out.reference_points, x1);
   double area = 0;
   const auto triangle_area = [&](Index t) {
-    const auto a = out.points.row(out.triangle_cells(t, 0)), b = out.points.row(out.triangle_cells(t, 1)),
-               c = out.points.row(out.triangle_cells(t, 2));
+    const auto a = out.points.row(out.simplex_cells(t, 0)), b = out.points.row(out.simplex_cells(t, 1)),
+               c = out.points.row(out.simplex_cells(t, 2));
     return 0.5 * ((b(0) - a(0)) * (c(1) - a(1)) - (b(1) - a(1)) * (c(0) - a(0)));
   };
-  for (Index t = 0; t < out.triangle_cells.rows(); ++t) {
+  for (Index t = 0; t < out.simplex_cells.rows(); ++t) {
     for (int v = 0; v < 3; ++v)
-      ASSERT_LT((out.points.row(out.triangle_cells(t, v)) - x1.row(out.triangle_cells(t, v))).norm(), 1e-14);
+      ASSERT_LT((out.points.row(out.simplex_cells(t, v)) - x1.row(out.simplex_cells(t, v))).norm(), 1e-14);
     EXPECT_GT(triangle_area(t), 0);
     area += triangle_area(t);
   }
@@ -242,3 +273,46 @@ TEST(UntangledOutput, QuadrilateralsAtAnOpenedCornerAreWrittenAsStraightTriangle
 }
 
 }  // namespace
+
+TEST(UntangledOutput, HexahedraAtAnOpenedEdgeAreWrittenAsStraightTetrahedra) {
+  const Mesh<3> mesh = unit_box<3>(CellType::hexahedron, 3);
+  const fem::DofMap<3> dofs(mesh, fem::LagrangeElement<3>(mesh.cell_type, 2));
+  const fem::DofDistribution<3> dist(MPI_COMM_SELF, mesh, dofs);
+  const AngleTriplingPrismMap map;
+  const fem::OutputMesh<3> out = fem::make_output_mesh(mesh, dist, map, 2);
+  EXPECT_GT(out.num_split_cells, 0) << "the case must exercise hexahedra that fold even when straight";
+  EXPECT_EQ(out.num_tangled_cells, 0);
+  ASSERT_EQ(static_cast<Index>(out.cell_ids.size()), out.num_cells());
+  ASSERT_EQ(static_cast<Index>(out.source_cells.size()), out.num_cells());
+  EXPECT_EQ(out.cells.rows() + out.num_split_cells, mesh.num_cells());
+
+  // Every tetrahedron is positive with its vertices at mapped points of Ω0.
+  Points<3> x1;
+  map.eval(out.reference_points, x1);
+  double volume = 0;
+  for (Index t = 0; t < out.simplex_cells.rows(); ++t) {
+    Matrix<3> edges;
+    for (int v = 0; v < 4; ++v)
+      ASSERT_LT((out.points.row(out.simplex_cells(t, v)) - x1.row(out.simplex_cells(t, v))).norm(), 1e-14);
+    for (int d = 0; d < 3; ++d)
+      edges.col(d) =
+          (out.points.row(out.simplex_cells(t, d + 1)) - out.points.row(out.simplex_cells(t, 0))).transpose();
+    EXPECT_GT(edges.determinant(), 0) << "tetrahedron " << t;
+    volume += edges.determinant() / 6;
+  }
+  EXPECT_GT(volume, 0);
+
+  // Field values at the added nodes are the FE function's: a quadratic is reproduced.
+  const auto quadratic = [](const Point<3>& x) {
+    return 1 + 2 * x(0) - x(1) + 3 * x(0) * x(2) + x(1) * x(1);
+  };
+  const auto& relevant = dist.relevant_dofs();
+  VectorX coefficients(static_cast<Index>(relevant.size()));
+  for (std::size_t i = 0; i < relevant.size(); ++i)
+    coefficients(static_cast<Index>(i)) = quadratic(dofs.dof_points().row(relevant[i]).transpose());
+  const VectorX values = out.interpolate(dofs, dist, coefficients);
+  for (Index p = 0; p < out.reference_points.rows(); ++p)
+    ASSERT_NEAR(values(p), quadratic(out.reference_points.row(p).transpose()), 1e-12) << "node " << p;
+
+  expect_written_unfolded(out, "hexahedra_opened_edge");
+}
