@@ -298,6 +298,86 @@ struct PiecePoint {
 template <int dim>
 using Simplex = std::array<int, dim + 1>;
 
+// Positive straight pieces cut corners where f bends: a piece spanning most
+// of the angle f sweeps around a corner fills only part of its image. A piece
+// with an edge longer than `coarse` of the reference cell whose image leaves
+// its chord by more than `bend` of the chord's length (at the edge midpoint)
+// is bisected at the most bent such edge whose halves both stay positive (if
+// none, the piece stays whole), within a budget of pieces per cell. `pieces` is replaced by the
+// result; midpoints are shared through `midpoint_of`, as in the bisection.
+template <int dim, class Place>
+void follow_bends(std::vector<PiecePoint<dim>>& points, std::vector<Simplex<dim>>& pieces, const Place& place,
+                  std::map<std::pair<int, int>, int>& midpoint_of) {
+  constexpr double coarse = 1.0 / 8, bend = 0.05;
+  const std::size_t max_pieces = std::max<std::size_t>(4 * pieces.size(), dim == 2 ? 256 : 4096);
+  const auto at = [&](int i) -> PiecePoint<dim>& { return points[static_cast<std::size_t>(i)]; };
+  const auto orient = [&](const Simplex<dim>& t) {
+    Matrix<dim> edges;
+    for (int d = 0; d < dim; ++d) edges.col(d) = at(t[static_cast<std::size_t>(d + 1)]).x - at(t[0]).x;
+    return edges.determinant();
+  };
+  const auto reference_size = [&](const Simplex<dim>& t) {
+    double longest = 0;
+    for (std::size_t i = 0; i <= dim; ++i)
+      for (std::size_t j = i + 1; j <= dim; ++j)
+        longest = std::max(longest, (at(t[j]).xi - at(t[i]).xi).norm());
+    return longest;
+  };
+  const auto midpoint = [&](int a, int b) { return midpoint_of.at({std::min(a, b), std::max(a, b)}); };
+  std::vector<Simplex<dim>> done, pending;
+  for (const auto& t : pieces) (reference_size(t) > coarse ? pending : done).push_back(t);
+  while (!pending.empty()) {
+    // The edge midpoints of the pending pieces, placed by f in one batch.
+    std::vector<int> fresh;
+    for (const auto& t : pending)
+      for (std::size_t i = 0; i <= dim; ++i)
+        for (std::size_t j = i + 1; j <= dim; ++j) {
+          const int a = t[i], b = t[j];
+          const auto [it, inserted] =
+              midpoint_of.try_emplace({std::min(a, b), std::max(a, b)}, static_cast<int>(points.size()));
+          if (inserted) {
+            points.push_back({0.5 * (at(a).xi + at(b).xi), Point<dim>::Zero(), -1});
+            fresh.push_back(it->second);
+          }
+        }
+    if (!fresh.empty()) place(points, fresh);
+    std::vector<Simplex<dim>> next;
+    for (const auto& t : pending) {
+      if (done.size() + 2 * pending.size() > max_pieces) {  // the budget: the rest stays as it is
+        done.push_back(t);
+        continue;
+      }
+      // The bent edges, most bent first; the first whose halves both stay
+      // positive is split.
+      std::vector<std::pair<double, std::array<std::size_t, 2>>> bent;
+      for (std::size_t i = 0; i <= dim; ++i)
+        for (std::size_t j = i + 1; j <= dim; ++j) {
+          const PiecePoint<dim>&a = at(t[i]), &b = at(t[j]);
+          const double chord = (b.x - a.x).norm();
+          const double off = (at(midpoint(t[i], t[j])).x - 0.5 * (a.x + b.x)).norm();
+          if (off > bend * chord && (at(t[j]).xi - at(t[i]).xi).norm() > coarse)
+            bent.push_back({off / chord, {i, j}});
+        }
+      std::sort(bent.begin(), bent.end(), [](const auto& p, const auto& q) { return p.first > q.first; });
+      bool split = false;
+      for (const auto& [ratio, edge] : bent) {
+        const int m = midpoint(t[edge[0]], t[edge[1]]);
+        Simplex<dim> first = t, second = t;  // the midpoint in place of either end keeps the orientation
+        first[edge[1]] = m;
+        second[edge[0]] = m;
+        if (!(orient(first) > 0 && orient(second) > 0)) continue;
+        for (const auto& half : {first, second})
+          (reference_size(half) > coarse ? next : done).push_back(half);
+        split = true;
+        break;
+      }
+      if (!split) done.push_back(t);
+    }
+    pending.swap(next);
+  }
+  pieces.swap(done);
+}
+
 // The straight pieces bisect_until_positive writes over a folded output
 // cell, and the tiny ones it leaves out (their reference volume as a
 // fraction of the reference cell's).
@@ -323,10 +403,11 @@ struct Bisection {
 // folded when all its edges are below `tiny` of the reference cell is left
 // out of the output (a hole far below what any rendering resolves; counted).
 // Returns no pieces if one is still folded at the depth limit or the pieces
-// exceed their budget (then the cell is written as it was).
+// exceed their budget (then the cell is written as it was). With `bends`, the
+// positive pieces then follow f's bends (follow_bends).
 template <int dim, class Place>
 Bisection<dim> bisect_until_positive(std::vector<PiecePoint<dim>>& points, std::vector<Simplex<dim>> pending,
-                                     const Place& place) {
+                                     const Place& place, bool bends = false) {
   constexpr int max_depth = 40 * dim;
   constexpr std::size_t max_pieces = 20000;
   constexpr double tiny = 1e-6;
@@ -384,6 +465,7 @@ Bisection<dim> bisect_until_positive(std::vector<PiecePoint<dim>>& points, std::
     if (!fresh.empty()) place(points, fresh);
     pending.swap(next);
   }
+  if (bends) follow_bends(points, result.pieces, place, midpoint_of);
   return result;
 }
 
@@ -570,7 +652,8 @@ Index write_folded_hexahedra_as_tetrahedra(OutputMesh<3>& out, const Mesh<3>& me
       start.push_back(t);
     }
     const Bisection<3> bisection =
-        bisect_until_positive<3>(points, start, placer(mesh, map, out.cell_ids[static_cast<std::size_t>(r)]));
+        bisect_until_positive<3>(points, start, placer(mesh, map, out.cell_ids[static_cast<std::size_t>(r)]),
+                                 /*bends=*/true);
     if (bisection.pieces.empty()) {
       ++left_folded;
       continue;
