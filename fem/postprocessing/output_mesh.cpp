@@ -298,31 +298,44 @@ struct PiecePoint {
 template <int dim>
 using Simplex = std::array<int, dim + 1>;
 
+// Orientation (det of the edge vectors) of the image of simplex t of `points`.
+template <int dim>
+double image_orientation(const std::vector<PiecePoint<dim>>& points, const Simplex<dim>& t) {
+  Matrix<dim> edges;
+  for (int d = 0; d < dim; ++d)
+    edges.col(d) = points[static_cast<std::size_t>(t[static_cast<std::size_t>(d + 1)])].x -
+                   points[static_cast<std::size_t>(t[0])].x;
+  return edges.determinant();
+}
+
+// The longest edge of simplex t of `points` in reference coordinates.
+template <int dim>
+double longest_reference_edge(const std::vector<PiecePoint<dim>>& points, const Simplex<dim>& t) {
+  double longest = 0;
+  for (std::size_t i = 0; i <= dim; ++i)
+    for (std::size_t j = i + 1; j <= dim; ++j)
+      longest = std::max(
+          longest,
+          (points[static_cast<std::size_t>(t[j])].xi - points[static_cast<std::size_t>(t[i])].xi).norm());
+  return longest;
+}
+
 // Positive straight pieces cut corners where f bends: a piece spanning most
 // of the angle f sweeps around a corner fills only part of its image. A piece
 // with an edge longer than `coarse` of the reference cell whose image leaves
 // its chord by more than `bend` of the chord's length (at the edge midpoint)
 // is bisected at the most bent such edge whose halves both stay positive (if
-// none, the piece stays whole), within a budget of pieces per cell. `pieces` is replaced by the
-// result; midpoints are shared through `midpoint_of`, as in the bisection.
+// none, the piece stays whole), within a budget of pieces per cell. `pieces`
+// is replaced by the result; midpoints are shared through `midpoint_of`, as
+// in the bisection.
 template <int dim, class Place>
 void follow_bends(std::vector<PiecePoint<dim>>& points, std::vector<Simplex<dim>>& pieces, const Place& place,
                   std::map<std::pair<int, int>, int>& midpoint_of) {
   constexpr double coarse = 1.0 / 8, bend = 0.05;
   const std::size_t max_pieces = std::max<std::size_t>(4 * pieces.size(), dim == 2 ? 256 : 4096);
   const auto at = [&](int i) -> PiecePoint<dim>& { return points[static_cast<std::size_t>(i)]; };
-  const auto orient = [&](const Simplex<dim>& t) {
-    Matrix<dim> edges;
-    for (int d = 0; d < dim; ++d) edges.col(d) = at(t[static_cast<std::size_t>(d + 1)]).x - at(t[0]).x;
-    return edges.determinant();
-  };
-  const auto reference_size = [&](const Simplex<dim>& t) {
-    double longest = 0;
-    for (std::size_t i = 0; i <= dim; ++i)
-      for (std::size_t j = i + 1; j <= dim; ++j)
-        longest = std::max(longest, (at(t[j]).xi - at(t[i]).xi).norm());
-    return longest;
-  };
+  const auto orient = [&](const Simplex<dim>& t) { return image_orientation(points, t); };
+  const auto reference_size = [&](const Simplex<dim>& t) { return longest_reference_edge(points, t); };
   const auto midpoint = [&](int a, int b) { return midpoint_of.at({std::min(a, b), std::max(a, b)}); };
   std::vector<Simplex<dim>> done, pending;
   for (const auto& t : pieces) (reference_size(t) > coarse ? pending : done).push_back(t);
@@ -412,18 +425,8 @@ Bisection<dim> bisect_until_positive(std::vector<PiecePoint<dim>>& points, std::
   constexpr std::size_t max_pieces = 20000;
   constexpr double tiny = 1e-6;
   const auto at = [&](int i) -> PiecePoint<dim>& { return points[static_cast<std::size_t>(i)]; };
-  const auto orient = [&](const Simplex<dim>& t) {
-    Matrix<dim> edges;
-    for (int d = 0; d < dim; ++d) edges.col(d) = at(t[static_cast<std::size_t>(d + 1)]).x - at(t[0]).x;
-    return edges.determinant();
-  };
-  const auto reference_size = [&](const Simplex<dim>& t) {
-    double longest = 0;
-    for (std::size_t i = 0; i <= dim; ++i)
-      for (std::size_t j = i + 1; j <= dim; ++j)
-        longest = std::max(longest, (at(t[j]).xi - at(t[i]).xi).norm());
-    return longest;
-  };
+  const auto orient = [&](const Simplex<dim>& t) { return image_orientation(points, t); };
+  const auto reference_size = [&](const Simplex<dim>& t) { return longest_reference_edge(points, t); };
   std::map<std::pair<int, int>, int> midpoint_of;
   Bisection<dim> result;
   for (int depth = 0; !pending.empty(); ++depth) {
@@ -522,6 +525,20 @@ void fill_missing_det(const mapping::Map<dim>& map, const Points<dim>& x0, Vecto
   for (std::size_t k = 0; k < missing.size(); ++k) det(missing[k]) = found(static_cast<Index>(k));
 }
 
+// Appends output nodes: their Ω0 positions x0, det J_f, and their positions
+// in Ω1 from `nodes` (anything with a member x, in the same order).
+template <int dim, class Node>
+void append_output_nodes(OutputMesh<dim>& out, const Points<dim>& x0, const std::vector<Node>& nodes,
+                         const VectorX& det) {
+  const Index first = out.points.rows(), n = x0.rows();
+  out.reference_points.conservativeResize(first + n, dim);
+  out.points.conservativeResize(first + n, dim);
+  out.map_det.conservativeResize(first + n);
+  out.reference_points.bottomRows(n) = x0;
+  for (Index j = 0; j < n; ++j) out.points.row(first + j) = nodes[static_cast<std::size_t>(j)].x.transpose();
+  out.map_det.tail(n) = det;
+}
+
 // Quadratic triangles and tetrahedra that still fold after subdivision and
 // straightening are replaced by straight pieces (bisect_until_positive),
 // their edge nodes on the chords: the first in the row's place, the others
@@ -590,13 +607,7 @@ Index cut_folded_simplices(OutputMesh<dim>& out, const Mesh<dim>& mesh, const ma
     }
     const Points<dim> x0 = cell_points(mesh, cell, xi);
     fill_missing_det(map, x0, det);
-    out.reference_points.conservativeResize(first_new + nfresh, dim);
-    out.points.conservativeResize(first_new + nfresh, dim);
-    out.map_det.conservativeResize(first_new + nfresh);
-    out.reference_points.bottomRows(nfresh) = x0;
-    for (Index j = 0; j < nfresh; ++j)
-      out.points.row(first_new + j) = fresh[static_cast<std::size_t>(j)].x.transpose();
-    out.map_det.tail(nfresh) = det;
+    append_output_nodes(out, x0, fresh, det);
     const Index old_rows = out.cells.rows(), extra = static_cast<Index>(rows_out.size()) - 1;
     out.cells.conservativeResize(old_rows + extra, nloc);
     for (std::size_t p = 0; p < rows_out.size(); ++p) {
@@ -704,13 +715,7 @@ Index write_folded_hexahedra_as_tetrahedra(OutputMesh<3>& out, const Mesh<3>& me
     return out.cell_ids[static_cast<std::size_t>(added_row[static_cast<std::size_t>(j)])];
   });
   fill_missing_det(map, x0, det);
-  out.reference_points.conservativeResize(first_new + nadded, 3);
-  out.points.conservativeResize(first_new + nadded, 3);
-  out.map_det.conservativeResize(first_new + nadded);
-  out.reference_points.bottomRows(nadded) = x0;
-  for (Index j = 0; j < nadded; ++j)
-    out.points.row(first_new + j) = added[static_cast<std::size_t>(j)].x.transpose();
-  out.map_det.tail(nadded) = det;
+  append_output_nodes(out, x0, added, det);
 
   // Rows: the hexahedra kept, then the tetrahedra (VTK order: corners, then
   // the nodes of edges 01, 12, 02, 03, 13, 23).
@@ -1046,13 +1051,7 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
   });
   fill_missing_det(map, x0, det);
   const Index first_new = out.points.rows();
-  out.reference_points.conservativeResize(first_new + nadded, 2);
-  out.points.conservativeResize(first_new + nadded, 2);
-  out.map_det.conservativeResize(first_new + nadded);
-  out.reference_points.bottomRows(nadded) = x0;
-  for (Index j = 0; j < nadded; ++j)
-    out.points.row(first_new + j) = added[static_cast<std::size_t>(j)].x.transpose();
-  out.map_det.tail(nadded) = det;
+  append_output_nodes(out, x0, added, det);
 
   // Rows: the quadrilaterals kept, then the triangles of an earlier call, then
   // the new triangles (VTK order: corners, then the nodes of edges 01, 12, 20).
