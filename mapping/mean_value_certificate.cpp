@@ -4,6 +4,7 @@
 #include <CGAL/Interval_nt.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <iomanip>
@@ -25,38 +26,81 @@ namespace {
 using I = CGAL::Interval_nt<false>;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-/// An interval with its gradient g and Hessian h (xx, xy, yy): second-order
-/// forward differentiation in x and y.
+/// An interval with its gradient g (x, y), Hessian h (xx, xy, yy) and, for
+/// Order 3, third derivatives t (xxx, xxy, xyy, yyy): forward differentiation
+/// in x and y. A mixed derivative is indexed by its number of y's (h[i + j],
+/// t[i + j + k] for directions i, j, k ∈ {0 = x, 1 = y}).
+template <int Order>
 struct Jet {
+  static_assert(Order == 2 || Order == 3);
+  static constexpr int kThird = Order == 3 ? 4 : 0;
   I v, g[2], h[3];
+  std::array<I, kThird> t = zero_third();
+
+  static std::array<I, kThird> zero_third() {
+    std::array<I, kThird> z;
+    z.fill(I(0));
+    return z;
+  }
 };
-Jet constant(I v) {
+template <int O>
+Jet<O> constant(I v) {
   return {v, {I(0), I(0)}, {I(0), I(0), I(0)}};
 }
-Jet operator+(const Jet& a, const Jet& b) {
-  return {a.v + b.v, {a.g[0] + b.g[0], a.g[1] + b.g[1]}, {a.h[0] + b.h[0], a.h[1] + b.h[1], a.h[2] + b.h[2]}};
+template <int O>
+Jet<O> operator+(const Jet<O>& a, const Jet<O>& b) {
+  Jet<O> c{a.v + b.v, {a.g[0] + b.g[0], a.g[1] + b.g[1]}, {a.h[0] + b.h[0], a.h[1] + b.h[1], a.h[2] + b.h[2]}};
+  for (int m = 0; m < Jet<O>::kThird; ++m) c.t[m] = a.t[m] + b.t[m];
+  return c;
 }
-Jet operator-(const Jet& a, const Jet& b) {
-  return {a.v - b.v, {a.g[0] - b.g[0], a.g[1] - b.g[1]}, {a.h[0] - b.h[0], a.h[1] - b.h[1], a.h[2] - b.h[2]}};
+template <int O>
+Jet<O> operator-(const Jet<O>& a, const Jet<O>& b) {
+  Jet<O> c{a.v - b.v, {a.g[0] - b.g[0], a.g[1] - b.g[1]}, {a.h[0] - b.h[0], a.h[1] - b.h[1], a.h[2] - b.h[2]}};
+  for (int m = 0; m < Jet<O>::kThird; ++m) c.t[m] = a.t[m] - b.t[m];
+  return c;
 }
-Jet operator*(double s, const Jet& a) {
-  return {s * a.v, {s * a.g[0], s * a.g[1]}, {s * a.h[0], s * a.h[1], s * a.h[2]}};
+template <int O>
+Jet<O> operator*(double s, const Jet<O>& a) {
+  Jet<O> c{s * a.v, {s * a.g[0], s * a.g[1]}, {s * a.h[0], s * a.h[1], s * a.h[2]}};
+  for (int m = 0; m < Jet<O>::kThird; ++m) c.t[m] = s * a.t[m];
+  return c;
 }
-Jet operator*(const Jet& a, const Jet& b) {
-  return {a.v * b.v,
-          {a.g[0] * b.v + a.v * b.g[0], a.g[1] * b.v + a.v * b.g[1]},
-          {a.h[0] * b.v + 2 * (a.g[0] * b.g[0]) + a.v * b.h[0],
-           a.h[1] * b.v + a.g[0] * b.g[1] + a.g[1] * b.g[0] + a.v * b.h[1],
-           a.h[2] * b.v + 2 * (a.g[1] * b.g[1]) + a.v * b.h[2]}};
+/// The directions (i, j, k), i ≤ j ≤ k, of t[m]: m of them are y.
+constexpr int kTriple[4][3] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+template <int O>
+Jet<O> operator*(const Jet<O>& a, const Jet<O>& b) {
+  Jet<O> c{a.v * b.v,
+           {a.g[0] * b.v + a.v * b.g[0], a.g[1] * b.v + a.v * b.g[1]},
+           {a.h[0] * b.v + 2 * (a.g[0] * b.g[0]) + a.v * b.h[0],
+            a.h[1] * b.v + a.g[0] * b.g[1] + a.g[1] * b.g[0] + a.v * b.h[1],
+            a.h[2] * b.v + 2 * (a.g[1] * b.g[1]) + a.v * b.h[2]}};
+  for (int m = 0; m < Jet<O>::kThird; ++m) {  // Leibniz: the 8 ways to split {i, j, k} between a and b
+    const int i = kTriple[m][0], j = kTriple[m][1], k = kTriple[m][2];
+    c.t[m] = a.t[m] * b.v + a.h[i + j] * b.g[k] + a.h[i + k] * b.g[j] + a.h[j + k] * b.g[i] +
+             a.g[i] * b.h[j + k] + a.g[j] * b.h[i + k] + a.g[k] * b.h[i + j] + a.v * b.t[m];
+  }
+  return c;
 }
-Jet reciprocal(const Jet& b) {
+template <int O>
+Jet<O> reciprocal(const Jet<O>& b) {
+  // The chain rule with (1/b)' = −1/b², (1/b)'' = 2/b³, (1/b)''' = −6/b⁴.
   const I i = 1 / b.v, i2 = CGAL::square(i), i3 = i2 * i;
-  return {i,
-          {-b.g[0] * i2, -b.g[1] * i2},
-          {2 * CGAL::square(b.g[0]) * i3 - b.h[0] * i2, 2 * (b.g[0] * b.g[1]) * i3 - b.h[1] * i2,
-           2 * CGAL::square(b.g[1]) * i3 - b.h[2] * i2}};
+  Jet<O> c{i,
+           {-b.g[0] * i2, -b.g[1] * i2},
+           {2 * CGAL::square(b.g[0]) * i3 - b.h[0] * i2, 2 * (b.g[0] * b.g[1]) * i3 - b.h[1] * i2,
+            2 * CGAL::square(b.g[1]) * i3 - b.h[2] * i2}};
+  if constexpr (O == 3) {
+    const I i4 = CGAL::square(i2);
+    for (int m = 0; m < 4; ++m) {
+      const int x = kTriple[m][0], y = kTriple[m][1], z = kTriple[m][2];
+      c.t[m] = -6 * (b.g[x] * b.g[y] * b.g[z]) * i4 +
+               2 * (b.h[x + y] * b.g[z] + b.h[x + z] * b.g[y] + b.h[y + z] * b.g[x]) * i3 - b.t[m] * i2;
+    }
+  }
+  return c;
 }
-Jet operator/(const Jet& a, const Jet& b) {
+template <int O>
+Jet<O> operator/(const Jet<O>& a, const Jet<O>& b) {
   return a * reciprocal(b);
 }
 
@@ -87,22 +131,40 @@ struct StepData {
 /// Where A_k may vanish (the box touches edge k) every weight is multiplied by
 /// A_k instead (φ = w / Σ w is unchanged), which extends the formula smoothly
 /// over the part of a boundary cell outside P_k. Returns false if Σ w may vanish.
-bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, double by, Jet& Qx, Jet& Qy,
-                       Jet& Ux, Jet& Uy, Jet& W, std::vector<Jet>& buf, std::vector<char>& near) {
+template <int O>
+bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, double by, Jet<O>& Qx,
+                       Jet<O>& Qy, std::vector<Jet<O>>& buf, std::vector<char>& near) {
+  using J = Jet<O>;
   const Index n = s.polygon.size();
-  buf.resize(static_cast<std::size_t>(3 * n));
-  Jet* r = buf.data();
-  Jet* t = r + n;
-  Jet* area = t + n;
+  buf.resize(static_cast<std::size_t>(4 * n));
+  J* r = buf.data();
+  J* t = r + n;
+  J* area = t + n;
+  J* inv_r = area + n;
   for (Index i = 0; i < n; ++i) {
     const Point<2>& v = s.polygon.vertex(i);
     const I ex = v.x() - X, ey = v.y() - Y;
     const I len = CGAL::sqrt(CGAL::square(ex) + CGAL::square(ey));
     const I c = clamp_unit(-ex / len), sn = clamp_unit(-ey / len);
-    r[i] = {len, {c, sn}, {CGAL::square(sn) / len, -(c * sn) / len, CGAL::square(c) / len}};
+    // r = |x − v_i| and 1/r with their derivatives in closed form (n = ∇r =
+    // (c, sn)), so the cancellations inside them are exact, not left to the
+    // interval arithmetic of a quotient rule.
+    const I c2 = CGAL::square(c), s2 = CGAL::square(sn), cs = c * sn;
+    const I len2 = CGAL::square(len), len3 = len2 * len;
+    r[i] = {len, {c, sn}, {s2 / len, -cs / len, c2 / len}};
+    inv_r[i] = {1 / len, {-c / len2, -sn / len2}, {(3 * c2 - 1) / len3, 3 * cs / len3, (3 * s2 - 1) / len3}};
+    if constexpr (O == 3) {
+      // ∂³r = −(δ_ij n_k + δ_ik n_j + δ_jk n_i − 3 n_i n_j n_k) / r²,
+      // ∂³(1/r) = (3 (δ_ij n_k + δ_ik n_j + δ_jk n_i) − 15 n_i n_j n_k) / r⁴.
+      r[i].t = {-3 * (c * s2) / len2, -(sn * (1 - 3 * c2)) / len2, -(c * (1 - 3 * s2)) / len2,
+                -3 * (sn * c2) / len2};
+      const I len4 = CGAL::square(len2);
+      inv_r[i].t = {-3 * (c * (5 * c2 - 3)) / len4, -3 * (sn * (5 * c2 - 1)) / len4,
+                    -3 * (c * (5 * s2 - 1)) / len4, -3 * (sn * (5 * s2 - 3)) / len4};
+    }
   }
   near.assign(static_cast<std::size_t>(n), 0);
-  Jet scale = constant(I(1));
+  J scale = constant<O>(I(1));
   for (Index k = 0; k < n; ++k) {
     const Index k1 = (k + 1) % n;
     // A (affine in x) and D (a shifted square) in forms where x occurs once,
@@ -110,19 +172,19 @@ bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, dou
     const Point<2>& a = s.polygon.vertex(k);
     const Point<2>& b = s.polygon.vertex(k1);
     const I exv = I(b.x()) - a.x(), eyv = I(b.y()) - a.y();
-    const Jet& A =
+    const J& A =
         area[k] = {I(a.x()) * b.y() - I(a.y()) * b.x() + exv * Y - eyv * X, {-eyv, exv}, {I(0), I(0), I(0)}};
     const I mx = (I(a.x()) + b.x()) / 2, my = (I(a.y()) + b.y()) / 2;
-    const Jet D{CGAL::square(X - mx) + CGAL::square(Y - my) - (CGAL::square(exv) + CGAL::square(eyv)) / 4,
+    const J D{CGAL::square(X - mx) + CGAL::square(Y - my) - (CGAL::square(exv) + CGAL::square(eyv)) / 4,
                 {2 * (X - mx), 2 * (Y - my)},
                 {I(2), I(0), I(2)}};
-    const Jet P = r[k] * r[k1];
+    const J P = r[k] * r[k1];
     if (D.v.sup() < 0) {  // the edge is seen under more than 90°: t = (P − D) / A
       // Unless A is well away from 0 (relative to its width), the box is at
       // or close to the segment: then (P − D) times A, through the scale.
       const Real lo = std::min(std::abs(A.v.inf()), std::abs(A.v.sup()));
       const Real hi = std::max(std::abs(A.v.inf()), std::abs(A.v.sup()));
-      const Jet PmD = P - D;
+      const J PmD = P - D;
       if ((A.v.inf() > 0 || A.v.sup() < 0) && lo > kNearRatio * hi && PmD.v.inf() < kNearTan * hi) {
         t[k] = PmD / A;
       } else {
@@ -142,15 +204,16 @@ bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, dou
     for (Index e = 0; e < n; ++e)  // Π over the other near edges
       if (e != k && near[static_cast<std::size_t>(e)]) t[k] = t[k] * area[e];
   }
-  W = Ux = Uy = constant(I(0));
+  const auto u = [&](const std::vector<Real>& v, Index j) { return v[static_cast<std::size_t>(j)]; };
+  J W = constant<O>(I(0)), Ux = W, Uy = W;
   for (Index j = 0; j < n; ++j) {
-    const Jet w = (t[(j + n - 1) % n] + t[j]) / r[j];
+    const J w = (t[(j + n - 1) % n] + t[j]) * inv_r[j];
     W = W + w;
-    Ux = Ux + (s.ux[static_cast<std::size_t>(j)] - bx) * w;
-    Uy = Uy + (s.uy[static_cast<std::size_t>(j)] - by) * w;
+    Ux = Ux + (u(s.ux, j) - bx) * w;
+    Uy = Uy + (u(s.uy, j) - by) * w;
   }
   if (!(W.v.inf() > 0 || W.v.sup() < 0)) return false;
-  const Jet iW = reciprocal(W);
+  const J iW = reciprocal(W);
   Qx = Ux * iW;
   Qy = Uy * iW;
   return true;
@@ -163,27 +226,72 @@ I meet(const I& a, const I& b) {
   return I(std::max(a.inf(), b.inf()), std::min(a.sup(), b.sup()));
 }
 
-/// Encloses det J_k over the box [x0, x1] × [y0, y1]. Each entry of J_k − I,
-/// a first derivative of Q, is enclosed by its centred form (value at the
-/// centre plus the Hessian over the box times the half-widths) intersected
-/// with its direct enclosure over the box. The FPU must round upward.
-I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, std::vector<Jet>& buf,
-                std::vector<char>& near) {
+/// Per-thread buffers of the enclosures.
+struct Workspace {
+  std::vector<Jet<2>> centre;
+  std::vector<Jet<2>> box2;
+  std::vector<Jet<3>> box3;
+  std::vector<char> near;
+};
+
+/// Encloses det J_k over the box [x0, x1] × [y0, y1]. (1) Each entry of
+/// J_k − I, a first derivative of Q, by its centred form (value at the centre
+/// c plus the Hessian over the box times the half-widths) met with its direct
+/// enclosure over the box. If the lower end is below `good_enough`: (2) det J_k
+/// by a second-order Taylor model around c, met with (1). With every entry
+/// e = e(c) + ∇e(c)·δ + R_e (R_e from the third derivatives over the box),
+/// det J_k is its value at c, plus a term linear in δ whose range is exact,
+/// plus terms of order |δ|². (1) loses the cancellation inside the determinant
+/// and overestimates the Hessian over the box by a factor that grows toward a
+/// vertex; (2) is tight to O(|δ|²), at about twice the cost, and lets cells
+/// near a vertex be larger. The FPU must round upward.
+I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good_enough, Workspace& ws) {
   const Real cx = x0 / 2 + x1 / 2, cy = y0 / 2 + y1 / 2;
-  Jet Cx, Cy, Ux, Uy, W, Bx, By;
-  if (!displacement_jets(s, I(cx), I(cy), 0, 0, Cx, Cy, Ux, Uy, W, buf, near)) return I::largest();
+  Jet<2> Cx, Cy;
+  if (!displacement_jets(s, I(cx), I(cy), 0, 0, Cx, Cy, ws.centre, ws.near)) return I::largest();
   // Over the box, ū = the displacement at the centre (any constant is valid;
   // this one keeps the quotient rule's terms small).
   const double bx = Cx.v.inf() / 2 + Cx.v.sup() / 2, by = Cy.v.inf() / 2 + Cy.v.sup() / 2;
-  if (!displacement_jets(s, I(x0, x1), I(y0, y1), bx, by, Bx, By, Ux, Uy, W, buf, near)) return I::largest();
+  const I box_x(x0, x1), box_y(y0, y1);
+  Jet<2> Bx, By;
+  if (!displacement_jets(s, box_x, box_y, bx, by, Bx, By, ws.box2, ws.near)) return I::largest();
   const I hx = hull(I(x0) - cx, I(x1) - cx), hy = hull(I(y0) - cy, I(y1) - cy);
-  auto entry = [&](const Jet& centre, const Jet& box, int j) {  // ∂Q/∂x_j over the box
+
+  auto entry = [&](const Jet<2>& centre, const Jet<2>& box, int j) {  // ∂Q/∂x_j over the box
     const I centred = centre.g[j] + box.h[j] * hx + box.h[j + 1] * hy;
     const I m = meet(centred, box.g[j]);
     return m.inf() <= m.sup() ? m : centred;
   };
   const I a = entry(Cx, Bx, 0), b = entry(Cx, Bx, 1), c = entry(Cy, By, 0), d = entry(Cy, By, 1);
-  return (1 + a) * (1 + d) - b * c;
+  const I by_entries = (1 + a) * (1 + d) - b * c;
+  if (by_entries.inf() >= good_enough) return by_entries;
+
+  Jet<3> Tx, Ty;
+  if (!displacement_jets(s, box_x, box_y, bx, by, Tx, Ty, ws.box3, ws.near)) return by_entries;
+  // ∂Q/∂x_j = e0 + e1·δ + R over the box: value and gradient at the centre,
+  // R = ½ δᵀ (∇²e over the box) δ.
+  struct Expansion {
+    I e0, e1[2], linear, rest;
+  };
+  const I hx2 = CGAL::square(hx), hy2 = CGAL::square(hy), hxy = hx * hy;
+  auto expand = [&](const Jet<2>& centre, const Jet<3>& box, int j) {
+    Expansion e{centre.g[j], {centre.h[j], centre.h[j + 1]}, I(0), I(0)};
+    e.linear = e.e1[0] * hx + e.e1[1] * hy;
+    e.rest = (box.t[j] * hx2 + 2 * (box.t[j + 1] * hxy) + box.t[j + 2] * hy2) / 2;
+    return e;
+  };
+  const Expansion ea = expand(Cx, Tx, 0), eb = expand(Cx, Tx, 1), ec = expand(Cy, Ty, 0),
+                  ed = expand(Cy, Ty, 1);
+  const I pa = 1 + ea.e0, pd = 1 + ed.e0;
+  I gradient[2];
+  for (int i = 0; i < 2; ++i)
+    gradient[i] = pa * ed.e1[i] + pd * ea.e1[i] - eb.e0 * ec.e1[i] - ec.e0 * eb.e1[i];
+  const I quadratic = pa * ed.rest + pd * ea.rest - eb.e0 * ec.rest - ec.e0 * eb.rest +
+                      (ea.linear + ea.rest) * (ed.linear + ed.rest) - (eb.linear + eb.rest) * (ec.linear + ec.rest);
+  const I by_taylor = (pa * pd - eb.e0 * ec.e0) + gradient[0] * hx + gradient[1] * hy + quadratic;
+
+  const I both = meet(by_entries, by_taylor);
+  return both.inf() <= both.sup() ? both : I::largest();  // both hold the range: never empty
 }
 
 enum class CellSide { outside, inside, boundary };
@@ -304,8 +412,7 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
   std::vector<StepCertificate> parts(kRoots * kRoots);
   std::atomic<Index> total_cells{0};
   parallel_for(kRoots * kRoots, 1, [&](Index first, Index last) {
-    std::vector<Jet> buf;
-    std::vector<char> near;
+    Workspace ws;
     std::vector<Cell> stack;
     for (Index root = first; root < last; ++root) {
       StepCertificate& part = parts[static_cast<std::size_t>(root)];
@@ -325,10 +432,17 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
           ++part.skipped_in_disks;
           continue;
         }
+        // A positive interval whose lower end is far below the sampled
+        // minimum is split further while cells are not tiny, so that b_k is
+        // close to the true minimum, not just above zero.
+        const bool may_tighten = cell.h / 2 >= 16 * min_size;
         I det;
         {
           CGAL::Protect_FPU_rounding<true> guard;
-          det = det_enclosure(s, cell.x0, x1, cell.y0, y1, buf, near);
+          // The second enclosure is computed only when the first is below
+          // the lower end that stops every cell.
+          const Real stops_at = std::max(tight_enough, std::numeric_limits<Real>::denorm_min());
+          det = det_enclosure(s, cell.x0, x1, cell.y0, y1, stops_at, ws);
         }
         ++part.cells;
         if (++total_cells > o.max_cells)
@@ -338,10 +452,7 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
               {.file = "",
                .key_path = "map.certify",
                .hint = "use a finer partition (more steps), or \"certify\": false (sampled check only)"});
-        // A positive interval whose lower end is far below the sampled
-        // minimum is split further while cells are not tiny, so that b_k is
-        // close to the true minimum, not just above zero.
-        const bool loose = det.inf() < tight_enough && cell.h / 2 >= 16 * min_size;
+        const bool loose = det.inf() < tight_enough && may_tighten;
         if (det.inf() > 0 && !loose) {
           if (det.inf() < part.lower_bound) {
             part.lower_bound = det.inf();
@@ -413,10 +524,10 @@ std::pair<Real, Real> det_jacobian_enclosure(const Polygon& source, const std::v
     ux.push_back(target[static_cast<std::size_t>(i)].x() - source.vertex(i).x());
     uy.push_back(target[static_cast<std::size_t>(i)].y() - source.vertex(i).y());
   }
-  std::vector<Jet> buf;
-  std::vector<char> near;
+  Workspace ws;
   CGAL::Protect_FPU_rounding<true> guard;
-  const I det = det_enclosure({source, ux, uy}, lo.x(), hi.x(), lo.y(), hi.y(), buf, near);
+  const I det = det_enclosure({source, ux, uy}, lo.x(), hi.x(), lo.y(), hi.y(),
+                              std::numeric_limits<Real>::infinity(), ws);
   return {det.inf(), det.sup()};
 }
 

@@ -69,6 +69,35 @@ TEST(Certificate, CellIntervalHoldsEveryPointValue) {
   EXPECT_GT(boxes, 100);
 }
 
+// The lower end of a box's interval approaches the least det J in the box to
+// second order in the box size (the Taylor model of det J), not to first order
+// as enclosing the entries of J separately does: shrinking a box of 1/800 of
+// the polygon 4× shrinks the gap more than 25× (36–68× measured; 6–14× with
+// the entries alone).
+TEST(Certificate, CellLowerEndConvergesToSecondOrder) {
+  const Polygon P = test::concave32();
+  const std::vector<Point<2>> target = shifted(P, {0.15, -0.1}, 5);
+  const BarycentricStep step(P, target, Coordinates::mean_value);
+  auto gap = [&](const Point<2>& c, Real h) {  // least sampled det J in the box − the lower end
+    const Point<2> half(h / 2, h / 2);
+    const auto [inf, sup] = det_jacobian_enclosure(P, target, c - half, c + half);
+    Real m = std::numeric_limits<Real>::infinity();
+    for (int i = 0; i <= 20; ++i)
+      for (int j = 0; j <= 20; ++j) m = std::min(m, det_at(step, c - half + Point<2>(h * i / 20, h * j / 20)));
+    EXPECT_LE(inf, m + 1e-12);
+    return m - inf;
+  };
+  int checked = 0;
+  for (const Point<2>& c : {Point<2>(0.1, 0.2), Point<2>(-0.3, 0.1), Point<2>(0.25, -0.35)}) {
+    ASSERT_GT(P.side_of(c), 0);
+    const Real coarse = gap(c, 0.0025), fine = gap(c, 0.000625);
+    EXPECT_GT(coarse, 0);
+    EXPECT_LT(fine, coarse / 25) << "box at " << c.transpose() << ": gap " << coarse << " → " << fine;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
+}
+
 TEST(Certificate, BoxesCutByAnEdgeAreEnclosedToo) {
   const Polygon P = test::convex6();
   const std::vector<Point<2>> target = shifted(P, {0.2, 0.1}, 2);
