@@ -226,6 +226,10 @@ I meet(const I& a, const I& b) {
   return I(std::max(a.inf(), b.inf()), std::min(a.sup(), b.sup()));
 }
 
+/// The Taylor model is tried on a cell only while the entry-wise interval is
+/// at most this many times det J_k at its centre.
+constexpr Real kTaylorWidthRatio = 4;
+
 /// Per-thread buffers of the enclosures.
 struct Workspace {
   std::vector<Jet<2>> centre;
@@ -265,6 +269,11 @@ I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good
   const I a = entry(Cx, Bx, 0), b = entry(Cx, Bx, 1), c = entry(Cy, By, 0), d = entry(Cy, By, 1);
   const I by_entries = (1 + a) * (1 + d) - b * c;
   if (by_entries.inf() >= good_enough) return by_entries;
+  // Where (1) is many times wider than det J_k at the centre, the cell is too
+  // large for (2) as well (its remainder grows faster with the cell): it is
+  // split without trying.
+  const I at_centre = (1 + Cx.g[0]) * (1 + Cy.g[1]) - Cx.g[1] * Cy.g[0];
+  if (by_entries.sup() - by_entries.inf() > kTaylorWidthRatio * CGAL::abs(at_centre).inf()) return by_entries;
 
   Jet<3> Tx, Ty;
   if (!displacement_jets(s, box_x, box_y, bx, by, Tx, Ty, ws.box3, ws.near)) return by_entries;
