@@ -49,13 +49,15 @@ Jet<O> constant(I v) {
 }
 template <int O>
 Jet<O> operator+(const Jet<O>& a, const Jet<O>& b) {
-  Jet<O> c{a.v + b.v, {a.g[0] + b.g[0], a.g[1] + b.g[1]}, {a.h[0] + b.h[0], a.h[1] + b.h[1], a.h[2] + b.h[2]}};
+  Jet<O> c{
+      a.v + b.v, {a.g[0] + b.g[0], a.g[1] + b.g[1]}, {a.h[0] + b.h[0], a.h[1] + b.h[1], a.h[2] + b.h[2]}};
   for (int m = 0; m < Jet<O>::kThird; ++m) c.t[m] = a.t[m] + b.t[m];
   return c;
 }
 template <int O>
 Jet<O> operator-(const Jet<O>& a, const Jet<O>& b) {
-  Jet<O> c{a.v - b.v, {a.g[0] - b.g[0], a.g[1] - b.g[1]}, {a.h[0] - b.h[0], a.h[1] - b.h[1], a.h[2] - b.h[2]}};
+  Jet<O> c{
+      a.v - b.v, {a.g[0] - b.g[0], a.g[1] - b.g[1]}, {a.h[0] - b.h[0], a.h[1] - b.h[1], a.h[2] - b.h[2]}};
   for (int m = 0; m < Jet<O>::kThird; ++m) c.t[m] = a.t[m] - b.t[m];
   return c;
 }
@@ -176,8 +178,8 @@ bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, dou
         area[k] = {I(a.x()) * b.y() - I(a.y()) * b.x() + exv * Y - eyv * X, {-eyv, exv}, {I(0), I(0), I(0)}};
     const I mx = (I(a.x()) + b.x()) / 2, my = (I(a.y()) + b.y()) / 2;
     const J D{CGAL::square(X - mx) + CGAL::square(Y - my) - (CGAL::square(exv) + CGAL::square(eyv)) / 4,
-                {2 * (X - mx), 2 * (Y - my)},
-                {I(2), I(0), I(2)}};
+              {2 * (X - mx), 2 * (Y - my)},
+              {I(2), I(0), I(2)}};
     const J P = r[k] * r[k1];
     if (D.v.sup() < 0) {  // the edge is seen under more than 90°: t = (P − D) / A
       // Unless A is well away from 0 (relative to its width), the box is at
@@ -296,7 +298,8 @@ I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good
   for (int i = 0; i < 2; ++i)
     gradient[i] = pa * ed.e1[i] + pd * ea.e1[i] - eb.e0 * ec.e1[i] - ec.e0 * eb.e1[i];
   const I quadratic = pa * ed.rest + pd * ea.rest - eb.e0 * ec.rest - ec.e0 * eb.rest +
-                      (ea.linear + ea.rest) * (ed.linear + ed.rest) - (eb.linear + eb.rest) * (ec.linear + ec.rest);
+                      (ea.linear + ea.rest) * (ed.linear + ed.rest) -
+                      (eb.linear + eb.rest) * (ec.linear + ec.rest);
   const I by_taylor = (pa * pd - eb.e0 * ec.e0) + gradient[0] * hx + gradient[1] * hy + quadratic;
 
   const I both = meet(by_entries, by_taylor);

@@ -3,10 +3,11 @@
 //
 // One step f_k(x) = x + Σ_i φ_i(x) u_i on the polygon P_k (mean value
 // coordinates φ_i, vertex displacements u_i) has J_k = I + Σ_i u_i ∇φ_iᵀ. Over
-// the cells of an adaptive quadtree covering P_k, the entries of J_k are
-// enclosed with interval arithmetic (CGAL::Interval_nt, first-order forward
-// derivatives of the mean value weights), so the interval of det J_k holds for
-// every point of the cell, not just at samples. Cells are classified against
+// the cells of an adaptive quadtree covering P_k, det J_k is enclosed with
+// interval arithmetic (CGAL::Interval_nt, forward derivatives of the mean value
+// weights up to third order; from the entries of J_k, and where that is not
+// enough from a second-order Taylor model of det J_k), so the interval holds
+// for every point of the cell, not just at samples. Cells are classified against
 // P_k with exact predicates (outside: skipped; inside or cut by the boundary:
 // enclosed over the whole cell) and split until the lower end of det J_k is
 // positive. Cells that lie entirely inside a disk of radius ρ_k around a vertex

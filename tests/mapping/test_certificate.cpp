@@ -83,7 +83,8 @@ TEST(Certificate, CellLowerEndConvergesToSecondOrder) {
     const auto [inf, sup] = det_jacobian_enclosure(P, target, c - half, c + half);
     Real m = std::numeric_limits<Real>::infinity();
     for (int i = 0; i <= 20; ++i)
-      for (int j = 0; j <= 20; ++j) m = std::min(m, det_at(step, c - half + Point<2>(h * i / 20, h * j / 20)));
+      for (int j = 0; j <= 20; ++j)
+        m = std::min(m, det_at(step, c - half + Point<2>(h * i / 20, h * j / 20)));
     EXPECT_LE(inf, m + 1e-12);
     return m - inf;
   };
