@@ -78,12 +78,19 @@ std::string csv_number(double v) {
   os << std::setprecision(10) << v;
   return os.str();
 }
-// A convergence rate; 0 marks a discretization's first level, which has none.
-std::string rate_text(double v) {
-  return v == 0 ? "-" : fixed(v);
+// A convergence rate: "-" on a discretization's first level, which has none.
+std::string rate_text(const StudyRow& row, double rate) {
+  return row.has_rates ? fixed(rate) : "-";
 }
-std::string csv_rate(double v) {
-  return v == 0 ? "" : csv_number(v);
+std::string csv_rate(const StudyRow& row, double rate) {
+  return row.has_rates ? csv_number(rate) : "";
+}
+// A count of a level where the discretization does not exist (inverted).
+std::string count_text(const StudyRow& row, Index count, const char* none) {
+  return row.dofs > 0 ? std::to_string(count) : none;
+}
+std::string condition_text(double v) {
+  return std::isnan(v) ? "-" : sci(v, 2);
 }
 
 template <int dim>
@@ -287,7 +294,7 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
         row.discretization = d + " (inverted)";
         row.level = level;
         row.h = mesh.max_edge_length();
-        row.l2 = row.h1 = row.norm_ratio_error = row.area_error = std::nan("");
+        row.l2 = row.h1 = row.norm_ratio_error = row.area = row.area_error = row.seconds = std::nan("");
         result.rows.push_back(row);
         continue;
       }
@@ -333,16 +340,16 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
                               ? std::log(static_cast<double>(row.dofs) / static_cast<double>(prev.dofs)) / dim
                               : std::log(prev.h / row.h);
         if (d != "target_mesh" || hr > 0.05) {
+          row.has_rates = true;
           row.l2_rate = std::log(prev.l2 / row.l2) / hr;
           row.h1_rate = std::log(prev.h1 / row.h1) / hr;
         }
       }
       row.seconds = w.seconds();
       log::info(std::setw(18), d, " level ", level, ": ", std::setw(8), row.dofs, " DOFs  L2 ", sci(row.l2),
-                " (", rate_text(row.l2_rate), ")  H1 ", sci(row.h1), " (", rate_text(row.h1_rate),
+                " (", rate_text(row, row.l2_rate), ")  H1 ", sci(row.h1), " (", rate_text(row, row.h1_rate),
                 ")  r(u_h) ", sci(row.norm_ratio_error), (dim == 2 ? "  area err " : "  volume err "),
-                sci(row.area_error), "  cond ",
-                row.condition_number > 0 ? sci(row.condition_number, 2) : std::string("-"), "  (",
+                sci(row.area_error), "  cond ", condition_text(row.condition_number), "  (",
                 format_seconds(row.seconds), ")");
       result.rows.push_back(row);
     }
@@ -360,11 +367,11 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
     csv << "discretization,level,h,dofs,l2_error,l2_rate,h1_error,h1_rate,r_uh,area,area_error,condition_"
            "number,iterations,seconds\n";
     for (const auto& r : result.rows)
-      csv << r.discretization << ',' << r.level << ',' << csv_number(r.h) << ',' << r.dofs << ','
-          << csv_number(r.l2) << ',' << csv_rate(r.l2_rate) << ',' << csv_number(r.h1) << ','
-          << csv_rate(r.h1_rate) << ',' << csv_number(r.norm_ratio_error) << ',' << csv_number(r.area) << ','
-          << csv_number(r.area_error) << ',' << csv_number(r.condition_number) << ',' << r.iterations << ','
-          << csv_number(r.seconds) << '\n';
+      csv << r.discretization << ',' << r.level << ',' << csv_number(r.h) << ',' << count_text(r, r.dofs, "")
+          << ',' << csv_number(r.l2) << ',' << csv_rate(r, r.l2_rate) << ',' << csv_number(r.h1) << ','
+          << csv_rate(r, r.h1_rate) << ',' << csv_number(r.norm_ratio_error) << ',' << csv_number(r.area)
+          << ',' << csv_number(r.area_error) << ',' << csv_number(r.condition_number) << ','
+          << count_text(r, r.iterations, "") << ',' << csv_number(r.seconds) << '\n';
     result.csv_file = (fs::path(dir) / "study.csv").string();
     io::write_text_atomically(result.csv_file, csv.str());
 
@@ -386,11 +393,11 @@ StudyResult run_study(const io::PoissonRunConfig<dim>& cfg, const StudySpec& spe
           "cond(L) | CG its |\n"
        << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : result.rows)
-      md << "| " << r.discretization << " | " << r.level << " | " << sci(r.h, 2) << " | " << r.dofs << " | "
-         << sci(r.l2) << " | " << (r.l2_rate != 0 ? fixed(r.l2_rate) : "") << " | " << sci(r.h1) << " | "
-         << (r.h1_rate != 0 ? fixed(r.h1_rate) : "") << " | " << sci(r.norm_ratio_error) << " | "
-         << sci(r.area_error) << " | " << (r.condition_number > 0 ? sci(r.condition_number, 2) : "-") << " | "
-         << r.iterations << " |\n";
+      md << "| " << r.discretization << " | " << r.level << " | " << sci(r.h, 2) << " | "
+         << count_text(r, r.dofs, "-") << " | " << sci(r.l2) << " | " << rate_text(r, r.l2_rate) << " | "
+         << sci(r.h1) << " | " << rate_text(r, r.h1_rate) << " | " << sci(r.norm_ratio_error) << " | "
+         << sci(r.area_error) << " | " << condition_text(r.condition_number) << " | "
+         << count_text(r, r.iterations, "-") << " |\n";
     md << "\nWarped: elements of the simple mesh warped by f (exact geometry). Standard: straight elements "
           "through the mapped coarse vertices, kept under refinement (the domain stays the coarse "
        << (dim == 2 ? "polygonal" : "polyhedral")

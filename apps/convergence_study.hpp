@@ -7,6 +7,7 @@
 
 #include <mpi.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,12 +29,13 @@ struct StudyRow {
   std::string discretization;
   int level = 0;
   double h = 0;
-  Index dofs = 0;
-  double l2 = 0, h1 = 0;  ///< errors (exact solution, or the reference solution for "warped")
+  Index dofs = 0;          ///< 0 for a level where the discretization does not exist (inverted)
+  double l2 = 0, h1 = 0;   ///< errors (exact solution, or the reference solution for "warped")
+  bool has_rates = false;  ///< false on a discretization's first level (or the first after an inverted one)
   double l2_rate = 0, h1_rate = 0;
   double norm_ratio_error = 0;      ///< r(u_h) = | ‖u_h‖ / ‖u_ref‖ − 1 |
   double area = 0, area_error = 0;  ///< of the discrete domain (a volume in 3D), relative error
-  double condition_number = 0;      ///< 0 if not computed
+  double condition_number = std::numeric_limits<double>::quiet_NaN();  ///< NaN if not computed
   int iterations = 0;
   double seconds = 0;
 };

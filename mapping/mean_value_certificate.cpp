@@ -224,8 +224,12 @@ bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, dou
 I hull(const I& a, const I& b) {
   return I(std::min(a.inf(), b.inf()), std::max(a.sup(), b.sup()));
 }
-I meet(const I& a, const I& b) {
-  return I(std::max(a.inf(), b.inf()), std::min(a.sup(), b.sup()));
+/// The intersection of two enclosures of the same range, or `fallback` when
+/// they do not overlap (which rounding alone cannot cause) or `a` has a NaN
+/// end (a NaN end of `b` gives `a`).
+I meet(const I& a, const I& b, const I& fallback) {
+  const double lo = std::max(a.inf(), b.inf()), hi = std::min(a.sup(), b.sup());
+  return lo <= hi ? I(lo, hi) : fallback;
 }
 
 /// The Taylor model is tried on a cell only while the entry-wise interval is
@@ -244,14 +248,16 @@ struct Workspace {
 /// J_k − I, a first derivative of Q, by its centred form (value at the centre
 /// c plus the Hessian over the box times the half-widths) met with its direct
 /// enclosure over the box. If the lower end is below `good_enough`: (2) det J_k
-/// by a second-order Taylor model around c, met with (1). With every entry
+/// by a second-order Taylor model around c, met with (1) (on a `last_try`
+/// always, otherwise only where (1) is not far too wide for it). With every entry
 /// e = e(c) + ∇e(c)·δ + R_e (R_e from the third derivatives over the box),
 /// det J_k is its value at c, plus a term linear in δ whose range is exact,
 /// plus terms of order |δ|². (1) loses the cancellation inside the determinant
 /// and overestimates the Hessian over the box by a factor that grows toward a
 /// vertex; (2) is tight to O(|δ|²), at about twice the cost, and lets cells
 /// near a vertex be larger. The FPU must round upward.
-I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good_enough, Workspace& ws) {
+I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good_enough, bool last_try,
+                Workspace& ws) {
   const Real cx = x0 / 2 + x1 / 2, cy = y0 / 2 + y1 / 2;
   Jet<2> Cx, Cy;
   if (!displacement_jets(s, I(cx), I(cy), 0, 0, Cx, Cy, ws.centre, ws.near)) return I::largest();
@@ -265,8 +271,7 @@ I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good
 
   auto entry = [&](const Jet<2>& centre, const Jet<2>& box, int j) {  // ∂Q/∂x_j over the box
     const I centred = centre.g[j] + box.h[j] * hx + box.h[j + 1] * hy;
-    const I m = meet(centred, box.g[j]);
-    return m.inf() <= m.sup() ? m : centred;
+    return meet(centred, box.g[j], centred);
   };
   const I a = entry(Cx, Bx, 0), b = entry(Cx, Bx, 1), c = entry(Cy, By, 0), d = entry(Cy, By, 1);
   const I by_entries = (1 + a) * (1 + d) - b * c;
@@ -275,7 +280,8 @@ I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good
   // large for (2) as well (its remainder grows faster with the cell): it is
   // split without trying.
   const I at_centre = (1 + Cx.g[0]) * (1 + Cy.g[1]) - Cx.g[1] * Cy.g[0];
-  if (by_entries.sup() - by_entries.inf() > kTaylorWidthRatio * CGAL::abs(at_centre).inf()) return by_entries;
+  if (!last_try && by_entries.sup() - by_entries.inf() > kTaylorWidthRatio * CGAL::abs(at_centre).inf())
+    return by_entries;
 
   Jet<3> Tx, Ty;
   if (!displacement_jets(s, box_x, box_y, bx, by, Tx, Ty, ws.box3, ws.near)) return by_entries;
@@ -302,8 +308,7 @@ I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good
                       (eb.linear + eb.rest) * (ec.linear + ec.rest);
   const I by_taylor = (pa * pd - eb.e0 * ec.e0) + gradient[0] * hx + gradient[1] * hy + quadratic;
 
-  const I both = meet(by_entries, by_taylor);
-  return both.inf() <= both.sup() ? both : I::largest();  // both hold the range: never empty
+  return meet(by_entries, by_taylor, I::largest());
 }
 
 enum class CellSide { outside, inside, boundary };
@@ -454,7 +459,7 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
           // The second enclosure is computed only when the first is below
           // the lower end that stops every cell.
           const Real stops_at = std::max(tight_enough, std::numeric_limits<Real>::denorm_min());
-          det = det_enclosure(s, cell.x0, x1, cell.y0, y1, stops_at, ws);
+          det = det_enclosure(s, cell.x0, x1, cell.y0, y1, stops_at, /*last_try=*/cell.h / 2 < min_size, ws);
         }
         ++part.cells;
         if (++total_cells > o.max_cells)
@@ -539,7 +544,7 @@ std::pair<Real, Real> det_jacobian_enclosure(const Polygon& source, const std::v
   Workspace ws;
   CGAL::Protect_FPU_rounding<true> guard;
   const I det = det_enclosure({source, ux, uy}, lo.x(), hi.x(), lo.y(), hi.y(),
-                              std::numeric_limits<Real>::infinity(), ws);
+                              std::numeric_limits<Real>::infinity(), /*last_try=*/true, ws);
   return {det.inf(), det.sup()};
 }
 

@@ -676,12 +676,20 @@ Index write_folded_hexahedra_as_tetrahedra(OutputMesh<3>& out, const Mesh<3>& me
       added_row.push_back(r);
       return -static_cast<Index>(added.size());
     };
-    for (auto& p : points)
-      if (p.node < 0) p.node = new_node(p);
+    // Nodes only for the points the pieces use (the bend refinement also
+    // placed midpoints of edges it did not split).
+    std::vector<Index> created(points.size(), 0);  // added nodes are numbered −1, −2, …
+    const auto node_of = [&](int i) {
+      const PiecePoint<3>& p = points[static_cast<std::size_t>(i)];
+      if (p.node >= 0) return p.node;
+      Index& c = created[static_cast<std::size_t>(i)];
+      if (c == 0) c = new_node(p);
+      return c;
+    };
     std::map<std::pair<int, int>, Index> middle;
     for (const auto& t : bisection.pieces) {
       std::array<Index, 10> row{};
-      for (std::size_t v = 0; v < 4; ++v) row[v] = points[static_cast<std::size_t>(t[v])].node;
+      for (std::size_t v = 0; v < 4; ++v) row[v] = node_of(t[v]);
       for (std::size_t e = 0; e < tet_edges.size(); ++e) {
         const int a = t[static_cast<std::size_t>(tet_edges[e][0])],
                   b = t[static_cast<std::size_t>(tet_edges[e][1])];
@@ -1012,11 +1020,6 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
     if (pieces.empty()) continue;
     out.num_left_out_pieces += bisection.left_out;
     out.left_out_volume += bisection.left_out_volume / 2;  // the reference square has twice the area
-    for (auto& p : points)
-      if (p.node < 0) {
-        added.push_back({r, p.xi, p.x, p.det});
-        p.node = -static_cast<Index>(added.size());
-      }
     std::map<std::pair<int, int>, Index> middle;
     const auto mid = [&](int a, int b) {
       const auto [it, inserted] = middle.try_emplace({std::min(a, b), std::max(a, b)}, 0);
@@ -1027,7 +1030,18 @@ void write_folded_quadrilaterals_as_triangles(OutputMesh<2>& out, const Mesh<2>&
       }
       return it->second;
     };
-    const auto node = [&](int i) { return points[static_cast<std::size_t>(i)].node; };
+    // Nodes only for the points the pieces use; added nodes are numbered −1, −2, ….
+    std::vector<Index> created(points.size(), 0);
+    const auto node = [&](int i) {
+      const PiecePoint<2>& p = points[static_cast<std::size_t>(i)];
+      if (p.node >= 0) return p.node;
+      Index& c = created[static_cast<std::size_t>(i)];
+      if (c == 0) {
+        added.push_back({r, p.xi, p.x, p.det});
+        c = -static_cast<Index>(added.size());
+      }
+      return c;
+    };
     for (const auto& [a, b, c] : pieces) {
       triangles.push_back({node(a), node(b), node(c), mid(a, b), mid(b, c), mid(c, a)});
       triangle_rows.push_back(r);

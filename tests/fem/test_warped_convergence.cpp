@@ -2,8 +2,12 @@
 // exact geometry, and the standard-FEM baseline of §9.2.2.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "apps/convergence_study.hpp"
 
@@ -167,5 +171,45 @@ TEST(Study2d, TargetMeshErrorsAgainstTheReferenceMatchTheExactErrors) {
       EXPECT_LT(e.l2, 0.5 * exact[k - 1].l2) << "level " << e.level;
       EXPECT_LT(e.h1, 0.8 * exact[k - 1].h1) << "level " << e.level;
     }
+  }
+}
+
+// The study's CSV leaves values that do not exist empty (no rate on a
+// discretization's first level, no condition number when none was estimated)
+// instead of writing 0 or nan.
+TEST(Study2d, CsvLeavesValuesThatDoNotExistEmpty) {
+  nlohmann::json j = nlohmann::json::parse(kManufactured);
+  j["map"] = concave_composite();
+  j["mesh"]["cell_type"] = "triangle";
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("warpfem_study_csv_" + std::to_string(::getpid()));
+  j["output"]["directory"] = dir.string();
+  apps::StudySpec spec;
+  spec.levels = 2;
+  spec.discretizations = {"warped", "standard"};
+  spec.condition_number = false;
+  spec.plot = false;
+  const apps::StudyResult result = apps::run_study(io::parse_run_config(j, "test.json"), spec, MPI_COMM_SELF);
+  std::ifstream in(result.csv_file);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  ASSERT_EQ(line.rfind("discretization,level,h,dofs,l2_error,l2_rate,h1_error,h1_rate,", 0), 0u);
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    if (!line.empty() && line.back() == ',') fields.emplace_back();
+    ASSERT_EQ(fields.size(), 14u) << line;
+    rows.push_back(fields);
+  }
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(rows.size(), 4u);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const bool first = r == 0 || rows[r][0] != rows[r - 1][0];
+    EXPECT_EQ(rows[r][5].empty(), first) << "l2_rate of row " << r;
+    EXPECT_EQ(rows[r][7].empty(), first) << "h1_rate of row " << r;
+    EXPECT_EQ(rows[r][11], "") << "condition_number of row " << r;
+    for (const std::string& f : rows[r]) EXPECT_EQ(f.find("nan"), std::string::npos) << "row " << r;
   }
 }
