@@ -306,7 +306,7 @@ I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good
   const I quadratic = pa * ed.rest + pd * ea.rest - eb.e0 * ec.rest - ec.e0 * eb.rest +
                       (ea.linear + ea.rest) * (ed.linear + ed.rest) -
                       (eb.linear + eb.rest) * (ec.linear + ec.rest);
-  const I by_taylor = (pa * pd - eb.e0 * ec.e0) + gradient[0] * hx + gradient[1] * hy + quadratic;
+  const I by_taylor = at_centre + gradient[0] * hx + gradient[1] * hy + quadratic;
 
   return meet(by_entries, by_taylor, I::largest());
 }
@@ -426,6 +426,9 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
   // The quadtree's first levels as independent roots, processed in parallel
   // (each thread with its own rounding-mode guard and buffers).
   constexpr int kRoots = 8;
+  // A lower end at or above this stops every cell, so the second enclosure is
+  // computed only below it.
+  const Real stops_at = std::max(tight_enough, std::numeric_limits<Real>::denorm_min());
   std::vector<StepCertificate> parts(kRoots * kRoots);
   std::atomic<Index> total_cells{0};
   parallel_for(kRoots * kRoots, 1, [&](Index first, Index last) {
@@ -456,9 +459,6 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
         I det;
         {
           CGAL::Protect_FPU_rounding<true> guard;
-          // The second enclosure is computed only when the first is below
-          // the lower end that stops every cell.
-          const Real stops_at = std::max(tight_enough, std::numeric_limits<Real>::denorm_min());
           det = det_enclosure(s, cell.x0, x1, cell.y0, y1, stops_at, /*last_try=*/cell.h / 2 < min_size, ws);
         }
         ++part.cells;
