@@ -44,10 +44,10 @@ ParameterTable<MapSpec> make_table() {
   t.flag(
       "certify", &MapSpec::certify,
       "mean value maps (`composite_mean_value`, `barycentric`): prove a lower bound of det J_f on the whole "
-      "source polygon outside disks of radius 1e-3 × diameter around its vertices, with interval arithmetic "
-      "on an adaptive quadtree of every step's polygon (docs/maps.md). A map that cannot be certified is "
-      "refused. Costs up to seconds (gear: about 7 s, 50 × the map build), so it is off by default; harmonic "
-      "maps are never certified (sampled check only)");
+      "source polygon but its vertices, with interval arithmetic on polar cells at every corner and an "
+      "adaptive quadtree elsewhere, for every step's polygon (docs/maps.md). A map that cannot be certified "
+      "is refused. Costs up to seconds (gear: about 2.5 s, 25 × the map build), so it is off by default; "
+      "harmonic maps are never certified (sampled check only)");
   t.choice("harmonic_method", &MapSpec::harmonic_method, {"fem", "bem", "mfs"},
            "composite_harmonic: how φ0, φ1 are approximated");
   t.choice("intermediate", &MapSpec::intermediate, {"regular", "cyclic", "optimized"},

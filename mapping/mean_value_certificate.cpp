@@ -67,6 +67,12 @@ Jet<O> operator*(double s, const Jet<O>& a) {
   for (int m = 0; m < Jet<O>::kThird; ++m) c.t[m] = s * a.t[m];
   return c;
 }
+template <int O>
+Jet<O> operator*(const I& s, const Jet<O>& a) {
+  Jet<O> c{s * a.v, {s * a.g[0], s * a.g[1]}, {s * a.h[0], s * a.h[1], s * a.h[2]}};
+  for (int m = 0; m < Jet<O>::kThird; ++m) c.t[m] = s * a.t[m];
+  return c;
+}
 /// The directions (i, j, k), i ≤ j ≤ k, of t[m]: m of them are y.
 constexpr int kTriple[4][3] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {1, 1, 1}};
 template <int O>
@@ -311,6 +317,233 @@ I det_enclosure(const StepData& s, Real x0, Real x1, Real y0, Real y1, Real good
   return meet(by_entries, by_taylor, I::largest());
 }
 
+/// √u with the chain rule: with v = √u, ∂v = ∂u / (2v), ∂²v = ∂²u / (2v) −
+/// ∂u ∂uᵀ / (4 v³), and ∂³v = ∂³u / (2v) − 3 sym(∂²u ⊗ ∂u) / (4 v³) +
+/// 3 ∂u ⊗ ∂u ⊗ ∂u / (8 v⁵).
+template <int O>
+Jet<O> sqrt_jet(const Jet<O>& u) {
+  const I v = CGAL::sqrt(u.v), half = 1 / (2 * v), quarter = half / (2 * u.v);
+  Jet<O> c{v,
+           {u.g[0] * half, u.g[1] * half},
+           {u.h[0] * half - CGAL::square(u.g[0]) * quarter, u.h[1] * half - (u.g[0] * u.g[1]) * quarter,
+            u.h[2] * half - CGAL::square(u.g[1]) * quarter}};
+  if constexpr (O == 3) {
+    const I eighth = 3 * quarter / (2 * u.v);
+    for (int m = 0; m < 4; ++m) {
+      const int i = kTriple[m][0], j = kTriple[m][1], k = kTriple[m][2];
+      c.t[m] = u.t[m] * half - (u.h[i + j] * u.g[k] + u.h[i + k] * u.g[j] + u.h[j + k] * u.g[i]) * quarter +
+               (u.g[i] * u.g[j] * u.g[k]) * eighth;
+    }
+  }
+  return c;
+}
+
+/// cos and sin over [t0, t1] (t1 − t0 < π), each end widened by two ulps so the
+/// enclosures hold whatever the libm's rounding; an extremum inside the range
+/// (or within 1e-12 of it) widens that end to ±1.
+void cos_sin(Real t0, Real t1, I& c, I& s) {
+  const auto widen = [](Real a, Real b) {
+    return I(std::nextafter(std::nextafter(std::min(a, b), -2.0), -2.0),
+             std::nextafter(std::nextafter(std::max(a, b), 2.0), 2.0));
+  };
+  c = widen(std::cos(t0), std::cos(t1));
+  s = widen(std::sin(t0), std::sin(t1));
+  const auto holds = [&](Real phase) {  // some phase + 2kπ in [t0, t1]?
+    constexpr Real two_pi = 2 * std::numbers::pi, pad = 1e-12;
+    return std::floor((t1 + pad - phase) / two_pi) >= std::ceil((t0 - pad - phase) / two_pi);
+  };
+  if (holds(0)) c = I(c.inf(), 1);
+  if (holds(std::numbers::pi)) c = I(-1, c.sup());
+  if (holds(std::numbers::pi / 2)) s = I(s.inf(), 1);
+  if (holds(-std::numbers::pi / 2)) s = I(-1, s.sup());
+  c = clamp_unit(c);
+  s = clamp_unit(s);
+}
+
+/// A jet of value and gradient only.
+struct Jet1 {
+  I v, g[2];
+};
+Jet1 operator+(const Jet1& a, const Jet1& b) {
+  return {a.v + b.v, {a.g[0] + b.g[0], a.g[1] + b.g[1]}};
+}
+Jet1 operator*(const Jet1& a, const Jet1& b) {
+  return {a.v * b.v, {a.g[0] * b.v + a.v * b.g[0], a.g[1] * b.v + a.v * b.g[1]}};
+}
+
+/// In polar coordinates x = v_p + ρ n(θ) around vertex p, Q = Σ φ_j (u_j − u_p)
+/// = ρ G(ρ, θ) with G smooth up to ρ = 0 inside the corner: G =
+/// Σ_{j≠p} w_j (u_j − u_p) / (ρ W), ρ W = t_{p−1} + t_p + ρ Σ_{j≠p} w_j, where
+/// t_{p−1}, t_p are homogeneous of degree 0 in d_p = v_p − x = −ρ n, so they are
+/// computed with d_p = −n and r_p = 1. G's jets in (ρ, θ) over [ρ0, ρ1] ×
+/// [θ0, θ1]. No quantity divides by ρ, so a cell may reach ρ = 0. Returns false
+/// if ρ W may vanish.
+template <int O>
+bool polar_jets(const StepData& s, Index p, const I& rho, const I& cosine, const I& sine, Jet<O>& Gx,
+                Jet<O>& Gy, std::vector<Jet<O>>& buf) {
+  using J = Jet<O>;
+  const Index n = s.polygon.size();
+  buf.resize(static_cast<std::size_t>(3 * n));
+  J* r = buf.data();
+  J* t = r + n;
+  J* area = t + n;
+  const J R{rho, {I(1), I(0)}, {I(0), I(0), I(0)}};
+  J C{cosine, {I(0), -sine}, {I(0), I(0), -cosine}};
+  J S{sine, {I(0), cosine}, {I(0), I(0), -sine}};
+  if constexpr (O == 3) {  // ∂³/∂θ³ of cos and sin
+    C.t[3] = sine;
+    S.t[3] = -cosine;
+  }
+  // With a_j = v_j − v_p and w = x − v_p = ρ n, d_j = a_j − w. Every product of
+  // two d's is expanded so that x enters through w and |w|² = ρ² only (n·n = 1
+  // exactly): cheaper, and tighter than multiplying jets of d.
+  const J Wx = R * C, Wy = R * S, R2 = R * R;
+  const Point<2>& vp = s.polygon.vertex(p);
+  const auto a = [&](Index j) {
+    const Point<2>& v = s.polygon.vertex(j);
+    return std::pair<I, I>(I(v.x()) - vp.x(), I(v.y()) - vp.y());
+  };
+  for (Index j = 0; j < n; ++j) {
+    if (j == p) {  // r_p / ρ
+      r[j] = constant<O>(I(1));
+      continue;
+    }
+    const auto [ax, ay] = a(j);
+    r[j] = sqrt_jet(constant<O>(CGAL::square(ax) + CGAL::square(ay)) - 2 * (ax * Wx + ay * Wy) + R2);
+  }
+  std::vector<char> near(static_cast<std::size_t>(n), 0);
+  J scale = constant<O>(I(1));
+  for (Index k = 0; k < n; ++k) {
+    const Index k1 = (k + 1) % n;
+    const auto [bx, by] = a(k);
+    const auto [cx, cy] = a(k1);
+    J D;
+    if (k == p) {  // d_p / ρ = −n: A = −n × a_{k1}, D = −n · a_{k1} + ρ
+      area[k] = cx * S - cy * C;
+      D = R - (cx * C + cy * S);
+    } else if (k1 == p) {  // A = a_k × −n, D = −n · a_k + ρ
+      area[k] = by * C - bx * S;
+      D = R - (bx * C + by * S);
+    } else {  // A = a_k × a_{k1} + (a_{k1} − a_k) × w, D = a_k · a_{k1} − (a_k + a_{k1}) · w + ρ²
+      area[k] = constant<O>(bx * cy - by * cx) + (cx - bx) * Wy - (cy - by) * Wx;
+      D = constant<O>(bx * cx + by * cy) - ((bx + cx) * Wx + (by + cy) * Wy) + R2;
+    }
+    const J& A = area[k];
+    const J P = k == p ? r[k1] : k1 == p ? r[k] : r[k] * r[k1];
+    if (D.v.sup() < 0) {
+      const Real lo = std::min(std::abs(A.v.inf()), std::abs(A.v.sup()));
+      const Real hi = std::max(std::abs(A.v.inf()), std::abs(A.v.sup()));
+      const J PmD = P - D;
+      if ((A.v.inf() > 0 || A.v.sup() < 0) && lo > kNearRatio * hi && PmD.v.inf() < kNearTan * hi) {
+        t[k] = PmD / A;
+      } else {
+        near[static_cast<std::size_t>(k)] = 1;
+        t[k] = PmD;
+        scale = scale * A;
+      }
+    } else {
+      t[k] = A / (P + D);
+    }
+  }
+  for (Index k = 0; k < n; ++k) {
+    if (!near[static_cast<std::size_t>(k)]) {
+      t[k] = t[k] * scale;
+      continue;
+    }
+    for (Index e = 0; e < n; ++e)
+      if (e != k && near[static_cast<std::size_t>(e)]) t[k] = t[k] * area[e];
+  }
+  const Real upx = s.ux[static_cast<std::size_t>(p)], upy = s.uy[static_cast<std::size_t>(p)];
+  J rest = constant<O>(I(0)), Nx = rest, Ny = rest;
+  for (Index j = 0; j < n; ++j) {
+    if (j == p) continue;
+    const J w = (t[(j + n - 1) % n] + t[j]) / r[j];
+    rest = rest + w;
+    Nx = Nx + (s.ux[static_cast<std::size_t>(j)] - upx) * w;
+    Ny = Ny + (s.uy[static_cast<std::size_t>(j)] - upy) * w;
+  }
+  const J rhoW = t[(p + n - 1) % n] + t[p] + R * rest;
+  if (!(rhoW.v.inf() > 0 || rhoW.v.sup() < 0)) return false;
+  const J inv = reciprocal(rhoW);
+  Gx = Nx * inv;
+  Gy = Ny * inv;
+  return true;
+}
+
+/// det J_k with its gradient in (ρ, θ): with a = G + ρ G_ρ and b = G_θ,
+/// J_k = I + a nᵀ + b n⊥ᵀ, so det J_k = 1 + a·n + b·n⊥ + a × b.
+Jet1 polar_det(const Jet<2>& Gx, const Jet<2>& Gy, const I& rho, const I& cosine, const I& sine) {
+  const auto a = [&](const Jet<2>& G) {
+    return Jet1{G.v + rho * G.g[0], {2 * G.g[0] + rho * G.h[0], G.g[1] + rho * G.h[1]}};
+  };
+  const auto b = [](const Jet<2>& G) { return Jet1{G.g[1], {G.h[1], G.h[2]}}; };
+  const Jet1 ax = a(Gx), ay = a(Gy), bx = b(Gx), by = b(Gy);
+  const Jet1 nx{cosine, {I(0), -sine}}, ny{sine, {I(0), cosine}};
+  const Jet1 mx{-sine, {I(0), -cosine}}, my = nx;  // n⊥ = (−sin, cos)
+  const Jet1 one{I(1), {I(0), I(0)}}, minus{I(-1), {I(0), I(0)}};
+  return one + ax * nx + ay * ny + bx * mx + by * my + ax * by + minus * (ay * bx);
+}
+
+/// det J_k with its gradient and Hessian in (ρ, θ), from G's jets of order 3
+/// (a's and b's second derivatives need G's third).
+Jet<2> polar_det_hessian(const Jet<3>& Gx, const Jet<3>& Gy, const I& rho, const I& cosine, const I& sine) {
+  const auto a = [&](const Jet<3>& G) {
+    return Jet<2>{G.v + rho * G.g[0],
+                  {2 * G.g[0] + rho * G.h[0], G.g[1] + rho * G.h[1]},
+                  {3 * G.h[0] + rho * G.t[0], 2 * G.h[1] + rho * G.t[1], G.h[2] + rho * G.t[2]}};
+  };
+  const auto b = [](const Jet<3>& G) { return Jet<2>{G.g[1], {G.h[1], G.h[2]}, {G.t[1], G.t[2], G.t[3]}}; };
+  const Jet<2> ax = a(Gx), ay = a(Gy), bx = b(Gx), by = b(Gy);
+  const Jet<2> nx{cosine, {I(0), -sine}, {I(0), I(0), -cosine}},
+      ny{sine, {I(0), cosine}, {I(0), I(0), -sine}};
+  const Jet<2> mx = -1 * ny, my = nx;  // n⊥ = (−sin, cos)
+  return constant<2>(I(1)) + ax * nx + ay * ny + bx * mx + by * my + ax * by - ay * bx;
+}
+
+/// Per-thread buffers of the polar enclosures.
+struct PolarWorkspace {
+  std::vector<Jet<2>> second;
+  std::vector<Jet<3>> third;
+};
+
+/// Encloses det J_k over the polar cell [ρ0, ρ1] × [θ0, θ1] around vertex p,
+/// like det_enclosure() for boxes: (1) the value at the centre plus the
+/// gradient over the cell times the half-widths, met with the direct enclosure;
+/// if its lower end is below `good_enough`, (2) a second-order Taylor model
+/// around the centre (exact linear term, Hessian over the cell), met with (1)
+/// (on a `last_try` always, otherwise only where (1) is not far too wide).
+/// `spread` receives (1)'s width from ρ and from θ, so the caller can split the
+/// cell in the direction that matters. The FPU must round upward.
+I polar_det_enclosure(const StepData& s, Index p, Real rho0, Real rho1, Real theta0, Real theta1,
+                      Real good_enough, bool last_try, PolarWorkspace& ws, Real* spread = nullptr) {
+  const Real rc = rho0 / 2 + rho1 / 2, tc = theta0 / 2 + theta1 / 2;
+  I cc, sc, cb, sb;
+  cos_sin(tc, tc, cc, sc);
+  cos_sin(theta0, theta1, cb, sb);
+  Jet<2> Gx, Gy;
+  if (!polar_jets(s, p, I(rc), cc, sc, Gx, Gy, ws.second)) return I::largest();
+  const Jet1 centre = polar_det(Gx, Gy, I(rc), cc, sc);
+  const I box_rho(rho0, rho1);
+  if (!polar_jets(s, p, box_rho, cb, sb, Gx, Gy, ws.second)) return I::largest();
+  const Jet1 box = polar_det(Gx, Gy, box_rho, cb, sb);
+  const I hr = hull(I(rho0) - rc, I(rho1) - rc), ht = hull(I(theta0) - tc, I(theta1) - tc);
+  const I dr = box.g[0] * hr, dt = box.g[1] * ht;
+  if (spread) {
+    spread[0] = dr.sup() - dr.inf();
+    spread[1] = dt.sup() - dt.inf();
+  }
+  const I centred = centre.v + dr + dt;
+  const I first = meet(centred, box.v, centred);
+  if (first.inf() >= good_enough) return first;
+  if (!last_try && first.sup() - first.inf() > kTaylorWidthRatio * CGAL::abs(centre.v).inf()) return first;
+  Jet<3> Tx, Ty;
+  if (!polar_jets(s, p, box_rho, cb, sb, Tx, Ty, ws.third)) return first;
+  const Jet<2> H = polar_det_hessian(Tx, Ty, box_rho, cb, sb);
+  const I taylor = centre.v + centre.g[0] * hr + centre.g[1] * ht +
+                   (H.h[0] * CGAL::square(hr) + 2 * (H.h[1] * (hr * ht)) + H.h[2] * CGAL::square(ht)) / 2;
+  return meet(first, taylor, I::largest());
+}
+
 enum class CellSide { outside, inside, boundary };
 
 CellSide classify(const Polygon& polygon, const std::vector<Kernel::Segment_2>& edges, Real x0, Real x1,
@@ -376,10 +609,48 @@ Real point_det(const StepData& s, Real x, Real y) {
                        "\"adaptive\"), or \"certify\": false (sampled check only)"});
 }
 
+/// The corner of P_k at vertex p, covered by polar cells: the disk of `radius`
+/// around v_p meets P_k exactly in the wedge θ ∈ [theta0, theta0 + angle]
+/// between the two edges at p, because the radius is at most half of p's
+/// distance to every other edge and half of both edges' lengths.
+struct Sector {
+  Index vertex = 0;
+  Real radius = 0, theta0 = 0, angle = 0;
+};
+
+Real segment_distance(const Point<2>& x, const Point<2>& a, const Point<2>& b) {
+  const Point<2> e = b - a;
+  const Real t = std::clamp((x - a).dot(e) / e.squaredNorm(), Real{0}, Real{1});
+  return (x - a - t * e).norm();
+}
+
+std::vector<Sector> corner_sectors(const Polygon& P) {
+  const Index n = P.size();
+  const bool ccw = P.signed_area() > 0;
+  std::vector<Sector> sectors;
+  for (Index p = 0; p < n; ++p) {
+    const Point<2> v = P.vertex(p), next = P.vertex(p + 1) - v, previous = P.vertex(p - 1) - v;
+    Real radius = std::min(next.norm(), previous.norm());
+    for (Index k = 0; k < n; ++k)
+      if (k != p && P.wrap(k + 1) != p)
+        radius = std::min(radius, segment_distance(v, P.vertex(k), P.vertex(k + 1)));
+    // The interior is left of the edges of a counter-clockwise polygon: from
+    // the outgoing edge counter-clockwise to the incoming one.
+    const Point<2> from = ccw ? next : previous, to = ccw ? previous : next;
+    Real angle = std::atan2(from.x() * to.y() - from.y() * to.x(), from.dot(to));
+    if (angle <= 0) angle += 2 * std::numbers::pi;
+    // Widened by 1e-9 on both sides: the rays' directions are rounded; the
+    // enclosure extends smoothly over the edges (their areas are scaled out).
+    sectors.push_back({p, radius / 2, std::atan2(from.y(), from.x()) - 1e-9, angle + 2e-9});
+  }
+  return sectors;
+}
+
 /// The least det J_k at the points of a grid × grid lattice over P_k's
-/// bounding box that lie inside P_k and outside the ρ-disks (+∞ if none):
-/// an upper bound of the minimum the certificate bounds from below.
-Real sampled_min_det(const StepData& s, Real rho, int grid) {
+/// bounding box that lie inside P_k, and at points of every corner sector from
+/// 1e-6 to 0.9 of its radius (+∞ if none): an upper bound of the minimum the
+/// certificate bounds from below.
+Real sampled_min_det(const StepData& s, const std::vector<Sector>& sectors, int grid) {
   const Polygon& P = s.polygon;
   const Point<2> lo = P.bbox_min(), hi = P.bbox_max();
   std::vector<Point<2>> inside;
@@ -387,10 +658,16 @@ Real sampled_min_det(const StepData& s, Real rho, int grid) {
     for (int j = 0; j < grid; ++j) {
       const Point<2> x(lo.x() + (hi.x() - lo.x()) * (i + 0.5) / grid,
                        lo.y() + (hi.y() - lo.y()) * (j + 0.5) / grid);
-      bool in_disk = false;
-      for (Index v = 0; v < P.size() && !in_disk; ++v) in_disk = (x - P.vertex(v)).norm() <= rho;
-      if (!in_disk && P.side_of(x) > 0) inside.push_back(x);
+      if (P.side_of(x) > 0) inside.push_back(x);
     }
+  constexpr int kRays = 32;
+  for (const Sector& c : sectors)
+    for (const Real fraction : {1e-6, 1e-3, 0.03, 0.3, 0.9})
+      for (int a = 0; a < kRays; ++a) {
+        const Real t = c.theta0 + c.angle * (a + 0.5) / kRays;
+        const Point<2> x = P.vertex(c.vertex) + fraction * c.radius * Point<2>(std::cos(t), std::sin(t));
+        if (P.side_of(x) > 0) inside.push_back(x);
+      }
   if (inside.empty()) return std::numeric_limits<Real>::infinity();
   Points<2> x(static_cast<Index>(inside.size()), 2), fx;
   for (Index p = 0; p < x.rows(); ++p) x.row(p) = inside[static_cast<std::size_t>(p)].transpose();
@@ -402,19 +679,80 @@ Real sampled_min_det(const StepData& s, Real rho, int grid) {
   return m;
 }
 
+/// Certifies det J_k on one corner sector with an adaptive bisection of polar
+/// cells [ρ0, ρ1] × [θ0, θ1], each split in the direction (ρ or θ) that
+/// contributes more to its interval's width.
+template <typename Count, typename Refuse>
+void certify_sector(const StepData& s, const Sector& sector, Real tight_enough, Real stops_at,
+                    Real min_fraction, StepCertificate& part, PolarWorkspace& ws, const Count& count_cell,
+                    const Refuse& refuse_at) {
+  struct Cell {
+    Real r0, r1, t0, t1;
+  };
+  const int pieces = static_cast<int>(std::ceil(sector.angle / (std::numbers::pi / 8)));
+  std::vector<Cell> stack;
+  for (int i = 0; i < pieces; ++i)
+    stack.push_back({0, sector.radius, sector.theta0 + sector.angle * i / pieces,
+                     sector.theta0 + sector.angle * (i + 1) / pieces});
+  const Real min_size = min_fraction * sector.radius, min_angle = min_fraction * sector.angle;
+  const Point<2>& v = s.polygon.vertex(sector.vertex);
+  while (!stack.empty()) {
+    const Cell c = stack.back();
+    stack.pop_back();
+    Real spread[2] = {0, 0};
+    const bool split_rho = (c.r1 - c.r0) / 2 >= min_size, split_theta = (c.t1 - c.t0) / 2 >= min_angle;
+    I det;
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      det = polar_det_enclosure(s, sector.vertex, c.r0, c.r1, c.t0, c.t1, stops_at,
+                                /*last_try=*/!split_rho && !split_theta, ws, spread);
+    }
+    ++part.cells;
+    count_cell();
+    // Tightening (as for the quadtree) stops at 1/64 of the radius and 1/256 of the angle.
+    const bool may_tighten = c.r1 - c.r0 > sector.radius / 64 || c.t1 - c.t0 > sector.angle / 256;
+    const bool loose = det.inf() < tight_enough && may_tighten;
+    if (det.inf() > 0 && !loose) {
+      if (det.inf() < part.lower_bound) {
+        part.lower_bound = det.inf();
+        const Real r = c.r0 / 2 + c.r1 / 2, t = c.t0 / 2 + c.t1 / 2;
+        part.lower_bound_at = v + r * Point<2>(std::cos(t), std::sin(t));
+      }
+      continue;
+    }
+    // An enclosure that failed (ρ W may vanish) says nothing about the widths:
+    // then the side longer relative to the sector's is split.
+    const bool failed = !std::isfinite(det.inf()) || !std::isfinite(det.sup());
+    const bool rho_first = failed ? (c.r1 - c.r0) / sector.radius >= (c.t1 - c.t0) / (std::numbers::pi / 8)
+                                  : spread[0] >= spread[1];
+    if (split_rho && (!split_theta || rho_first)) {
+      const Real m = c.r0 / 2 + c.r1 / 2;
+      stack.push_back({c.r0, m, c.t0, c.t1});
+      stack.push_back({m, c.r1, c.t0, c.t1});
+    } else if (split_theta) {
+      const Real m = c.t0 / 2 + c.t1 / 2;
+      stack.push_back({c.r0, c.r1, c.t0, m});
+      stack.push_back({c.r0, c.r1, m, c.t1});
+    } else {
+      const Real r = c.r0 / 2 + c.r1 / 2, t = c.t0 / 2 + c.t1 / 2;
+      refuse_at(v + r * Point<2>(std::cos(t), std::sin(t)), c.r1 - c.r0, det);
+    }
+  }
+}
+
 StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index step) {
   const Polygon& P = s.polygon;
   const Point<2> lo = P.bbox_min(), hi = P.bbox_max();
   const Real diam = (hi - lo).norm();
   StepCertificate c;
-  c.rho = o.rho_fraction * diam;
+  const std::vector<Sector> sectors = corner_sectors(P);
   // Cells whose lower end is already above tightness × the sampled minimum
   // do not decide b_k: they stop at their first positive interval. (A
-  // sampled minimum ≤ 0 means the step folds; the quadtree then finds where.)
-  const Real sampled = o.tightness > 0 ? sampled_min_det(s, c.rho, o.sample_grid) : 0;
+  // sampled minimum ≤ 0 means the step folds; the cells then find where.)
+  const Real sampled = o.tightness > 0 ? sampled_min_det(s, sectors, o.sample_grid) : 0;
   const Real tight_enough = std::isfinite(sampled) ? o.tightness * std::max(sampled, Real{0}) : 0;
   c.lower_bound = std::numeric_limits<Real>::infinity();
-  const Real min_size = o.min_cell_fraction * c.rho;
+  const Real min_size = o.min_cell_fraction * diam;
   std::vector<Kernel::Segment_2> edges;
   for (Index i = 0; i < P.size(); ++i)
     edges.emplace_back(Kernel::Point_2(P.vertex(i).x(), P.vertex(i).y()),
@@ -429,8 +767,30 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
   // A lower end at or above this stops every cell, so the second enclosure is
   // computed only below it.
   const Real stops_at = std::max(tight_enough, std::numeric_limits<Real>::denorm_min());
-  std::vector<StepCertificate> parts(kRoots * kRoots);
   std::atomic<Index> total_cells{0};
+  const auto count_cell = [&] {
+    if (++total_cells > o.max_cells)
+      throw Error("certificate: step " + std::to_string(step) + " needs more than " +
+                      std::to_string(o.max_cells) + " cells",
+                  {.file = "",
+                   .key_path = "map.certify",
+                   .hint = "use a finer partition (more steps), or \"certify\": false (sampled check only)"});
+  };
+  // The corners first (polar cells), then the rest of P_k (a quadtree whose
+  // cells inside a corner's disk are skipped).
+  std::vector<StepCertificate> corner_parts(sectors.size());
+  parallel_for(static_cast<Index>(sectors.size()), 1, [&](Index first, Index last) {
+    PolarWorkspace ws;
+    for (Index i = first; i < last; ++i) {
+      StepCertificate& part = corner_parts[static_cast<std::size_t>(i)];
+      part.lower_bound = std::numeric_limits<Real>::infinity();
+      certify_sector(s, sectors[static_cast<std::size_t>(i)], tight_enough, stops_at, o.min_cell_fraction,
+                     part, ws, count_cell, [&](const Point<2>& x, Real size, const I& det) {
+                       refuse(s, step, x.x(), x.y(), size, det);
+                     });
+    }
+  });
+  std::vector<StepCertificate> parts(kRoots * kRoots);
   parallel_for(kRoots * kRoots, 1, [&](Index first, Index last) {
     Workspace ws;
     std::vector<Cell> stack;
@@ -447,9 +807,10 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
         if (classify(P, edges, cell.x0, x1, cell.y0, y1) == CellSide::outside) continue;
         bool in_disk = false;
         for (Index i = 0; i < P.size() && !in_disk; ++i)
-          in_disk = box_in_disk(P.vertex(i), c.rho, cell.x0, x1, cell.y0, y1);
+          in_disk =
+              box_in_disk(P.vertex(i), sectors[static_cast<std::size_t>(i)].radius, cell.x0, x1, cell.y0, y1);
         if (in_disk) {
-          ++part.skipped_in_disks;
+          ++part.skipped_in_corners;
           continue;
         }
         // A positive interval whose lower end is far below the sampled
@@ -462,13 +823,7 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
           det = det_enclosure(s, cell.x0, x1, cell.y0, y1, stops_at, /*last_try=*/cell.h / 2 < min_size, ws);
         }
         ++part.cells;
-        if (++total_cells > o.max_cells)
-          throw Error(
-              "certificate: step " + std::to_string(step) + " needs more than " +
-                  std::to_string(o.max_cells) + " quadtree cells",
-              {.file = "",
-               .key_path = "map.certify",
-               .hint = "use a finer partition (more steps), or \"certify\": false (sampled check only)"});
+        count_cell();
         const bool loose = det.inf() < tight_enough && may_tighten;
         if (det.inf() > 0 && !loose) {
           if (det.inf() < part.lower_bound) {
@@ -486,61 +841,45 @@ StepCertificate certify_step(const StepData& s, const CertifyOptions& o, Index s
       }
     }
   });
+  for (const StepCertificate& part : corner_parts) c.corner_cells += part.cells;
+  parts.insert(parts.end(), corner_parts.begin(), corner_parts.end());
   for (const StepCertificate& part : parts) {
     c.cells += part.cells;
-    c.skipped_in_disks += part.skipped_in_disks;
+    c.skipped_in_corners += part.skipped_in_corners;
     if (part.lower_bound < c.lower_bound) {
       c.lower_bound = part.lower_bound;
       c.lower_bound_at = part.lower_bound_at;
     }
   }
   if (!std::isfinite(c.lower_bound))
-    throw Error("certificate: step " + std::to_string(step) + " has no cell outside the vertex disks");
+    throw Error("certificate: step " + std::to_string(step) + " has no cell");
   return c;
 }
 
-/// min det J_f over points of Ω0 inside the ρ-disks (polar rings, interior points only).
-void sample_disks(const Map<2>& f, const Polygon& source, Real rho, int per_vertex, MapCertificate& out) {
-  const int rings = 6, rays = std::max(1, per_vertex / rings);
-  std::vector<Point<2>> pts;
-  for (Index i = 0; i < source.size(); ++i)
-    for (int a = 0; a < rays; ++a)
-      for (int k = 1; k <= rings; ++k) {
-        const Real ang = 2 * std::numbers::pi * (a + 0.5) / rays;
-        const Real rad = rho * std::pow(10.0, -3.0 * (rings - k) / (rings - 1));  // ρ·1e-3 … ρ
-        const Point<2> p = source.vertex(i) + rad * Point<2>(std::cos(ang), std::sin(ang));
-        if (source.side_of(p) > 0) pts.push_back(p);
-      }
-  out.disk_samples = static_cast<Index>(pts.size());
-  out.sampled_min_in_disks = std::numeric_limits<Real>::quiet_NaN();
-  if (pts.empty()) return;
-  Points<2> x(static_cast<Index>(pts.size()), 2);
-  for (Index p = 0; p < x.rows(); ++p) x.row(p) = pts[static_cast<std::size_t>(p)].transpose();
-  Jacobians<2> J;
-  f.jacobian(x, J);
-  Real m = std::numeric_limits<Real>::infinity();
-  for (Index p = 0; p < x.rows(); ++p) m = std::min(m, J(p, 0) * J(p, 3) - J(p, 1) * J(p, 2));
-  out.sampled_min_in_disks = m;
+/// u_i = target_i − source_i, by coordinate.
+std::pair<std::vector<Real>, std::vector<Real>> displacements(const Polygon& source,
+                                                              const std::vector<Point<2>>& target) {
+  std::vector<Real> ux, uy;
+  for (Index i = 0; i < source.size(); ++i) {
+    ux.push_back(target[static_cast<std::size_t>(i)].x() - source.vertex(i).x());
+    uy.push_back(target[static_cast<std::size_t>(i)].y() - source.vertex(i).y());
+  }
+  return {ux, uy};
 }
 
 }  // namespace
 
 std::string MapCertificate::summary() const {
   std::ostringstream os;
-  os << std::setprecision(4) << "det J_f >= " << lower_bound << " certified on Ω0 outside disks of radius "
-     << rho << " around the vertices (" << steps.size() << " step" << (steps.size() == 1 ? "" : "s") << ", "
-     << cells << " cells, " << format_seconds(seconds) << "); sampled min det J_f inside the disks "
-     << sampled_min_in_disks << " (" << disk_samples << " samples, not certified)";
+  os << std::setprecision(4) << "det J_f >= " << lower_bound << " certified on all of Ω0 but its vertices ("
+     << steps.size() << " step" << (steps.size() == 1 ? "" : "s") << ", " << cells << " cells, "
+     << corner_cells << " of them polar cells at the corners, " << format_seconds(seconds) << ")";
   return os.str();
 }
 
 std::pair<Real, Real> det_jacobian_enclosure(const Polygon& source, const std::vector<Point<2>>& target,
                                              const Point<2>& lo, const Point<2>& hi) {
-  std::vector<Real> ux, uy;
-  for (Index i = 0; i < source.size(); ++i) {
-    ux.push_back(target[static_cast<std::size_t>(i)].x() - source.vertex(i).x());
-    uy.push_back(target[static_cast<std::size_t>(i)].y() - source.vertex(i).y());
-  }
+  const auto [ux, uy] = displacements(source, target);
   Workspace ws;
   CGAL::Protect_FPU_rounding<true> guard;
   const I det = det_enclosure({source, ux, uy}, lo.x(), hi.x(), lo.y(), hi.y(),
@@ -548,14 +887,21 @@ std::pair<Real, Real> det_jacobian_enclosure(const Polygon& source, const std::v
   return {det.inf(), det.sup()};
 }
 
+std::pair<Real, Real> corner_det_jacobian_enclosure(const Polygon& source,
+                                                    const std::vector<Point<2>>& target, Index vertex,
+                                                    Real rho0, Real rho1, Real theta0, Real theta1) {
+  const auto [ux, uy] = displacements(source, target);
+  PolarWorkspace ws;
+  CGAL::Protect_FPU_rounding<true> guard;
+  const I det = polar_det_enclosure({source, ux, uy}, vertex, rho0, rho1, theta0, theta1,
+                                    std::numeric_limits<Real>::infinity(), /*last_try=*/true, ws);
+  return {det.inf(), det.sup()};
+}
+
 StepCertificate certify_mean_value_step(const Polygon& source, const std::vector<Point<2>>& target,
                                         const CertifyOptions& options, Index step) {
   require_same_vertex_count(source, Polygon(target));
-  std::vector<Real> ux, uy;
-  for (Index i = 0; i < source.size(); ++i) {
-    ux.push_back(target[static_cast<std::size_t>(i)].x() - source.vertex(i).x());
-    uy.push_back(target[static_cast<std::size_t>(i)].y() - source.vertex(i).y());
-  }
+  const auto [ux, uy] = displacements(source, target);
   return certify_step({source, ux, uy}, options, step);
 }
 
@@ -573,9 +919,8 @@ MapCertificate certify_composite(const CompositeMeanValueMap& map, const Certify
     c.steps.push_back(certify_mean_value_step(P, next, options, k));
     c.lower_bound *= c.steps.back().lower_bound;
     c.cells += c.steps.back().cells;
+    c.corner_cells += c.steps.back().corner_cells;
   }
-  c.rho = c.steps.front().rho;
-  sample_disks(map, map.polygons().front(), c.rho, options.disk_samples_per_vertex, c);
   c.seconds = watch.seconds();
   return c;
 }
@@ -603,8 +948,7 @@ MapCertificate certify_map(const Map<2>& map, const CertifyOptions& options) {
   c.steps.push_back(certify_step({P, b->step().displacement_x(), b->step().displacement_y()}, options, 0));
   c.lower_bound = c.steps.back().lower_bound;
   c.cells = c.steps.back().cells;
-  c.rho = c.steps.back().rho;
-  sample_disks(map, P, c.rho, options.disk_samples_per_vertex, c);
+  c.corner_cells = c.steps.back().corner_cells;
   c.seconds = watch.seconds();
   return c;
 }
