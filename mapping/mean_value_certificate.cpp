@@ -123,6 +123,44 @@ constexpr Real kNearRatio = 0.5;
 /// carry their (large, wide) t_k in both numerator and denominator.
 constexpr Real kNearTan = 4;
 
+/// t = tan(α/2) of an edge seen under the angle α, from A (cross product), P
+/// (r_k r_{k+1}) and D (dot product of d_k and d_{k+1}): A / (P + D) for edges
+/// seen under less than 90°, the equal (P − D) / A otherwise, so no denominator
+/// suffers cancellation. Unless A is then well away from 0 (relative to its
+/// width), the cell is at or close to the segment: t = P − D, and the function
+/// returns true (the edge is near; the caller scales every weight by A).
+template <int O>
+bool half_angle_tangent(const Jet<O>& A, const Jet<O>& P, const Jet<O>& D, Jet<O>& t) {
+  if (D.v.sup() >= 0) {
+    t = A / (P + D);
+    return false;
+  }
+  const Real lo = std::min(std::abs(A.v.inf()), std::abs(A.v.sup()));
+  const Real hi = std::max(std::abs(A.v.inf()), std::abs(A.v.sup()));
+  t = P - D;
+  if ((A.v.inf() > 0 || A.v.sup() < 0) && lo > kNearRatio * hi && t.v.inf() < kNearTan * hi) {
+    t = t / A;
+    return false;
+  }
+  return true;
+}
+
+/// Multiplies every t_k by `scale` (the product of the near edges' A), a near
+/// edge's by the other near edges' A only (its own is in its t = P − D):
+/// φ = w / Σ w is unchanged.
+template <int O>
+void scale_out_near_edges(Index n, Jet<O>* t, const Jet<O>* area, const std::vector<char>& near,
+                          const Jet<O>& scale) {
+  for (Index k = 0; k < n; ++k) {
+    if (!near[static_cast<std::size_t>(k)]) {
+      t[k] = t[k] * scale;
+      continue;
+    }
+    for (Index e = 0; e < n; ++e)
+      if (e != k && near[static_cast<std::size_t>(e)]) t[k] = t[k] * area[e];
+  }
+}
+
 /// One step's data: the polygon P_k and the vertex displacements u_i.
 struct StepData {
   const Polygon& polygon;
@@ -187,31 +225,12 @@ bool displacement_jets(const StepData& s, const I& X, const I& Y, double bx, dou
               {2 * (X - mx), 2 * (Y - my)},
               {I(2), I(0), I(2)}};
     const J P = r[k] * r[k1];
-    if (D.v.sup() < 0) {  // the edge is seen under more than 90°: t = (P − D) / A
-      // Unless A is well away from 0 (relative to its width), the box is at
-      // or close to the segment: then (P − D) times A, through the scale.
-      const Real lo = std::min(std::abs(A.v.inf()), std::abs(A.v.sup()));
-      const Real hi = std::max(std::abs(A.v.inf()), std::abs(A.v.sup()));
-      const J PmD = P - D;
-      if ((A.v.inf() > 0 || A.v.sup() < 0) && lo > kNearRatio * hi && PmD.v.inf() < kNearTan * hi) {
-        t[k] = PmD / A;
-      } else {
-        near[static_cast<std::size_t>(k)] = 1;
-        t[k] = PmD;
-        scale = scale * A;
-      }
-    } else {
-      t[k] = A / (P + D);
+    if (half_angle_tangent(A, P, D, t[k])) {
+      near[static_cast<std::size_t>(k)] = 1;
+      scale = scale * A;
     }
   }
-  for (Index k = 0; k < n; ++k) {
-    if (!near[static_cast<std::size_t>(k)]) {
-      t[k] = t[k] * scale;
-      continue;
-    }
-    for (Index e = 0; e < n; ++e)  // Π over the other near edges
-      if (e != k && near[static_cast<std::size_t>(e)]) t[k] = t[k] * area[e];
-  }
+  scale_out_near_edges(n, t, area, near, scale);
   const auto u = [&](const std::vector<Real>& v, Index j) { return v[static_cast<std::size_t>(j)]; };
   J W = constant<O>(I(0)), Ux = W, Uy = W;
   for (Index j = 0; j < n; ++j) {
@@ -380,7 +399,7 @@ Jet1 operator*(const Jet1& a, const Jet1& b) {
 /// if ρ W may vanish.
 template <int O>
 bool polar_jets(const StepData& s, Index p, const I& rho, const I& cosine, const I& sine, Jet<O>& Gx,
-                Jet<O>& Gy, std::vector<Jet<O>>& buf) {
+                Jet<O>& Gy, std::vector<Jet<O>>& buf, std::vector<char>& near) {
   using J = Jet<O>;
   const Index n = s.polygon.size();
   buf.resize(static_cast<std::size_t>(3 * n));
@@ -411,7 +430,7 @@ bool polar_jets(const StepData& s, Index p, const I& rho, const I& cosine, const
     const auto [ax, ay] = a(j);
     r[j] = sqrt_jet(constant<O>(CGAL::square(ax) + CGAL::square(ay)) - 2 * (ax * Wx + ay * Wy) + R2);
   }
-  std::vector<char> near(static_cast<std::size_t>(n), 0);
+  near.assign(static_cast<std::size_t>(n), 0);
   J scale = constant<O>(I(1));
   for (Index k = 0; k < n; ++k) {
     const Index k1 = (k + 1) % n;
@@ -430,29 +449,12 @@ bool polar_jets(const StepData& s, Index p, const I& rho, const I& cosine, const
     }
     const J& A = area[k];
     const J P = k == p ? r[k1] : k1 == p ? r[k] : r[k] * r[k1];
-    if (D.v.sup() < 0) {
-      const Real lo = std::min(std::abs(A.v.inf()), std::abs(A.v.sup()));
-      const Real hi = std::max(std::abs(A.v.inf()), std::abs(A.v.sup()));
-      const J PmD = P - D;
-      if ((A.v.inf() > 0 || A.v.sup() < 0) && lo > kNearRatio * hi && PmD.v.inf() < kNearTan * hi) {
-        t[k] = PmD / A;
-      } else {
-        near[static_cast<std::size_t>(k)] = 1;
-        t[k] = PmD;
-        scale = scale * A;
-      }
-    } else {
-      t[k] = A / (P + D);
+    if (half_angle_tangent(A, P, D, t[k])) {
+      near[static_cast<std::size_t>(k)] = 1;
+      scale = scale * A;
     }
   }
-  for (Index k = 0; k < n; ++k) {
-    if (!near[static_cast<std::size_t>(k)]) {
-      t[k] = t[k] * scale;
-      continue;
-    }
-    for (Index e = 0; e < n; ++e)
-      if (e != k && near[static_cast<std::size_t>(e)]) t[k] = t[k] * area[e];
-  }
+  scale_out_near_edges(n, t, area, near, scale);
   const Real upx = s.ux[static_cast<std::size_t>(p)], upy = s.uy[static_cast<std::size_t>(p)];
   J rest = constant<O>(I(0)), Nx = rest, Ny = rest;
   for (Index j = 0; j < n; ++j) {
@@ -504,6 +506,7 @@ Jet<2> polar_det_hessian(const Jet<3>& Gx, const Jet<3>& Gy, const I& rho, const
 struct PolarWorkspace {
   std::vector<Jet<2>> second;
   std::vector<Jet<3>> third;
+  std::vector<char> near;
 };
 
 /// Encloses det J_k over the polar cell [ρ0, ρ1] × [θ0, θ1] around vertex p,
@@ -521,10 +524,10 @@ I polar_det_enclosure(const StepData& s, Index p, Real rho0, Real rho1, Real the
   cos_sin(tc, tc, cc, sc);
   cos_sin(theta0, theta1, cb, sb);
   Jet<2> Gx, Gy;
-  if (!polar_jets(s, p, I(rc), cc, sc, Gx, Gy, ws.second)) return I::largest();
+  if (!polar_jets(s, p, I(rc), cc, sc, Gx, Gy, ws.second, ws.near)) return I::largest();
   const Jet1 centre = polar_det(Gx, Gy, I(rc), cc, sc);
   const I box_rho(rho0, rho1);
-  if (!polar_jets(s, p, box_rho, cb, sb, Gx, Gy, ws.second)) return I::largest();
+  if (!polar_jets(s, p, box_rho, cb, sb, Gx, Gy, ws.second, ws.near)) return I::largest();
   const Jet1 box = polar_det(Gx, Gy, box_rho, cb, sb);
   const I hr = hull(I(rho0) - rc, I(rho1) - rc), ht = hull(I(theta0) - tc, I(theta1) - tc);
   const I dr = box.g[0] * hr, dt = box.g[1] * ht;
@@ -537,7 +540,7 @@ I polar_det_enclosure(const StepData& s, Index p, Real rho0, Real rho1, Real the
   if (first.inf() >= good_enough) return first;
   if (!last_try && first.sup() - first.inf() > kTaylorWidthRatio * CGAL::abs(centre.v).inf()) return first;
   Jet<3> Tx, Ty;
-  if (!polar_jets(s, p, box_rho, cb, sb, Tx, Ty, ws.third)) return first;
+  if (!polar_jets(s, p, box_rho, cb, sb, Tx, Ty, ws.third, ws.near)) return first;
   const Jet<2> H = polar_det_hessian(Tx, Ty, box_rho, cb, sb);
   const I taylor = centre.v + centre.g[0] * hr + centre.g[1] * ht +
                    (H.h[0] * CGAL::square(hr) + 2 * (H.h[1] * (hr * ht)) + H.h[2] * CGAL::square(ht)) / 2;
