@@ -17,6 +17,8 @@
 #include "fold_probe.hpp"
 #include "mapping/barycentric_map.hpp"
 #include "mapping/make_map.hpp"
+#include "mapping/mean_value_certificate.hpp"
+#include "mapping/polygon_sampling.hpp"
 #include "test_polygons.hpp"
 
 namespace warpfem::mapping {
@@ -160,6 +162,40 @@ INSTANTIATE_TEST_SUITE_P(Pairs, FoldProbePairs,
                                       pairs()[static_cast<std::size_t>(std::get<0>(info.param))].name) +
                                   "_" + kKinds[std::get<1>(info.param)].name;
                          });
+
+// The certificate (mapping/mean_value_certificate.hpp) on the shipped mean
+// value examples and on every pair whose adaptive composite mean value map is
+// built: a positive bound of det J_f on all of Ω0 but its vertices, never above
+// det J_f at the map's check sample or at the probes' corners.
+TEST(FoldProbePairs, EveryMeanValueMapBuiltIsCertified) {
+  std::vector<std::pair<std::string, MapSpec>> specs;
+  for (const char* example : {"square_to_dart", "star_to_bent_star", "square_to_gear"})
+    specs.emplace_back(example, test::load_example(example));
+  for (const Pair& pair : pairs()) {
+    MapSpec spec;
+    spec.type = "composite_mean_value";
+    spec.source = pair.source;
+    spec.target = pair.target;
+    spec.origin = std::string(pair.name) + ".json";
+    specs.emplace_back(pair.name, spec);
+  }
+  int certified = 0;
+  for (const auto& [name, spec] : specs) {
+    MapPtr<2> f;
+    try {
+      f = make_map(spec);
+    } catch (const Error&) {
+      continue;  // refused before any certificate; FoldFreeOrRefused covers it
+    }
+    const MapCertificate c = certify_map(*f);
+    std::printf("[ %s ] %s\n", name.c_str(), c.summary().c_str());
+    EXPECT_GT(c.lower_bound, 0) << name;
+    EXPECT_LE(c.lower_bound, min_det_jacobian(*f, bijectivity_sample(*spec.source, 64))) << name;
+    EXPECT_LE(c.lower_bound, min_det_jacobian(*f, test::fold_probes(*spec.source).corners)) << name;
+    ++certified;
+  }
+  EXPECT_EQ(certified, static_cast<int>(specs.size()));
+}
 
 class FoldProbeExamples : public ::testing::TestWithParam<const char*> {};
 
