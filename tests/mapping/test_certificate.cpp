@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -270,6 +271,50 @@ TEST(Certificate, StepBoundsAreCloseToTheSampledMinimumNotJustPositive) {
     EXPECT_LT(loose.lower_bound, 1e-3 * tight.lower_bound);
     EXPECT_LT(loose.cells, tight.cells);
   }
+}
+
+// Soundness on random one-step pairs: star-shaped polygons with 5–16 vertices
+// whose vertices move by up to a quarter of the radius, some folding, some
+// not. Every certified step has 0 < bound ≤ det J at a dense sample (grid,
+// points clustered at edges and vertices, points 1e-9 … 1e-2 · diam from every
+// vertex); a step with a non-positive sample is never certified, and (on these
+// pairs) every other one is.
+TEST(Certificate, RandomPairsAreNeverCertifiedWhereTheySampleAFold) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<Real> u(0, 1);
+  CertifyOptions options;
+  options.max_cells = 200'000;  // a pair this hard is refused, which is allowed
+  int certified = 0, folding = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 5 + static_cast<int>(u(rng) * 12);
+    std::vector<Real> angles;
+    for (int i = 0; i < n; ++i) angles.push_back(2 * std::numbers::pi * (i + 0.15 + 0.7 * u(rng)) / n);
+    std::vector<Point<2>> source, target;
+    for (const Real a : angles) {
+      const Real r = 0.5 + 0.5 * u(rng);
+      source.emplace_back(r * std::cos(a), r * std::sin(a));
+      target.push_back(source.back() + 0.25 * r * Point<2>(2 * u(rng) - 1, 2 * u(rng) - 1));
+    }
+    const Polygon P(source, "random source");
+    const BarycentricStep step(P, target, Coordinates::mean_value);
+    const Points<2> grid = bijectivity_sample(P, 64), corners = corner_points(P);
+    Real sampled = std::numeric_limits<Real>::infinity();
+    for (const Points<2>* x : {&grid, &corners})
+      for (Index p = 0; p < x->rows(); ++p) sampled = std::min(sampled, det_at(step, x->row(p).transpose()));
+    folding += sampled <= 0;
+    try {
+      const StepCertificate c = certify_mean_value_step(P, target, options);
+      ++certified;
+      EXPECT_GT(c.lower_bound, 0) << "trial " << trial;
+      EXPECT_LE(c.lower_bound, sampled) << "trial " << trial;
+    } catch (const Error&) {
+      continue;  // refused: allowed for any pair
+    }
+  }
+  std::printf("%d of 40 random pairs certified, %d fold at a sample\n", certified, folding);
+  EXPECT_GE(certified, 10);
+  EXPECT_GE(folding, 5);
+  EXPECT_EQ(certified + folding, 40) << "a pair without a sampled fold was refused";
 }
 
 TEST(Certificate, RefusesAFoldingSingleStep) {
