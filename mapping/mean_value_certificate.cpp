@@ -357,16 +357,22 @@ Jet<O> sqrt_jet(const Jet<O>& u) {
   return c;
 }
 
-/// cos and sin over [t0, t1] (t1 − t0 < π), each end widened by two ulps so the
-/// enclosures hold whatever the libm's rounding; an extremum inside the range
-/// (or within 1e-12 of it) widens that end to ±1.
+/// cos and sin over [t0, t1] (t1 − t0 < π): the libm's values, computed in
+/// round-to-nearest (where glibc's are within an ulp) and widened by two ulps
+/// at each end; an extremum inside the range (or within 1e-12 of it) widens
+/// that end to ±1.
 void cos_sin(Real t0, Real t1, I& c, I& s) {
   const auto widen = [](Real a, Real b) {
     return I(std::nextafter(std::nextafter(std::min(a, b), -2.0), -2.0),
              std::nextafter(std::nextafter(std::max(a, b), 2.0), 2.0));
   };
-  c = widen(std::cos(t0), std::cos(t1));
-  s = widen(std::sin(t0), std::sin(t1));
+  Real c0, c1, s0, s1;
+  {
+    CGAL::Protect_FPU_rounding<true> nearest(CGAL_FE_TONEAREST);
+    c0 = std::cos(t0), c1 = std::cos(t1), s0 = std::sin(t0), s1 = std::sin(t1);
+  }
+  c = widen(c0, c1);
+  s = widen(s0, s1);
   const auto holds = [&](Real phase) {  // some phase + 2kπ in [t0, t1]?
     constexpr Real two_pi = 2 * std::numbers::pi, pad = 1e-12;
     return std::floor((t1 + pad - phase) / two_pi) >= std::ceil((t0 - pad - phase) / two_pi);
