@@ -10,15 +10,16 @@
 //
 // At a vertex v_p the coordinates are not differentiable, and in Cartesian
 // cells their derivatives grow without bound. So every corner — the disk around
-// v_p of half its distance to the other edges, which meets P_k in the wedge
-// between p's two edges — is covered by polar cells [ρ0, ρ1] × [θ0, θ1],
-// x = v_p + ρ n(θ). There the displacement minus u_p is ρ G(ρ, θ) with G smooth
-// up to ρ = 0 (the weights' 1/ρ cancels in closed form), and J_k = I + (G +
-// ρ G_ρ) nᵀ + G_θ n⊥ᵀ. The rest of P_k is covered by an adaptive quadtree whose
-// cells are classified against P_k with exact predicates (outside: skipped;
-// inside or cut by the boundary: enclosed over the whole cell; inside a corner's
-// disk: skipped), enclosed from the entries of J_k and, where that is not
-// enough, from a second-order Taylor model of det J_k.
+// v_p of half its distance to the other edges and to its two neighbours, which
+// meets P_k in the wedge between p's two edges — is covered by polar cells
+// [ρ0, ρ1] × [θ0, θ1], x = v_p + ρ n(θ). There the displacement minus u_p is
+// ρ G(ρ, θ) with G smooth up to ρ = 0 (the weights' 1/ρ cancels in closed
+// form), and J_k = I + (G + ρ G_ρ) nᵀ + G_θ n⊥ᵀ. The rest of P_k is covered
+// by an adaptive quadtree whose cells are classified against P_k with exact
+// predicates (outside: skipped; inside or cut by the boundary: enclosed over
+// the whole cell; inside a corner's disk: skipped), enclosed from the entries
+// of J_k and, where that is not enough, from a second-order Taylor model of
+// det J_k.
 //
 // What is certified: det J_k ≥ b_k > 0 on P_k minus its vertices, for every step
 // k. Since det J_f(x) = Π_k det J_k(x_k) with x_{k+1} = f_k(x_k) and f_k maps
