@@ -392,6 +392,9 @@ struct Jet1 {
 Jet1 operator+(const Jet1& a, const Jet1& b) {
   return {a.v + b.v, {a.g[0] + b.g[0], a.g[1] + b.g[1]}};
 }
+Jet1 operator-(const Jet1& a, const Jet1& b) {
+  return {a.v - b.v, {a.g[0] - b.g[0], a.g[1] - b.g[1]}};
+}
 Jet1 operator*(const Jet1& a, const Jet1& b) {
   return {a.v * b.v, {a.g[0] * b.v + a.v * b.g[0], a.g[1] * b.v + a.v * b.g[1]}};
 }
@@ -478,18 +481,22 @@ bool polar_jets(const StepData& s, Index p, const I& rho, const I& cosine, const
   return true;
 }
 
-/// det J_k with its gradient in (ρ, θ): with a = G + ρ G_ρ and b = G_θ,
-/// J_k = I + a nᵀ + b n⊥ᵀ, so det J_k = 1 + a·n + b·n⊥ + a × b.
+/// With a = G + ρ G_ρ and b = G_θ, J_k = I + a nᵀ + b n⊥ᵀ (n⊥ = (−n_y, n_x)),
+/// so det J_k = 1 + a·n + b·n⊥ + a × b; for jets J of any order in (ρ, θ).
+template <typename J>
+J corner_det(const J& one, const J& ax, const J& ay, const J& bx, const J& by, const J& nx, const J& ny) {
+  return one + ax * nx + ay * ny - bx * ny + by * nx + ax * by - ay * bx;
+}
+
+/// det J_k with its gradient in (ρ, θ), from G's jets of order 2.
 Jet1 polar_det(const Jet<2>& Gx, const Jet<2>& Gy, const I& rho, const I& cosine, const I& sine) {
   const auto a = [&](const Jet<2>& G) {
     return Jet1{G.v + rho * G.g[0], {2 * G.g[0] + rho * G.h[0], G.g[1] + rho * G.h[1]}};
   };
   const auto b = [](const Jet<2>& G) { return Jet1{G.g[1], {G.h[1], G.h[2]}}; };
   const Jet1 ax = a(Gx), ay = a(Gy), bx = b(Gx), by = b(Gy);
-  const Jet1 nx{cosine, {I(0), -sine}}, ny{sine, {I(0), cosine}};
-  const Jet1 mx{-sine, {I(0), -cosine}}, my = nx;  // n⊥ = (−sin, cos)
-  const Jet1 one{I(1), {I(0), I(0)}}, minus{I(-1), {I(0), I(0)}};
-  return one + ax * nx + ay * ny + bx * mx + by * my + ax * by + minus * (ay * bx);
+  const Jet1 nx{cosine, {I(0), -sine}}, ny{sine, {I(0), cosine}}, one{I(1), {I(0), I(0)}};
+  return corner_det(one, ax, ay, bx, by, nx, ny);
 }
 
 /// det J_k with its gradient and Hessian in (ρ, θ), from G's jets of order 3
@@ -504,8 +511,7 @@ Jet<2> polar_det_hessian(const Jet<3>& Gx, const Jet<3>& Gy, const I& rho, const
   const Jet<2> ax = a(Gx), ay = a(Gy), bx = b(Gx), by = b(Gy);
   const Jet<2> nx{cosine, {I(0), -sine}, {I(0), I(0), -cosine}},
       ny{sine, {I(0), cosine}, {I(0), I(0), -sine}};
-  const Jet<2> mx = -1 * ny, my = nx;  // n⊥ = (−sin, cos)
-  return constant<2>(I(1)) + ax * nx + ay * ny + bx * mx + by * my + ax * by - ay * bx;
+  return corner_det(constant<2>(I(1)), ax, ay, bx, by, nx, ny);
 }
 
 /// Per-thread buffers of the polar enclosures.
