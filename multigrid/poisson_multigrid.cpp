@@ -20,8 +20,8 @@ double process_cpu_seconds() {
 
 /// The hierarchy partitioned for `comm`'s ranks; with `partial_levels` the
 /// levels above the base are built only around this rank's cells
-/// (fem/partial_refinement.hpp: triangles and tetrahedra; elements with edge
-/// DOFs, quadrilaterals and hexahedra get whole levels on a nested partition).
+/// (fem/partial_refinement.hpp; elements with edge DOFs get whole levels on a
+/// nested partition).
 template <int dim>
 fem::MeshHierarchy<dim> timed_hierarchy(MPI_Comm comm, warpfem::Mesh<dim> coarse, int refinements,
                                         bool partial_levels, Index base_cells_per_part, double& seconds) {

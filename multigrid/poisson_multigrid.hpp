@@ -31,11 +31,11 @@ struct PoissonMultigridOptions {
   /// array of the problem; every later pass over it (errors, re-assembly) then
   /// evaluates the map again.
   fem::GeometryStorage finest_geometry = fem::GeometryStorage::cached;
-  /// On several ranks, build the P1 levels above the partition's base level
-  /// only around each rank's cells (fem/partial_refinement.hpp; triangles and
-  /// tetrahedra): no rank refines or stores the whole fine levels. False, and
-  /// for quadrilaterals, hexahedra and P2: every rank holds every level whole
-  /// (the levels' numbering and the solution are the same).
+  /// On several ranks, build the P1 / Q1 levels above the partition's base
+  /// level only around each rank's cells (fem/partial_refinement.hpp): no rank
+  /// refines or stores the whole fine levels. False, and for order 2: every
+  /// rank holds every level whole (the levels' numbering and the solution are
+  /// the same).
   bool partial_levels = true;
   /// Cells per rank on the partitioned base level (HierarchyPartition).
   Index base_cells_per_part = fem::kBaseCellsPerPart;

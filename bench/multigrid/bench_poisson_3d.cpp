@@ -12,7 +12,7 @@
 //
 // -n: cells per side of the coarse mesh; the finest has n · 2^refinements.
 // -partial_levels 0: under MPI every rank stores every level whole (default 1:
-// P1 tetrahedral levels above the partition's base only around the rank's cells).
+// P1 / Q1 levels above the partition's base only around the rank's cells).
 // Every phase is reported in wall and in process CPU seconds (the CPU figure
 // counts the run's own work on a host shared with other jobs; one thread).
 // The AMG peers are charged the finest problem's construction and assembly

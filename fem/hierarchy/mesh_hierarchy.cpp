@@ -68,8 +68,7 @@ MeshHierarchy<dim>::MeshHierarchy(Mesh<dim> coarse, int refinements, const Hiera
     while (base < refinements && cells < partition.min_cells_per_part * parts)
       cells *= RefinedMesh<dim>::children_per_cell, ++base;
   }
-  const bool simplices = coarse.cell_type == CellType::triangle || coarse.cell_type == CellType::tetrahedron;
-  const bool partial = partition.partial_levels && parts > 1 && base < refinements && simplices;
+  const bool partial = partition.partial_levels && parts > 1 && base < refinements;
   const int whole = partial ? base : refinements;  // levels 0 … whole are whole meshes
   levels.reserve(static_cast<std::size_t>(refinements) + 1);
   transfers.reserve(static_cast<std::size_t>(refinements));

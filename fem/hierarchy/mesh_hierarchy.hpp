@@ -25,8 +25,8 @@ struct HierarchyPartition {
   int rank = 0;   ///< the rank the levels are built for
   /// The base level: the coarsest with this many cells per part.
   Index min_cells_per_part = kBaseCellsPerPart;
-  /// Build the levels above the base only around the rank's cells (triangles
-  /// and tetrahedra; fit for P1: elements with edge DOFs need whole levels).
+  /// Build the levels above the base only around the rank's cells (fit for
+  /// P1 and Q1: elements with edge DOFs need whole levels).
   bool partial_levels = true;
 };
 
@@ -42,8 +42,7 @@ struct MeshHierarchy {
   /// The same levels, partitioned as nested_level_partitions() partitions
   /// them (kept in `partitions`), with the levels above the base built only
   /// around `partition.rank`'s cells (partial meshes, fem/partial_refinement.hpp)
-  /// when there are several parts and the cells are triangles or tetrahedra;
-  /// otherwise whole (quadrilaterals, hexahedra, or partial_levels off).
+  /// when there are several parts; otherwise (or with partial_levels off) whole.
   MeshHierarchy(Mesh<dim> coarse, int refinements, const HierarchyPartition& partition);
   // Movable, not copyable: `partitions` point into `levels` (a moved vector keeps its elements).
   MeshHierarchy(MeshHierarchy&&) = default;

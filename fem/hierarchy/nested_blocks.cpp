@@ -79,4 +79,15 @@ NestedBlocks nested_blocks(const MeshHierarchy<dim>& h, int base, int level, std
 template NestedBlocks nested_blocks(const MeshHierarchy<2>&, int, int, std::vector<int>);
 template NestedBlocks nested_blocks(const MeshHierarchy<3>&, int, int, std::vector<int>);
 
+std::vector<TableIndex> block_offsets(const std::vector<Index>& count, const std::string& what) {
+  std::vector<TableIndex> first(count.size() + 1);
+  Index sum = 0;
+  for (std::size_t b = 0; b < count.size(); ++b) {
+    first[b] = checked_table_size(sum, what);
+    sum += count[b];
+  }
+  first.back() = checked_table_size(sum, what);
+  return first;
+}
+
 }  // namespace warpfem::fem

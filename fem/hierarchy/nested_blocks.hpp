@@ -13,6 +13,7 @@
 
 #include <array>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/mesh/mesh.hpp"
@@ -45,6 +46,11 @@ struct NestedBlocks {
 /// Base cells sharing a vertex with a cell of `seed` (masks over the base cells;
 /// the seed's own cells included).
 std::vector<char> blocks_sharing_a_vertex(const IndexTable& base_cells, const std::vector<char>& seed);
+
+/// first[b] = count[0] + … + count[b - 1] (blocks + 1 entries): where each
+/// block's range of vertices (or edges) starts; an error naming `what` when
+/// a sum does not fit a TableIndex.
+std::vector<TableIndex> block_offsets(const std::vector<Index>& count, const std::string& what);
 
 /// The cells of `blocks` (increasing) on a level of `cells_per_block` cells per
 /// block, as ranges [first, last), consecutive blocks merged.

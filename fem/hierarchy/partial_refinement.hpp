@@ -19,10 +19,10 @@
 // outside the refined ring can only lie in that ring's outer cells (they keep
 // -1 there and are never read).
 //
-// Tetrahedra (Bey's red refinement) follow the same block layout with
-// 8^k cells per block; their nodes are identified by their barycentric
-// coordinates in the base cell instead of by a carried edge numbering (see
-// the .cpp). Quadrilateral and hexahedral levels are built whole.
+// Tetrahedra (Bey's red refinement), quadrilaterals and hexahedra follow the
+// same block layout with 8^k (4^k) cells per block; their nodes are identified
+// by their integer coordinates in the base cell instead of by a carried edge
+// numbering (refine_by_position.hpp).
 
 #include <vector>
 
@@ -35,7 +35,7 @@ template <int dim>
 struct MeshHierarchy;
 
 /// Appends `levels_above` levels to `h`, whose finest level is the partitioned
-/// base level (whole triangles or tetrahedra), refined for rank `rank` of
+/// base level (a whole mesh), refined for rank `rank` of
 /// `base_owner` (one rank per base cell); appends their NestedBlocks to
 /// `blocks`. The new levels are partial meshes (their present_cells: the
 /// rank's blocks and their neighbours) with the numbers the whole refinement

@@ -19,6 +19,7 @@
 #include "fem/hierarchy/mesh_hierarchy.hpp"
 #include "fem/hierarchy/nested_blocks.hpp"
 #include "fem/reference/lagrange_element.hpp"
+#include "tests/fem/partial_hierarchy_check.hpp"
 
 using namespace warpfem;
 using namespace warpfem::fem;
@@ -135,75 +136,11 @@ TEST(NestedBlocks, DistributionEqualsTheOneFromListedCellOwners) {
 
 // A hierarchy built for one rank of a partition: on the levels above the base
 // only the cells around the rank's are stored, with the numbers, positions and
-// boundary facets the whole refinement gives them (checked for every rank of
-// two, three and five parts, in one process).
+// boundary facets the whole refinement gives them (every rank of two, three
+// and five parts, in one process). Triangles carry an edge numbering from
+// level to level, quadrilaterals name their nodes by position.
 TEST(PartialRefinement, PresentCellsMatchTheWholeHierarchy) {
-  const MeshHierarchy<2> whole(lshape_triangles(), 5);
-  for (const int parts : {2, 3, 5}) {
-    const auto whole_parts = nested_level_partitions(whole, parts, kCellsPerPart);
-    for (int rank = 0; rank < parts; ++rank) {
-      const MeshHierarchy<2> h(
-          lshape_triangles(), 5,
-          HierarchyPartition{.parts = parts, .rank = rank, .min_cells_per_part = kCellsPerPart});
-      ASSERT_EQ(h.num_levels(), whole.num_levels());
-      ASSERT_EQ(h.partitions.size(), whole_parts.size());
-      int partial_levels = 0;
-      for (int l = 0; l < h.num_levels(); ++l) {
-        const Mesh<2>& m = h.levels[static_cast<std::size_t>(l)];
-        const Mesh<2>& w = whole.levels[static_cast<std::size_t>(l)];
-        const std::string where =
-            std::to_string(parts) + " parts, rank " + std::to_string(rank) + ", level " + std::to_string(l);
-        ASSERT_EQ(m.num_cells(), w.num_cells()) << where;
-        ASSERT_EQ(m.num_vertices(), w.num_vertices()) << where;
-        ASSERT_EQ(m.num_boundary_facets(), w.num_boundary_facets()) << where;
-        const LevelPartition& p = h.partitions[static_cast<std::size_t>(l)];
-        const LevelPartition& wp = whole_parts[static_cast<std::size_t>(l)];
-        EXPECT_EQ(p.cell_owner, wp.cell_owner) << where;
-        ASSERT_EQ(p.blocks.has_value(), wp.blocks.has_value()) << where;
-        if (p.blocks) {
-          EXPECT_EQ(p.blocks->first_vertex, wp.blocks->first_vertex) << where;
-          EXPECT_EQ(p.blocks->cells_per_block, wp.blocks->cells_per_block) << where;
-          EXPECT_EQ(p.blocks->owner, wp.blocks->owner) << where;
-        }
-        if (!m.partial) {
-          EXPECT_TRUE(m.cells == w.cells) << where;
-          continue;
-        }
-        ++partial_levels;
-        // Present: exactly the cells of the rank's blocks and their neighbours.
-        std::vector<Index> expected, present;
-        for (Index b : p.blocks->blocks_near(rank))
-          for (Index c = b * p.blocks->cells_per_block; c < (b + 1) * p.blocks->cells_per_block; ++c)
-            expected.push_back(c);
-        for (const auto& [first, last] : m.cell_ranges())
-          for (Index c = first; c < last; ++c) present.push_back(c);
-        EXPECT_EQ(present, expected) << where;
-        EXPECT_LT(static_cast<Index>(present.size()), m.num_cells()) << where;  // something was left out
-        for (Index c : present)
-          for (Index k = 0; k < 3; ++k) {
-            ASSERT_EQ(m.cells(c, k), w.cells(c, k)) << where << ", cell " << c;
-            ASSERT_EQ(m.vertices.row(m.cells(c, k)), w.vertices.row(w.cells(c, k)))
-                << where << ", cell " << c;
-          }
-        // Stored facets equal the whole level's; the rank's own boundary is stored.
-        std::vector<char> mine(static_cast<std::size_t>(m.num_vertices()), 0);
-        for (Index c : present)
-          if (p.blocks->cell_owner(c) == rank)
-            for (Index k = 0; k < 3; ++k) mine[static_cast<std::size_t>(m.cells(c, k))] = 1;
-        for (Index f = 0; f < m.num_boundary_facets(); ++f) {
-          EXPECT_EQ(m.facet_tags[static_cast<std::size_t>(f)], w.facet_tags[static_cast<std::size_t>(f)]);
-          if (m.has_facet(f)) {
-            EXPECT_EQ(m.boundary_facets.row(f), w.boundary_facets.row(f)) << where << ", facet " << f;
-          } else {
-            EXPECT_FALSE(mine[static_cast<std::size_t>(w.boundary_facets(f, 0))] &&
-                         mine[static_cast<std::size_t>(w.boundary_facets(f, 1))])
-                << where << ": the rank's own facet " << f << " is missing";
-          }
-        }
-        EXPECT_THROW(EdgeNumbering{m}, Error);  // whole-mesh algorithms refuse a partial level
-        EXPECT_THROW(refine_uniformly(m), Error);
-      }
-      EXPECT_GE(partial_levels, 2) << "rank " << rank;
-    }
-  }
+  test::expect_partial_levels_match_the_whole_hierarchy<2>(lshape_triangles, 5, kCellsPerPart, {2, 3, 5}, 2);
+  test::expect_partial_levels_match_the_whole_hierarchy<2>(square_quadrilaterals, 5, kCellsPerPart, {2, 3, 5},
+                                                           2);
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "apps/run.hpp"
 #include "core/mesh/structured_mesher.hpp"
@@ -10,6 +11,7 @@
 #include "core/petsc/check.hpp"
 #include "fem/physics/poisson.hpp"
 #include "fem/postprocessing/reference_error.hpp"
+#include "io/config.hpp"
 #include "mapping/make_map.hpp"
 
 using namespace warpfem;
@@ -102,24 +104,30 @@ INSTANTIATE_TEST_SUITE_P(Orders, MpiPoisson, ::testing::Values(1, 2));
 
 // Enough refinements that the multigrid hierarchy's finest levels are built
 // only around each rank's cells (fem/partial_refinement.hpp): the app's
-// solution, h, area and curved (order-2) output are the serial ones.
-TEST(MpiPoisson, LevelsBuiltAroundEachRankGiveTheSerialRun) {
+// solution, h, measure and curved (order-2) output are the serial ones, for
+// triangles, quadrilaterals and hexahedra.
+struct PartialCase {
+  const char* name;
+  int dim;
+  const char* map;      // the config's "map" member
+  const char* mesh;     // its "mesh" member
+  const char* problem;  // its "problem" member
+};
+
+class MpiPartialLevels : public ::testing::TestWithParam<PartialCase> {};
+
+TEST_P(MpiPartialLevels, GiveTheSerialRun) {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   ASSERT_EQ(size, 2) << "run this test with mpiexec -n 2";
-  io::RunConfig cfg = io::parse_run_config(nlohmann::json::parse(R"json({
-    "verbosity": "warning",
-    "map": {"type": "composite_mean_value", "source": [[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]],
-            "target": [[0,0],[2,0],[2.2,1.1],[1,1],[1,2],[-0.1,2.1]]},
-    "mesh": {"max_edge_length": 0.4, "refinements": 5},
-    "problem": {"source": "1 + x*y", "dirichlet": [{"edges": [0, 1, 2], "value": "x"}],
-                "neumann": [{"edges": [3, 4, 5], "value": "0.5"}]},
-    "solver": {"rtol": 1e-12},
-    "output": {"vtk_order": 2}
-  })json"),
-                                           "mpi_partial_test.json");
-  cfg.output.directory = "output/test_mpi";
-  cfg.output.name = "partial";
+  const PartialCase& c = GetParam();
+  const nlohmann::json json = nlohmann::json::parse(
+      std::string(R"({"verbosity": "warning", "map": )") + c.map + R"(, "mesh": )" + c.mesh +
+      R"(, "problem": )" + c.problem +
+      R"(, "solver": {"rtol": 1e-12}, "output": {"vtk_order": 2, "directory": "output/test_mpi", "name": "partial_)" +
+      c.name + R"("}})");
+  const io::Config cfg = c.dim == 2 ? io::Config(io::parse_run_config(json, "mpi_partial_test.json"))
+                                    : io::Config(io::parse_poisson_config<3>(json, "mpi_partial_test.json"));
   const auto parallel = apps::run(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
   const auto serial = apps::run(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
   ASSERT_EQ(parallel.solution.size(), serial.solution.size());
@@ -127,8 +135,30 @@ TEST(MpiPoisson, LevelsBuiltAroundEachRankGiveTheSerialRun) {
             1e-9 * serial.solution.lpNorm<Eigen::Infinity>());
   EXPECT_EQ(parallel.h, serial.h);
   EXPECT_NEAR(parallel.area, serial.area, 1e-12);
-  EXPECT_EQ(parallel.output_file, "output/test_mpi/partial.pvtu");
+  EXPECT_EQ(parallel.output_file, "output/test_mpi/partial_" + std::string(c.name) + ".pvtu");
 }
+
+constexpr const char* kLMap =
+    R"({"type": "composite_mean_value", "source": [[0,0],[2,0],[2,1],[1,1],[1,2],[0,2]],
+                                  "target": [[0,0],[2,0],[2.2,1.1],[1,1],[1,2],[-0.1,2.1]]})";
+constexpr const char* kLProblem = R"({"source": "1 + x*y", "dirichlet": [{"edges": [0, 1, 2], "value": "x"}],
+                                      "neumann": [{"edges": [3, 4, 5], "value": "0.5"}]})";
+
+INSTANTIATE_TEST_SUITE_P(
+    Cells, MpiPartialLevels,
+    ::testing::Values(
+        PartialCase{"triangles", 2, kLMap, R"({"max_edge_length": 0.4, "refinements": 5})", kLProblem},
+        PartialCase{"quadrilaterals", 2, kLMap,
+                    R"({"type": "quad_split", "max_edge_length": 0.5, "refinements": 4})", kLProblem},
+        // The unit cube's surface under the identity, 2³ hexahedra refined 4 times (35,937 DOFs).
+        PartialCase{"hexahedra", 3, R"({"type": "identity", "source": {
+                      "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0],[0,0,1],[1,0,1],[1,1,1],[0,1,1]],
+                      "triangles": [[0,4,7],[0,7,3],[1,2,6],[1,6,5],[0,1,5],[0,5,4],
+                                    [3,7,6],[3,6,2],[0,2,1],[0,3,2],[4,5,6],[4,6,7]]}})",
+                    R"({"type": "structured", "cell_type": "hexahedron", "cells": 2, "refinements": 4})",
+                    R"({"source": "1 + x*y*z", "dirichlet": [{"faces": [0, 1, 2, 3, 4], "value": "x + z"}],
+                        "neumann": [{"faces": [5], "value": "0.5"}]})"}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 // Errors against a reference solution locate every quadrature point of one
 // problem in the other's mesh, rank by rank. A point outside the reference
