@@ -121,8 +121,14 @@ Mesh<3> mesh_polyhedron(const Polyhedron& polyhedron, const TetrahedralMeshOptio
     throw tetgen_failure(polyhedron, 1);
   }
   if (out.numberoftetrahedra <= 0 || out.numberofpoints < n)
-    throw Error(polyhedron.name() + ": TetGen produced no tetrahedra",
-                {.file = "", .key_path = "", .hint = "check that the surface encloses a volume"});
+    // The surface passed the exact closure and self-intersection checks, so
+    // TetGen's own tolerance saw parts of it as touching.
+    throw Error(polyhedron.name() + ": TetGen produced no tetrahedra from this closed surface",
+                {.file = "",
+                 .key_path = "",
+                 .hint = "separate nearly touching parts of the surface (TetGen treats parts closer than "
+                         "about 1e-8 of its size as intersecting), or mesh it elsewhere and read the "
+                         "tetrahedra from a Gmsh file (\"type\": \"gmsh\")"});
 
   Mesh<3> mesh;
   mesh.cell_type = CellType::tetrahedron;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
 
@@ -156,6 +157,50 @@ TEST(Polyhedron, ReadsOffFileAndNamesFileOnError) {
   EXPECT_THROW(Polyhedron::read((dir / "warpfem_no_such_file.off").string()), Error);
   std::filesystem::remove(good);
   std::filesystem::remove(bad);
+}
+
+// The other formats CGAL reads: ASCII STL (every facet with its own copies of
+// its vertices, which the reader merges), OBJ and PLY; each gives the same
+// closed cube.
+TEST(Polyhedron, ReadsStlObjAndPlyFiles) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto vertices = cube_vertices();
+  const auto triangles = cube_triangles();
+  const auto at = [&](Index i) { return vertices[static_cast<std::size_t>(i)]; };
+  const std::string stl = (dir / "warpfem_test_cube.stl").string(),
+                    obj = (dir / "warpfem_test_cube.obj").string(),
+                    ply = (dir / "warpfem_test_cube.ply").string();
+  {
+    std::ofstream f(stl);
+    f << "solid cube\n";
+    for (const auto& t : triangles) {
+      const Point<3> n = (at(t[1]) - at(t[0])).cross(at(t[2]) - at(t[0])).normalized();
+      f << "facet normal " << n.x() << " " << n.y() << " " << n.z() << "\nouter loop\n";
+      for (int k = 0; k < 3; ++k)
+        f << "vertex " << at(t[k]).x() << " " << at(t[k]).y() << " " << at(t[k]).z() << "\n";
+      f << "endloop\nendfacet\n";
+    }
+    f << "endsolid cube\n";
+  }
+  {
+    std::ofstream f(obj);
+    for (const auto& p : vertices) f << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+    for (const auto& t : triangles) f << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  }
+  {
+    std::ofstream f(ply);
+    f << "ply\nformat ascii 1.0\nelement vertex 8\nproperty double x\nproperty double y\nproperty double z\n"
+         "element face 12\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& p : vertices) f << p.x() << " " << p.y() << " " << p.z() << "\n";
+    for (const auto& t : triangles) f << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  }
+  for (const std::string& file : {stl, obj, ply}) {
+    const Polyhedron p = Polyhedron::read(file);
+    EXPECT_EQ(p.vertex_count(), 8) << file;
+    EXPECT_EQ(p.triangle_count(), 12) << file;
+    EXPECT_NEAR(p.signed_volume(), 1.0, 1e-15) << file;
+    std::filesystem::remove(file);
+  }
 }
 
 TEST(Polyhedron, SameTriangulationCheck) {

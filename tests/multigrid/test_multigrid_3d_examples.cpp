@@ -87,30 +87,46 @@ TEST(Multigrid3dExamples, IterationsOnTheNonConvexPolyhedronAreBounded) {
 // level's cells lie on f(Ω0) itself, so the warped volume the finest level
 // integrates is the same whatever the depth, to quadrature precision.
 TEST(Multigrid3dExamples, IterationsOnTheWarpedHierarchyAreBounded) {
-  for (const int order : {1, 2}) {
-    io::PoissonRunConfig<3> cfg = example("poisson_warped_3d.json", order);
-    cfg.mesh = {};
-    cfg.mesh.type = "structured";
-    cfg.mesh.cell_type = CellType::tetrahedron;
-    cfg.mesh.nx = cfg.mesh.ny = cfg.mesh.nz = order == 1 ? 2 : 1;
-    cfg.poisson.quadrature_degree = 2 * order;
-    const Sweep s = sweep(cfg, 2, 4);
-    EXPECT_LE(spread(s.iterations), 3) << s.table;
-    EXPECT_LE(*std::max_element(s.iterations.begin(), s.iterations.end()), 12) << s.table;
-    for (const double v : s.volumes) EXPECT_NEAR(v, s.volumes.back(), 1e-3 * s.volumes.back()) << s.table;
-  }
+  // The cage's box carries 56 surface vertices: tetrahedra and hexahedra alike
+  // are cut at them (mesh_factory's structured box meshes).
+  for (const CellType type : {CellType::tetrahedron, CellType::hexahedron})
+    for (const int order : {1, 2}) {
+      io::PoissonRunConfig<3> cfg = example("poisson_warped_3d.json", order);
+      cfg.mesh = {};
+      cfg.mesh.type = "structured";
+      cfg.mesh.cell_type = type;
+      cfg.mesh.nx = cfg.mesh.ny = cfg.mesh.nz = order == 1 ? 2 : 1;
+      cfg.poisson.quadrature_degree = 2 * order;
+      const Sweep s = sweep(cfg, 2, 4);
+      EXPECT_LE(spread(s.iterations), 3) << to_string(type) << "\n" << s.table;
+      EXPECT_LE(*std::max_element(s.iterations.begin(), s.iterations.end()), 12) << to_string(type) << "\n"
+                                                                                 << s.table;
+      // f is only Lipschitz at the cage's edges: the coarse hexahedra's 8 or 27
+      // points per cell see its volume to about 2 % (1.9 % at 2 levels of Q2,
+      // 0.4 % of Q1), the tetrahedra's 24 or 36 per box cell to 0.1 %.
+      const double tolerance = type == CellType::tetrahedron ? 1e-3 : 2.5e-2;
+      for (const double v : s.volumes)
+        EXPECT_NEAR(v, s.volumes.back(), tolerance * s.volumes.back()) << to_string(type) << "\n" << s.table;
+    }
 }
 
 // The default smoother (no "smoother" in the config): with Chebyshev–Jacobi the
 // P2 count on the prism grew 8, 11, 14, 16 over 2–5 levels, so quadratic
-// tetrahedra get Chebyshev–SOR; the Q2 cube keeps Chebyshev–Jacobi, which is flat there.
+// tetrahedra get Chebyshev–SOR (the Q2 cube keeps Chebyshev–Jacobi, below).
 TEST(Multigrid3dExamples, DefaultSmootherKeepsTheQuadraticCountsBounded) {
   const Sweep prism = sweep(example_with_defaults("poisson_polyhedron.json", 2), 2, 5);
   EXPECT_LE(spread(prism.iterations), 3) << prism.table;
   EXPECT_LE(*std::max_element(prism.iterations.begin(), prism.iterations.end()), 12) << prism.table;
-  const Sweep cube = sweep(example_with_defaults("poisson_cube.json", 2), 2, 4);
-  EXPECT_LE(spread(cube.iterations), 3) << cube.table;
-  EXPECT_LE(*std::max_element(cube.iterations.begin(), cube.iterations.end()), 12) << cube.table;
+}
+
+// The cube example (hexahedra) with the defaults over four depths, Q1 and Q2
+// (up to 35,937 and 274,625 DOFs).
+TEST(Multigrid3dExamples, DefaultSettingsKeepTheCubeCountsBounded) {
+  for (const int order : {1, 2}) {
+    const Sweep cube = sweep(example_with_defaults("poisson_cube.json", order), 2, 5);
+    EXPECT_LE(spread(cube.iterations), 3) << cube.table;
+    EXPECT_LE(*std::max_element(cube.iterations.begin(), cube.iterations.end()), 12) << cube.table;
+  }
 }
 
 // P1 with the defaults (Chebyshev–Jacobi) on the prism over 3–6 levels (up to
