@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 
 namespace warpfem {
 namespace {
@@ -182,14 +183,24 @@ Point<2> Polygon::bbox_max() const {
 }
 
 int Polygon::side_of(const Point<2>& p) const {
+  return side_of(std::vector<Point<2>>{p}).front();
+}
+
+std::vector<int> Polygon::side_of(const std::vector<Point<2>>& points) const {
   std::vector<KPoint> pts;
   pts.reserve(vertices_.size());
   for (const auto& v : vertices_) pts.push_back(to_cgal(v));
-  switch (CGAL::bounded_side_2(pts.begin(), pts.end(), to_cgal(p), Kernel())) {
-    case CGAL::ON_BOUNDED_SIDE: return 1;
-    case CGAL::ON_BOUNDARY: return 0;
-    default: return -1;
-  }
+  std::vector<int> out(points.size());
+  parallel_for(static_cast<Index>(points.size()), 256, [&](Index first, Index last) {
+    for (auto i = static_cast<std::size_t>(first); i < static_cast<std::size_t>(last); ++i) {
+      switch (CGAL::bounded_side_2(pts.begin(), pts.end(), to_cgal(points[i]), Kernel())) {
+        case CGAL::ON_BOUNDED_SIDE: out[i] = 1; break;
+        case CGAL::ON_BOUNDARY: out[i] = 0; break;
+        default: out[i] = -1;
+      }
+    }
+  });
+  return out;
 }
 
 Polygon Polygon::reversed() const {

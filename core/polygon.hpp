@@ -49,6 +49,8 @@ class Polygon {
 
   /// Exact test: -1 outside, 0 on the boundary, +1 inside.
   int side_of(const Point<2>& p) const;
+  /// side_of for many points (the vertices converted once).
+  std::vector<int> side_of(const std::vector<Point<2>>& points) const;
 
   /// Returns the polygon with reversed vertex order (vertex 0 stays first).
   Polygon reversed() const;

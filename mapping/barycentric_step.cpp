@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/threads.hpp"
 #include "mapping/detail/mean_value_avx512.hpp"
 #include "mapping/detail/mean_value_kernel.hpp"
 #include "mapping/mean_value_coordinates.hpp"
@@ -147,16 +148,19 @@ void BarycentricStep::apply(const Points<2>& x0, Points<2>& x, Jacobians<2>* J) 
   const Index N = x0.rows();
   x.resize(N, 2);
   if (J) J->resize(N, 4);
-  alignas(64) Real jb[4 * kStepBlock], xb[kStepBlock], yb[kStepBlock];
-  for (Index p0 = 0; p0 < N; p0 += kStepBlock) {
-    const int cnt = static_cast<int>(std::min<Index>(kStepBlock, N - p0));
-    std::copy(x0.data() + p0, x0.data() + p0 + cnt, xb);  // staging makes x0 and x safe to alias
-    std::copy(x0.data() + N + p0, x0.data() + N + p0 + cnt, yb);
-    apply(xb, yb, cnt, x.data() + p0, x.data() + N + p0, J ? jb : nullptr);
-    if (J)
-      for (int c = 0; c < 4; ++c)
-        std::copy(jb + c * kStepBlock, jb + c * kStepBlock + cnt, J->data() + c * N + p0);
-  }
+  // Blocks are independent: split them over threads (core/threads.hpp).
+  parallel_for((N + kStepBlock - 1) / kStepBlock, 4, [&](Index first_block, Index last_block) {
+    alignas(64) Real jb[4 * kStepBlock], xb[kStepBlock], yb[kStepBlock];
+    for (Index p0 = first_block * kStepBlock; p0 < std::min(N, last_block * kStepBlock); p0 += kStepBlock) {
+      const int cnt = static_cast<int>(std::min<Index>(kStepBlock, N - p0));
+      std::copy(x0.data() + p0, x0.data() + p0 + cnt, xb);  // staging makes x0 and x safe to alias
+      std::copy(x0.data() + N + p0, x0.data() + N + p0 + cnt, yb);
+      apply(xb, yb, cnt, x.data() + p0, x.data() + N + p0, J ? jb : nullptr);
+      if (J)
+        for (int c = 0; c < 4; ++c)
+          std::copy(jb + c * kStepBlock, jb + c * kStepBlock + cnt, J->data() + c * N + p0);
+    }
+  });
 }
 
 }  // namespace warpfem::mapping

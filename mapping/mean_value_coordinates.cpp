@@ -26,7 +26,8 @@ Real shorter_edge_at(const PolygonArrays& P, Index j) {
 /// Normalizes scaled weights w̃ (with gradients) into φ, ∇φ. The dominant weight
 /// d is treated apart, ∇φ_d = (S ∇w̃_d − w̃_d ∇S)/W², S = Σ_{k≠d} w̃_k, which avoids
 /// the cancellation of (1 − φ_d)∇w̃_d when w̃_d carries a large gradient.
-void normalize(Index n, const Real* w, const Real* gx, const Real* gy, Real* phi, Real* dx, Real* dy) {
+WARPFEM_KERNEL_INLINE void normalize(Index n, const Real* w, const Real* gx, const Real* gy, Real* phi,
+                                     Real* dx, Real* dy) {
   Index d = 0;
   for (Index k = 1; k < n; ++k)
     if (std::abs(w[k]) > std::abs(w[d])) d = k;
@@ -51,22 +52,24 @@ void normalize(Index n, const Real* w, const Real* gx, const Real* gy, Real* phi
   dy[d] = (S * gy[d] - w[d] * Sy) * iW * iW;
 }
 
-/// The robust formula at a point that is not a vertex (r_j > 0 for every j).
-void off_vertex_coordinates(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx, Real* dy,
-                            std::vector<Real>& work);
+/// The robust formula at a point that is not a vertex (r_j > 0 for every j);
+/// forced inline, so that it is compiled for the instruction set of
+/// mean_value_coordinates_at's clone.
+WARPFEM_KERNEL_INLINE void off_vertex_coordinates(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx,
+                                                  Real* dy, std::vector<Real>& work);
 
 }  // namespace
 
-void mean_value_coordinates_at(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx, Real* dy,
-                               std::vector<Real>& work) {
+WARPFEM_KERNEL_CLONES void mean_value_coordinates_at(const PolygonArrays& P, Real x, Real y, Real* phi,
+                                                     Real* dx, Real* dy, std::vector<Real>& work) {
   const Index n = P.size();
   Index j = 0;
-  Real rj = std::numeric_limits<Real>::infinity();
+  Real rj2 = std::numeric_limits<Real>::infinity();
   for (Index k = 0; k < n; ++k) {
-    const Real r = std::hypot(P.x[k] - x, P.y[k] - y);
-    if (r < rj) j = k, rj = r;
+    const Real ex = P.x[k] - x, ey = P.y[k] - y, r2 = ex * ex + ey * ey;
+    if (r2 < rj2) j = k, rj2 = r2;
   }
-  if (rj <= kSnap * shorter_edge_at(P, j)) {  // at a vertex: Kronecker delta
+  if (std::sqrt(rj2) <= kSnap * shorter_edge_at(P, j)) {  // at a vertex: Kronecker delta
     if (dx) {
       const Point<2> q = detail::nudge_inside(P, j);
       off_vertex_coordinates(P, q.x(), q.y(), phi, dx, dy, work);
@@ -80,82 +83,101 @@ void mean_value_coordinates_at(const PolygonArrays& P, Real x, Real y, Real* phi
 
 namespace {
 
-void off_vertex_coordinates(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx, Real* dy,
-                            std::vector<Real>& work) {
+WARPFEM_KERNEL_INLINE void off_vertex_coordinates(const PolygonArrays& P, Real x, Real y, Real* phi, Real* dx,
+                                                  Real* dy, std::vector<Real>& work) {
+  // The points that come here are the vectorized kernel's hard ones, next to
+  // edges and vertices: a check on points clustered at the boundary of a
+  // polygon of many vertices costs what this loop costs. So each pass is a
+  // plain loop over the vertices that the compiler vectorizes (the searches
+  // for the nearest vertex and the largest tangent are separate passes), with
+  // two divisions and one square root per vertex: 1/r² serves ∇α, 1/r and ρ/r.
   const Index n = P.size();
-  work.resize(static_cast<std::size_t>(14 * n));
+  work.resize(static_cast<std::size_t>(12 * n));
   Real* sx = work.data();
   Real* sy = sx + n;
   Real* r = sy + n;
-  Real* t = r + n;   // tan(α_k/2), may be ±inf exactly on edge k
-  Real* ga = t + n;  // ∇α_k, 2n
-  Real* tau = ga + 2 * n;
-  Real* gtau = tau + n;  // 2n
-  Real* w = gtau + 2 * n;
-  Real* gw = w + n;  // 2n
+  Real* ir2 = r + n;  // 1/r²
+  Real* t = ir2 + n;  // tan(α_k/2), may be ±inf exactly on edge k; then τ_k
+  Real* gax = t + n;  // ∇α_k
+  Real* gay = gax + n;
+  Real* w = gay + n;
+  Real* gw = w + n;        // 2n
+  Real* gtx = gw + 2 * n;  // ∇τ_k
+  Real* gty = gtx + n;
+  const Real* px = P.x.data();
+  const Real* py = P.y.data();
   const bool grad = dx != nullptr;
 
-  Index j = 0;
+  WARPFEM_IVDEP
   for (Index k = 0; k < n; ++k) {
-    sx[k] = P.x[k] - x;
-    sy[k] = P.y[k] - y;
-    r[k] = std::hypot(sx[k], sy[k]);
-    if (r[k] < r[j]) j = k;
+    sx[k] = px[k] - x;
+    sy[k] = py[k] - y;
+    const Real r2 = sx[k] * sx[k] + sy[k] * sy[k];
+    r[k] = std::sqrt(r2);
+    ir2[k] = 1 / r2;
   }
-  // Edge quantities, with the stable choice of the tan(α/2) formula.
-  Index kstar = 0;
-  Real num_star = 0, den_star = 1;
-  for (Index k = 0; k < n; ++k) {
-    const Index kn = (k + 1 == n) ? 0 : k + 1;
+  Index j = 0;
+  for (Index k = 1; k < n; ++k)
+    if (r[k] < r[j]) j = k;
+  // Edge k, from vertex k to vertex kn, with the stable choice of the tan(α/2) formula.
+  const auto fraction = [&](Index k, Index kn, Real& num, Real& den) {
     const Real cr = sx[k] * sy[kn] - sy[k] * sx[kn];
     const Real dt = sx[k] * sx[kn] + sy[k] * sy[kn];
     const Real rr = r[k] * r[kn];
     const bool pos = dt >= 0;
-    const Real num = pos ? cr : rr - dt;
-    const Real den = pos ? rr + dt : cr;
+    num = pos ? cr : rr - dt;
+    den = pos ? rr + dt : cr;
+  };
+  const auto edge = [&](Index k, Index kn) {
+    Real num, den;
+    fraction(k, kn, num, den);
     t[k] = num / den;
-    if (k == 0 || std::abs(t[k]) > std::abs(t[kstar])) {
-      kstar = k;
-      num_star = num;
-      den_star = den;
-    }
-    ga[2 * k] = sy[kn] / (r[kn] * r[kn]) - sy[k] / (r[k] * r[k]);
-    ga[2 * k + 1] = sx[k] / (r[k] * r[k]) - sx[kn] / (r[kn] * r[kn]);
-  }
+    gax[k] = sy[kn] * ir2[kn] - sy[k] * ir2[k];
+    gay[k] = sx[k] * ir2[k] - sx[kn] * ir2[kn];
+  };
+  WARPFEM_IVDEP
+  for (Index k = 0; k + 1 < n; ++k) edge(k, k + 1);
+  edge(n - 1, 0);
+  Index kstar = 0;
+  for (Index k = 1; k < n; ++k)
+    if (std::abs(t[k]) > std::abs(t[kstar])) kstar = k;
   // Scale all weights by u = 1/t_{k*} (the nearly straight angle) when it is large.
   Real u = 1, gux = 0, guy = 0;
   const bool scaled = std::abs(t[kstar]) > 1;
   if (scaled) {
-    u = den_star / num_star;
+    Real num, den;
+    fraction(kstar, kstar + 1 == n ? 0 : kstar + 1, num, den);
+    u = den / num;
     const Real h = -0.5 * (1 + u * u);
-    gux = h * ga[2 * kstar];
-    guy = h * ga[2 * kstar + 1];
+    gux = h * gax[kstar];
+    guy = h * gay[kstar];
   }
+  WARPFEM_IVDEP
   for (Index k = 0; k < n; ++k) {
-    if (scaled && k == kstar) {
-      tau[k] = 1;
-      gtau[2 * k] = gtau[2 * k + 1] = 0;
-    } else {
-      tau[k] = u * t[k];
-      const Real h = 0.5 * (u + tau[k] * t[k]);  // u ½(1 + t²)
-      gtau[2 * k] = h * ga[2 * k] + t[k] * gux;
-      gtau[2 * k + 1] = h * ga[2 * k + 1] + t[k] * guy;
-    }
+    const Real tk = t[k], tau = u * tk;
+    const Real h = 0.5 * (u + tau * tk);  // u ½(1 + t²)
+    t[k] = tau;
+    gtx[k] = h * gax[k] + tk * gux;
+    gty[k] = h * gay[k] + tk * guy;
   }
+  if (scaled) t[kstar] = 1, gtx[kstar] = gty[kstar] = 0;
   // Scale by ρ = r_j as well: w̃_k = (ρ/r_k)(τ_{k−1} + τ_k).
   const Real rho = r[j];
   const Real grx = -sx[j] / rho, gry = -sy[j] / rho;
-  for (Index k = 0; k < n; ++k) {
-    const Index kp = (k == 0) ? n - 1 : k - 1;
-    const Real a = rho / r[k];
-    const Real sum = tau[kp] + tau[k];
+  const auto weight = [&](Index k, Index kp) {
+    const Real ir = r[k] * ir2[k];  // 1/r_k
+    const Real a = rho * ir;
+    const Real sum = t[kp] + t[k];
     w[k] = a * sum;
     if (grad) {
-      const Real gax = (grx + a * sx[k] / r[k]) / r[k], gay = (gry + a * sy[k] / r[k]) / r[k];
-      gw[k] = gax * sum + a * (gtau[2 * kp] + gtau[2 * k]);
-      gw[n + k] = gay * sum + a * (gtau[2 * kp + 1] + gtau[2 * k + 1]);
+      const Real gax_k = grx * ir + a * sx[k] * ir2[k], gay_k = gry * ir + a * sy[k] * ir2[k];
+      gw[k] = gax_k * sum + a * (gtx[kp] + gtx[k]);
+      gw[n + k] = gay_k * sum + a * (gty[kp] + gty[k]);
     }
-  }
+  };
+  weight(0, n - 1);
+  WARPFEM_IVDEP
+  for (Index k = 1; k < n; ++k) weight(k, k - 1);
   normalize(n, w, gw, gw + n, phi, dx, dy);
 }
 

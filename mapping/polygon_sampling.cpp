@@ -4,6 +4,8 @@
 #include <numbers>
 #include <vector>
 
+#include "core/threads.hpp"
+
 namespace warpfem::mapping {
 
 bool inside_polygon(const Polygon& polygon, Real x, Real y) {
@@ -31,13 +33,21 @@ Points<2> to_points(const std::vector<Point<2>>& pts) {
 Points<2> grid_sample(const Polygon& polygon, int resolution) {
   const Point<2> lo = polygon.bbox_min(), hi = polygon.bbox_max();
   const Point<2> h = (hi - lo) / static_cast<Real>(resolution);
+  // Rows tested in parallel (the test costs the polygon's vertex count per point).
+  std::vector<char> inside(static_cast<std::size_t>(resolution) * static_cast<std::size_t>(resolution));
+  parallel_for(resolution, 8, [&](Index first, Index last) {
+    for (auto j = static_cast<int>(first); j < static_cast<int>(last); ++j)
+      for (int i = 0; i < resolution; ++i)
+        inside[static_cast<std::size_t>(j) * static_cast<std::size_t>(resolution) +
+               static_cast<std::size_t>(i)] =
+            inside_polygon(polygon, lo.x() + (i + 0.5) * h.x(), lo.y() + (j + 0.5) * h.y());
+  });
   std::vector<Point<2>> pts;
-  pts.reserve(static_cast<std::size_t>(resolution) * static_cast<std::size_t>(resolution));
   for (int j = 0; j < resolution; ++j)
-    for (int i = 0; i < resolution; ++i) {
-      const Point<2> p(lo.x() + (i + 0.5) * h.x(), lo.y() + (j + 0.5) * h.y());
-      if (inside_polygon(polygon, p.x(), p.y())) pts.push_back(p);
-    }
+    for (int i = 0; i < resolution; ++i)
+      if (inside[static_cast<std::size_t>(j) * static_cast<std::size_t>(resolution) +
+                 static_cast<std::size_t>(i)])
+        pts.emplace_back(lo.x() + (i + 0.5) * h.x(), lo.y() + (j + 0.5) * h.y());
   return to_points(pts);
 }
 
@@ -55,11 +65,9 @@ Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int leve
   // narrow wedge of directions (5 angles missed one of about 10° at the
   // re-entrant corner of a bent L), so the wedge gets 23 directions.
   constexpr int kCornerAngles = 23;
-  std::vector<Point<2>> pts;
+  std::vector<Point<2>> candidates;
   const Index n = polygon.size();
-  auto keep = [&](const Point<2>& p) {
-    if (polygon.side_of(p) > 0) pts.push_back(p);
-  };
+  auto keep = [&](const Point<2>& p) { candidates.push_back(p); };
   for (Index i = 0; i < n; ++i) {
     const Point<2> a = polygon.vertex(i), b = polygon.vertex(i + 1), c = polygon.vertex(i - 1);
     const Point<2> e = b - a;
@@ -79,6 +87,12 @@ Points<2> boundary_cluster_sample(const Polygon& polygon, int per_edge, int leve
         keep(a + std::pow(10.0, -l) * rad * Point<2>(std::cos(ang), std::sin(ang)));
     }
   }
+  // Only the points inside (a thin part of the polygon can put a point meant
+  // for one edge beyond another).
+  const std::vector<int> side = polygon.side_of(candidates);
+  std::vector<Point<2>> pts;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (side[i] > 0) pts.push_back(candidates[i]);
   return to_points(pts);
 }
 
