@@ -6,7 +6,7 @@
 // edges, Kronecker delta at the vertices, C^∞ inside.
 //
 // Batched over points (N x 2, SoA) with a vectorized kernel; points on or
-// extremely close to the boundary are evaluated by a robust scalar formula that
+// extremely close to the boundary are evaluated one at a time by a robust formula that
 // rescales the weights by the singular factor (1/tan of the nearly-straight
 // angle, and the distance to the nearest vertex), so results are finite and
 // accurate everywhere, exactly on edges and at vertices included.

@@ -558,10 +558,13 @@ void refine_by_position(MeshHierarchy<dim>& h, const std::vector<int>& base_owne
               bool known = true;
               for (int j : corners) known = known && v[j] >= 0;
               for (int d = 0; d < dim; ++d) {
-                double s = 0;
-                for (std::size_t j = 0; j < corners.size(); ++j)
-                  s = j == 0 ? coarse.vertices(v[corners[j]], d) : s + coarse.vertices(v[corners[j]], d);
-                fine.vertices(*slot, d) = known ? (1.0 / static_cast<double>(corners.size())) * s : nan;
+                if (!known) {  // an outer cell of the refined ring: never present
+                  fine.vertices(*slot, d) = nan;
+                  continue;
+                }
+                double s = coarse.vertices(v[corners[0]], d);
+                for (std::size_t j = 1; j < corners.size(); ++j) s += coarse.vertices(v[corners[j]], d);
+                fine.vertices(*slot, d) = (1.0 / static_cast<double>(corners.size())) * s;
               }
             }
             number = *slot;

@@ -35,7 +35,7 @@ inline constexpr int kCoordinatesBlock = 256;
 /// points: vertices (vx, vy), displacements (ux, uy), n vertices. J is four arrays
 /// of stride ldJ (J[0] ∂fx/∂x, J[ldJ] ∂fx/∂y, J[2 ldJ] ∂fy/∂x, J[3 ldJ] ∂fy/∂y).
 /// robust[p] = 1 marks points next to an edge or a vertex: their output is not
-/// valid and the caller re-evaluates them with the robust scalar formula.
+/// valid and the caller re-evaluates them one at a time with the robust formula.
 void map_step(const double* vx, const double* vy, const double* ux, const double* uy, int n, const double* px,
               const double* py, int cnt, double rtol, double* fx, double* fy, double* J, int ldJ,
               unsigned char* robust);

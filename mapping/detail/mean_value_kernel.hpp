@@ -15,7 +15,7 @@
 //
 // Points for which this is inaccurate or undefined — |t_i| > kMaxTan (closer
 // than ~1e-4 relative to an edge, or on it) or closer than kNearVertex·scale to
-// a vertex — are flagged; callers re-evaluate them with the robust scalar
+// a vertex — are flagged; callers re-evaluate them one at a time with the robust
 // formula in mean_value_coordinates.cpp.
 
 #include <cmath>
