@@ -79,6 +79,44 @@ NestedBlocks nested_blocks(const MeshHierarchy<dim>& h, int base, int level, std
 template NestedBlocks nested_blocks(const MeshHierarchy<2>&, int, int, std::vector<int>);
 template NestedBlocks nested_blocks(const MeshHierarchy<3>&, int, int, std::vector<int>);
 
+RefinedRing refined_ring(const IndexTable& base_cells, const std::vector<int>& base_owner, int rank) {
+  const Index nb = base_cells.rows();
+  std::vector<char> own(static_cast<std::size_t>(nb), 0);
+  for (Index b = 0; b < nb; ++b)
+    own[static_cast<std::size_t>(b)] = base_owner[static_cast<std::size_t>(b)] == rank;
+  RefinedRing ring;
+  ring.near = blocks_sharing_a_vertex(base_cells, own);
+  ring.refined = blocks_sharing_a_vertex(base_cells, ring.near);
+  for (Index b = 0; b < nb; ++b) {
+    if (ring.near[static_cast<std::size_t>(b)]) ring.near_blocks.push_back(b);
+    if (ring.refined[static_cast<std::size_t>(b)]) ring.refined_blocks.push_back(b);
+  }
+  ring.refined_runs = block_cell_ranges(ring.refined_blocks, 1);
+  return ring;
+}
+
+template <int dim>
+void append_partial_level(MeshHierarchy<dim>& h, int base_level, Mesh<dim> fine, const RefinedRing& ring,
+                          const std::vector<int>& base_owner, Index cells_per_block,
+                          const std::vector<TableIndex>& first_vertex, std::vector<NestedBlocks>& blocks) {
+  fine.present_cells = block_cell_ranges(ring.near_blocks, cells_per_block);
+  NestedBlocks nested;
+  nested.base_cells = &h.levels[static_cast<std::size_t>(base_level)].cells;
+  nested.owner = base_owner;
+  nested.cells_per_block = cells_per_block;
+  nested.first_vertex = first_vertex;
+  blocks.push_back(std::move(nested));
+  h.transfers.emplace_back();  // the parent layout only (RefinedMesh::parent_of)
+  h.levels.push_back(std::move(fine));
+}
+
+template void append_partial_level(MeshHierarchy<2>&, int, Mesh<2>, const RefinedRing&,
+                                   const std::vector<int>&, Index, const std::vector<TableIndex>&,
+                                   std::vector<NestedBlocks>&);
+template void append_partial_level(MeshHierarchy<3>&, int, Mesh<3>, const RefinedRing&,
+                                   const std::vector<int>&, Index, const std::vector<TableIndex>&,
+                                   std::vector<NestedBlocks>&);
+
 std::vector<TableIndex> block_offsets(const std::vector<Index>& count, const std::string& what) {
   std::vector<TableIndex> first(count.size() + 1);
   Index sum = 0;

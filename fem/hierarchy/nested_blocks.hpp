@@ -47,6 +47,29 @@ struct NestedBlocks {
 /// the seed's own cells included).
 std::vector<char> blocks_sharing_a_vertex(const IndexTable& base_cells, const std::vector<char>& seed);
 
+/// The blocks one rank refines on the partial levels above a partitioned base
+/// level: its own and their neighbours (`near`: their cells are the levels'
+/// present cells) and one more ring (`refined`: so that every vertex of a
+/// present cell gets its number), as masks and as increasing lists, and the
+/// refined blocks as runs [b0, b1) of consecutive blocks (the arrays they
+/// write are populated run by run, one system call each: a single block's
+/// share is below prefault()'s megabyte and would be faulted page by page).
+struct RefinedRing {
+  std::vector<char> near, refined;
+  std::vector<Index> near_blocks, refined_blocks;
+  std::vector<std::array<Index, 2>> refined_runs;
+};
+RefinedRing refined_ring(const IndexTable& base_cells, const std::vector<int>& base_owner, int rank);
+
+/// Appends the partial level `fine` (`cells_per_block` cells per block, block
+/// b's vertices from first_vertex[b]) to `h`, whose level `base_level` is the
+/// partitioned base: its present cells are those of ring.near_blocks, its
+/// NestedBlocks go to `blocks`, its transfer records the parent layout only.
+template <int dim>
+void append_partial_level(MeshHierarchy<dim>& h, int base_level, Mesh<dim> fine, const RefinedRing& ring,
+                          const std::vector<int>& base_owner, Index cells_per_block,
+                          const std::vector<TableIndex>& first_vertex, std::vector<NestedBlocks>& blocks);
+
 /// first[b] = count[0] + … + count[b - 1] (blocks + 1 entries): where each
 /// block's range of vertices (or edges) starts; an error naming `what` when
 /// a sum does not fit a TableIndex.

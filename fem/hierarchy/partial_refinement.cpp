@@ -95,22 +95,11 @@ void refine_triangles(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
     facet_block[static_cast<std::size_t>(f)] = level.edge_block[static_cast<std::size_t>(
         base_edges.boundary_facet_edge(f, base.boundary_facets(f, 0), base.boundary_facets(f, 1)))];
 
-  // 2. The blocks this rank refines: its own, their neighbours (present), and
-  // one more ring (so that every present cell's vertices get their numbers).
-  std::vector<char> own(static_cast<std::size_t>(nb), 0);
-  for (Index b = 0; b < nb; ++b)
-    own[static_cast<std::size_t>(b)] = base_owner[static_cast<std::size_t>(b)] == rank;
-  const std::vector<char> near = blocks_sharing_a_vertex(base.cells, own),
-                          refined = blocks_sharing_a_vertex(base.cells, near);
-  std::vector<Index> near_blocks, refined_blocks;
-  for (Index b = 0; b < nb; ++b) {
-    if (near[static_cast<std::size_t>(b)]) near_blocks.push_back(b);
-    if (refined[static_cast<std::size_t>(b)]) refined_blocks.push_back(b);
-  }
-  // Runs [b0, b1) of consecutive refined blocks: the arrays every block writes
-  // are populated run by run, one system call each (a single block's share is
-  // below prefault()'s megabyte and would be faulted in page by page).
-  const std::vector<std::array<Index, 2>> refined_runs = block_cell_ranges(refined_blocks, 1);
+  // 2. The blocks this rank refines (nested_blocks.hpp).
+  const RefinedRing ring = refined_ring(base.cells, base_owner, rank);
+  const std::vector<char>& near = ring.near;
+  const std::vector<char>& refined = ring.refined;
+  const std::vector<std::array<Index, 2>>& refined_runs = ring.refined_runs;
   const auto in = [](const std::vector<char>& mask, Index b) {
     return b >= 0 && mask[static_cast<std::size_t>(b)];
   };
@@ -316,18 +305,9 @@ void refine_triangles(MeshHierarchy<2>& h, const EdgeNumbering& base_edges,
       }
     }
 
-    // The present cells: those of the rank's blocks and their neighbours.
     const Index fine_per_block = 4 * per_block;
-    fine.present_cells = block_cell_ranges(near_blocks, fine_per_block);
-
-    NestedBlocks nested;
-    nested.base_cells = &h.levels[static_cast<std::size_t>(base_level)].cells;
-    nested.owner = base_owner;
-    nested.cells_per_block = fine_per_block;
-    nested.first_vertex = first_vertex;
-    blocks.push_back(std::move(nested));
-    h.transfers.emplace_back();  // the parent layout only (RefinedMesh::parent_of)
-    h.levels.push_back(std::move(fine));
+    append_partial_level(h, base_level, std::move(fine), ring, base_owner, fine_per_block, first_vertex,
+                         blocks);
 
     // The fine level is the next one's coarse level.
     level.base_edges = nullptr;

@@ -455,21 +455,12 @@ void refine_by_position(MeshHierarchy<dim>& h, const std::vector<int>& base_owne
             "refine_partially: boundary facet " + std::to_string(f) + " is not a face of a cell");
   }
 
-  // 2. The blocks this rank refines: its own, their neighbours (present), and
-  // one more ring (so that every present cell's vertices get their numbers).
-  std::vector<char> own(static_cast<std::size_t>(nb), 0);
-  for (Index b = 0; b < nb; ++b)
-    own[static_cast<std::size_t>(b)] = base_owner[static_cast<std::size_t>(b)] == rank;
-  const std::vector<char> near = blocks_sharing_a_vertex(base.cells, own),
-                          refined = blocks_sharing_a_vertex(base.cells, near);
-  std::vector<Index> near_blocks, refined_blocks;
-  for (Index b = 0; b < nb; ++b) {
-    if (near[static_cast<std::size_t>(b)]) near_blocks.push_back(b);
-    if (refined[static_cast<std::size_t>(b)]) refined_blocks.push_back(b);
-  }
-  // Runs of consecutive refined blocks: the arrays they write are populated
-  // run by run, one system call each.
-  const std::vector<std::array<Index, 2>> refined_runs = block_cell_ranges(refined_blocks, 1);
+  // 2. The blocks this rank refines (nested_blocks.hpp).
+  const RefinedRing ring = refined_ring(base.cells, base_owner, rank);
+  const std::vector<char>& near = ring.near;
+  const std::vector<char>& refined = ring.refined;
+  const std::vector<Index>& refined_blocks = ring.refined_blocks;
+  const std::vector<std::array<Index, 2>>& refined_runs = ring.refined_runs;
   const auto in = [](const std::vector<char>& mask, Index b) {
     return b >= 0 && mask[static_cast<std::size_t>(b)];
   };
@@ -627,15 +618,8 @@ void refine_by_position(MeshHierarchy<dim>& h, const std::vector<int>& base_owne
     }
 
     const Index fine_per_block = table.children * per_block;
-    fine.present_cells = block_cell_ranges(near_blocks, fine_per_block);
-    NestedBlocks nested;
-    nested.base_cells = &h.levels[static_cast<std::size_t>(base_level)].cells;
-    nested.owner = base_owner;
-    nested.cells_per_block = fine_per_block;
-    nested.first_vertex = first_vertex;
-    blocks.push_back(std::move(nested));
-    h.transfers.emplace_back();  // the parent layout only (RefinedMesh::parent_of)
-    h.levels.push_back(std::move(fine));
+    append_partial_level(h, base_level, std::move(fine), ring, base_owner, fine_per_block, first_vertex,
+                         blocks);
 
     coarse_first_vertex = std::move(first_vertex);
     numbered_by = std::move(fine_numbered);
