@@ -80,6 +80,7 @@ class PoissonPhysics final : public Physics<dim> {
                  ", transfers ", format_seconds(t.transfers), ", KSPSetUp ", format_seconds(t.pc_setup));
       result.solve = report.linear;
       levels = " (" + std::to_string(report.levels) + " levels)";
+      for (const auto& level : mg_->hierarchy().levels) result.partial_levels += level.partial ? 1 : 0;
       std::string dofs;
       for (const Index n : report.level_dofs) dofs += (dofs.empty() ? "" : ", ") + std::to_string(n);
       log::info("multigrid levels, coarse to fine: ", dofs, " DOFs");

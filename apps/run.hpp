@@ -34,6 +34,7 @@ struct RunResult {
   petsc::LinearSolveReport solve;
   std::optional<double> l2_error, h1_error;  ///< against the config's exact solution
   double area = 0;                           ///< of the warped domain
+  int partial_levels = 0;  ///< multigrid levels this rank stored only around its cells (MPI)
 
   // Elasticity: Newton on each load or time step.
   std::vector<fem::LoadStep> load_steps;    ///< quasi-static: converged load steps

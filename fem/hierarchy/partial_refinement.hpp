@@ -41,7 +41,7 @@ struct MeshHierarchy;
 /// rank's blocks and their neighbours) with the numbers the whole refinement
 /// gives; h.transfers get the parent layout only (no fine_vertex_of_node /
 /// first_new_vertex). `base_edges`: the base level's EdgeNumbering if the
-/// caller has it (triangles; built here otherwise, unused for tetrahedra).
+/// caller has it (used for triangles only; built here if missing).
 template <int dim>
 void refine_partially(MeshHierarchy<dim>& h, const std::vector<int>& base_owner, int rank, int levels_above,
                       std::vector<NestedBlocks>& blocks, const EdgeNumbering* base_edges = nullptr);

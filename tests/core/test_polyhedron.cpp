@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "core/error.hpp"
 #include "core/polyhedron.hpp"
@@ -167,9 +169,11 @@ TEST(Polyhedron, ReadsStlObjAndPlyFiles) {
   const auto vertices = cube_vertices();
   const auto triangles = cube_triangles();
   const auto at = [&](Index i) { return vertices[static_cast<std::size_t>(i)]; };
-  const std::string stl = (dir / "warpfem_test_cube.stl").string(),
-                    obj = (dir / "warpfem_test_cube.obj").string(),
-                    ply = (dir / "warpfem_test_cube.ply").string();
+  // Named by the process, so that two test runs on one host do not collide.
+  const std::string tag = std::to_string(::getpid());
+  const std::string stl = (dir / ("warpfem_test_cube_" + tag + ".stl")).string(),
+                    obj = (dir / ("warpfem_test_cube_" + tag + ".obj")).string(),
+                    ply = (dir / ("warpfem_test_cube_" + tag + ".ply")).string();
   {
     std::ofstream f(stl);
     f << "solid cube\n";

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
 #include <string>
 
 #include "apps/run.hpp"
@@ -112,6 +113,8 @@ struct PartialCase {
   const char* map;      // the config's "map" member
   const char* mesh;     // its "mesh" member
   const char* problem;  // its "problem" member
+  // Printed by name (not as raw bytes, which include the padding).
+  friend void PrintTo(const PartialCase& c, std::ostream* os) { *os << c.name; }
 };
 
 class MpiPartialLevels : public ::testing::TestWithParam<PartialCase> {};
@@ -130,6 +133,8 @@ TEST_P(MpiPartialLevels, GiveTheSerialRun) {
                                     : io::Config(io::parse_poisson_config<3>(json, "mpi_partial_test.json"));
   const auto parallel = apps::run(cfg, MPI_COMM_WORLD, {.write_output = true, .gather_solution = true});
   const auto serial = apps::run(cfg, MPI_COMM_SELF, {.write_output = false, .gather_solution = true});
+  EXPECT_GE(parallel.partial_levels, 1) << "the case no longer builds partial levels";
+  EXPECT_EQ(serial.partial_levels, 0);
   ASSERT_EQ(parallel.solution.size(), serial.solution.size());
   EXPECT_LT((parallel.solution - serial.solution).lpNorm<Eigen::Infinity>(),
             1e-9 * serial.solution.lpNorm<Eigen::Infinity>());
