@@ -182,23 +182,33 @@ Point<2> Polygon::bbox_max() const {
   return m;
 }
 
+namespace {
+/// -1 outside, 0 on the boundary, +1 inside the polygon with vertices `pts`.
+int bounded_side(const std::vector<KPoint>& pts, const Point<2>& p) {
+  switch (CGAL::bounded_side_2(pts.begin(), pts.end(), to_cgal(p), Kernel())) {
+    case CGAL::ON_BOUNDED_SIDE: return 1;
+    case CGAL::ON_BOUNDARY: return 0;
+    default: return -1;
+  }
+}
+std::vector<KPoint> cgal_points(const std::vector<Point<2>>& vertices) {
+  std::vector<KPoint> pts;
+  pts.reserve(vertices.size());
+  for (const auto& v : vertices) pts.push_back(to_cgal(v));
+  return pts;
+}
+}  // namespace
+
 int Polygon::side_of(const Point<2>& p) const {
-  return side_of(std::vector<Point<2>>{p}).front();
+  return bounded_side(cgal_points(vertices_), p);
 }
 
 std::vector<int> Polygon::side_of(const std::vector<Point<2>>& points) const {
-  std::vector<KPoint> pts;
-  pts.reserve(vertices_.size());
-  for (const auto& v : vertices_) pts.push_back(to_cgal(v));
+  const std::vector<KPoint> pts = cgal_points(vertices_);
   std::vector<int> out(points.size());
   parallel_for(static_cast<Index>(points.size()), 256, [&](Index first, Index last) {
-    for (auto i = static_cast<std::size_t>(first); i < static_cast<std::size_t>(last); ++i) {
-      switch (CGAL::bounded_side_2(pts.begin(), pts.end(), to_cgal(points[i]), Kernel())) {
-        case CGAL::ON_BOUNDED_SIDE: out[i] = 1; break;
-        case CGAL::ON_BOUNDARY: out[i] = 0; break;
-        default: out[i] = -1;
-      }
-    }
+    for (auto i = static_cast<std::size_t>(first); i < static_cast<std::size_t>(last); ++i)
+      out[i] = bounded_side(pts, points[i]);
   });
   return out;
 }
