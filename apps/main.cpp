@@ -10,6 +10,7 @@
 #include "apps/fatal_error.hpp"
 #include "core/environment.hpp"
 #include "core/error.hpp"
+#include "core/huge_pages.hpp"
 #include "io/config_field.hpp"
 
 namespace {
@@ -32,6 +33,7 @@ const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
+  warpfem::restart_with_huge_pages(argv);
   if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" ||
       std::string(argv[1]) == "-h") {
     std::cout << kUsage;

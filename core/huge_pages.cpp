@@ -1,0 +1,61 @@
+#include "core/huge_pages.hpp"
+
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+
+#include "core/sanitizer.hpp"
+
+#if defined(__linux__) && defined(__GLIBC__)
+#include <gnu/libc-version.h>
+#include <unistd.h>
+#endif
+
+namespace warpfem {
+
+std::string huge_page_tunables(const char* current) {
+  constexpr const char* kTunable = "glibc.malloc.hugetlb";
+  if (current == nullptr || *current == '\0') return std::string(kTunable) + "=1";
+  if (std::strstr(current, kTunable) != nullptr) return {};
+  return std::string(current) + ":" + kTunable + "=1";
+}
+
+#if defined(__linux__) && defined(__GLIBC__)
+namespace {
+
+bool glibc_has_hugetlb_tunable() {
+  int major = 0, minor = 0;
+  const char* version = gnu_get_libc_version();
+  char* end = nullptr;
+  major = static_cast<int>(std::strtol(version, &end, 10));
+  if (end != nullptr && *end == '.') minor = static_cast<int>(std::strtol(end + 1, nullptr, 10));
+  return major > 2 || (major == 2 && minor >= 35);
+}
+
+/// True when the kernel gives huge pages only to ranges that ask for them
+/// ("always" needs no tunable, "never" ignores it).
+bool transparent_huge_pages_on_request() {
+  std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string modes;
+  std::getline(in, modes);
+  return modes.find("[madvise]") != std::string::npos;
+}
+
+}  // namespace
+
+void restart_with_huge_pages(char** argv) {
+  if (WARPFEM_ADDRESS_SANITIZER || argv == nullptr) return;
+  const std::string tunables = huge_page_tunables(std::getenv("GLIBC_TUNABLES"));
+  if (tunables.empty() || !glibc_has_hugetlb_tunable() || !transparent_huge_pages_on_request()) return;
+  if (setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);
+  // Only reached if the restart failed: go on as we are. The variable stays
+  // set, so no child started later tries again.
+}
+#else
+void restart_with_huge_pages(char** argv) {
+  (void)argv;
+}
+#endif
+
+}  // namespace warpfem
