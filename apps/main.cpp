@@ -33,12 +33,12 @@ const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
-  warpfem::restart_with_huge_pages(argv);
   if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" ||
       std::string(argv[1]) == "-h") {
     std::cout << kUsage;
     return argc < 2 ? 2 : 0;
   }
+  warpfem::restart_with_huge_pages(argv);  // before MPI and threads; costs a process start (~0.1 s)
   const std::string command = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
   warpfem::Environment env(argc, argv);

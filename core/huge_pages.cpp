@@ -24,11 +24,9 @@ std::string huge_page_tunables(const char* current) {
 namespace {
 
 bool glibc_has_hugetlb_tunable() {
-  int major = 0, minor = 0;
-  const char* version = gnu_get_libc_version();
   char* end = nullptr;
-  major = static_cast<int>(std::strtol(version, &end, 10));
-  if (end != nullptr && *end == '.') minor = static_cast<int>(std::strtol(end + 1, nullptr, 10));
+  const long major = std::strtol(gnu_get_libc_version(), &end, 10);
+  const long minor = end != nullptr && *end == '.' ? std::strtol(end + 1, nullptr, 10) : 0;
   return major > 2 || (major == 2 && minor >= 35);
 }
 
