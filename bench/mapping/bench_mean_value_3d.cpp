@@ -28,6 +28,7 @@
 #include <random>
 #include <vector>
 
+#include "core/huge_pages.hpp"
 #include "core/polyhedron.hpp"
 #include "core/threads.hpp"
 #include "mapping/detail/polyhedron_mean_value_kernel.hpp"
@@ -234,6 +235,7 @@ WARPFEM_KERNEL_CLONES double divide_sqrt_rate() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  warpfem::restart_with_huge_pages(argv);  // as the warpfem executable does
   const int rounds = argc > 1 ? std::atoi(argv[1]) : 7;
   const Polyhedron P = cage();
   const wm::PolyhedronArrays A(P);

@@ -20,8 +20,11 @@
 // 1/(r_a r_b)² (so the vertices need no division). The edges are computed
 // just ahead of the triangles that use them (PolyhedronArrays::order), into a
 // few reused slots, and the scratch is stored in contiguous records per vertex
-// and per slot: a block's scratch is small (61 KB for 16 points on a 50-vertex
-// cage, mostly in L1) and neighbouring triangles find their data together.
+// and per slot: a block's scratch is small (122 KB for 32 points on a 50-vertex
+// cage, in L2) and neighbouring triangles find their data together. 32 points
+// (four AVX-512 vectors per loop) give more independent work per edge's chain
+// of square root, atan and division than 16; the outputs' rows then span more
+// pages, which 2 MiB pages (core/huge_pages.hpp) keep cheap.
 //
 // Points where this loses accuracy are flagged for the robust path: within
 // kNearVertex of a vertex, or sin β_e < kNearLine for an edge's line. A
@@ -39,7 +42,7 @@
 
 namespace warpfem::mapping::detail {
 
-inline constexpr int kPolyhedronBlock = 16;
+inline constexpr int kPolyhedronBlock = 32;
 inline constexpr double kNearPlane = 3e-4;
 inline constexpr double kNearLine = 1e-4;
 inline constexpr double kPolyhedronNearVertex = 1e-5;
