@@ -8,6 +8,7 @@
 
 #if defined(__linux__) && defined(__GLIBC__)
 #include <gnu/libc-version.h>
+#include <sys/auxv.h>
 #include <unistd.h>
 #endif
 
@@ -39,10 +40,18 @@ bool transparent_huge_pages_on_request() {
   return modes.find("[madvise]") != std::string::npos;
 }
 
+/// False for a set-user-id start (glibc may drop the tunable again: no endless
+/// restarts) and for a start through the dynamic loader (`ld.so warpfem ...`:
+/// /proc/self/exe is then the loader, which the kernel started without an
+/// interpreter, so AT_BASE is 0).
+bool restart_is_safe() {
+  return getauxval(AT_SECURE) == 0 && getauxval(AT_BASE) != 0;
+}
+
 }  // namespace
 
 void restart_with_huge_pages(char** argv) {
-  if (WARPFEM_ADDRESS_SANITIZER || argv == nullptr) return;
+  if (WARPFEM_ADDRESS_SANITIZER || argv == nullptr || !restart_is_safe()) return;
   const std::string tunables = huge_page_tunables(std::getenv("GLIBC_TUNABLES"));
   if (tunables.empty() || !glibc_has_hugetlb_tunable() || !transparent_huge_pages_on_request()) return;
   if (setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) return;

@@ -20,7 +20,8 @@ std::string huge_page_tunables(const char* current);
 /// Restarts the process in place (execv of /proc/self/exe, same pid and
 /// arguments) with huge_page_tunables() set, when that helps: Linux, glibc ≥
 /// 2.35, transparent huge pages in "madvise" mode, no AddressSanitizer (it has
-/// its own malloc), the tunable not yet set. Otherwise, or if the restart
+/// its own malloc), the tunable not yet set, started neither through the
+/// dynamic loader nor set-user-id. Otherwise, or if the restart
 /// fails, it returns and the process goes on with 4 KiB pages. Call it first
 /// in main, before MPI or threads start; setting glibc.malloc.hugetlb=0 in the
 /// environment turns it off.
