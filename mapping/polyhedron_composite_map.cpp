@@ -59,30 +59,22 @@ void PolyhedronCompositeMap::run(const Points<3>& x0, Points<3>* x, Jacobians<3>
   if (x) x->resize(N, 3);
   if (J) J->resize(N, 9);
   if (det_steps) det_steps->resize(N, m);
-  MatrixX phi, dx, dy, dz;
   Points<3> X, Xn;
+  Jacobians<3> Jk;
   for (Index p0 = 0; p0 < N; p0 += kChunk) {
     const Index cnt = std::min(kChunk, N - p0);
     X = x0.middleRows(p0, cnt);
     std::vector<Matrix<3>> P(static_cast<std::size_t>(cnt), Matrix<3>::Identity());
     for (Index k = 0; k < m; ++k) {
-      const MatrixX& V = targets_[static_cast<std::size_t>(k)];
-      if (need_J) {
-        mean_value_coordinates(cages_[static_cast<std::size_t>(k)], X, phi, dx, dy, dz);
-        // Column c of J_k holds ∂_c f_k = Σ_i v_i ∂_c φ_i.
-        const MatrixX Jx = dx * V, Jy = dy * V, Jz = dz * V;
+      // f_k(x) = Σ_i φ_i(x) v_i and J_k = Σ_i v_i ∇φ_iᵀ, straight from the weights.
+      mean_value_combination(cages_[static_cast<std::size_t>(k)], X, targets_[static_cast<std::size_t>(k)],
+                             Xn, need_J ? &Jk : nullptr);
+      if (need_J)
         for (Index p = 0; p < cnt; ++p) {
-          Matrix<3> Jk;
-          Jk.col(0) = Jx.row(p).transpose();
-          Jk.col(1) = Jy.row(p).transpose();
-          Jk.col(2) = Jz.row(p).transpose();
-          if (det_steps) (*det_steps)(p0 + p, k) = Jk.determinant();
-          P[static_cast<std::size_t>(p)] = Jk * P[static_cast<std::size_t>(p)];
+          const Matrix<3> step = jacobian_at<3>(Jk, p);
+          if (det_steps) (*det_steps)(p0 + p, k) = step.determinant();
+          P[static_cast<std::size_t>(p)] = step * P[static_cast<std::size_t>(p)];
         }
-      } else {
-        mean_value_coordinates(cages_[static_cast<std::size_t>(k)], X, phi);
-      }
-      Xn = phi * V;
       X.swap(Xn);
     }
     if (x) x->middleRows(p0, cnt) = X;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <utility>
 
+#include "core/error.hpp"
 #include "core/threads.hpp"
 #include "mapping/detail/polyhedron_mean_value_kernel.hpp"
 
@@ -455,6 +456,41 @@ Point<3> normalized_point(const PolyhedronArrays& P, Real x, Real y, Real z) {
   return {(x - P.center.x()) / P.scale, (y - P.center.y()) / P.scale, (z - P.center.z()) / P.scale};
 }
 
+/// A face the kernel left out because x is near its plane: its h-factored
+/// contribution, unless x projects into it or is near several planes (then the
+/// point is flagged for the robust path).
+template <bool kGrad>
+WARPFEM_KERNEL_INLINE void add_near_plane_faces(const PolyhedronArrays& P, int cnt,
+                                                detail::PolyhedronScratch& s) {
+  for (int p = 0; p < cnt; ++p) {
+    if (s.flag[p] != 0.0 || s.plane[p] == 0.0) continue;
+    const Index t = static_cast<Index>(s.plane_face[p]);
+    Dual wf[3];
+    if (s.plane[p] != 1.0 || !near_plane_face_weights(P, Point<3>(s.px[p], s.py[p], s.pz[p]), t, wf)) {
+      s.flag[p] = 1.0;
+      continue;
+    }
+    const int v[3] = {P.a[t], P.b[t], P.c[t]};
+    for (int i = 0; i < 3; ++i) {
+      s.weight_row(v[i], 0)[p] += wf[i].v;
+      if constexpr (kGrad)
+        for (int c = 0; c < 3; ++c) s.weight_row(v[i], 1 + c)[p] += wf[i].d[c];
+    }
+  }
+}
+
+/// The block of points p0 .. p0 + cnt of x, normalized, into the scratch.
+WARPFEM_KERNEL_INLINE void load_block(const PolyhedronArrays& P, const Points<3>& x, Index p0, int cnt,
+                                      detail::PolyhedronScratch& s) {
+  const Index N = x.rows();
+  const Real *X = x.data(), *Y = X + N, *Z = Y + N;
+  for (int p = 0; p < cnt; ++p) {
+    s.px[p] = (X[p0 + p] - P.center.x()) / P.scale;
+    s.py[p] = (Y[p0 + p] - P.center.y()) / P.scale;
+    s.pz[p] = (Z[p0 + p] - P.center.z()) / P.scale;
+  }
+}
+
 template <bool kGrad>
 WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Points<3>& x, Index first,
                                            Index last, MatrixX& phi, MatrixX* dphi_dx, MatrixX* dphi_dy,
@@ -462,21 +498,14 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
   constexpr int B = detail::kPolyhedronBlock;
   const Index N = x.rows(), n = P.size();
   const int m = static_cast<int>(P.triangle_count());
-  const Real* X = x.data();
-  const Real* Y = X + N;
-  const Real* Z = Y + N;
-  const Real cx = P.center.x(), cy = P.center.y(), cz = P.center.z(), sc = P.scale, isc = 1 / sc;
+  const Real isc = 1 / P.scale;
   detail::PolyhedronScratch s;
   s.resize(P);
   std::vector<Real> robust(static_cast<std::size_t>(4 * n));
   alignas(64) double iW[B], iWs[B], Wx[B], Wy[B], Wz[B];
   for (Index p0 = first * B; p0 < std::min(N, last * B); p0 += B) {
     const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
-    for (int p = 0; p < cnt; ++p) {
-      s.px[p] = (X[p0 + p] - cx) / sc;
-      s.py[p] = (Y[p0 + p] - cy) / sc;
-      s.pz[p] = (Z[p0 + p] - cz) / sc;
-    }
+    load_block(P, x, p0, cnt, s);
     detail::PolyhedronPrefetch next;
     if (p0 + B < N) {
       next.base[0] = phi.data() + p0 + B;
@@ -490,23 +519,7 @@ WARPFEM_KERNEL_INLINE void evaluate_blocks(const PolyhedronArrays& P, const Poin
       next.per_step = (next.rows + m - 1) / m;
     }
     detail::polyhedron_block<kGrad>(P, cnt, s, p0 + B < N ? &next : nullptr);
-    // A face the kernel left out because x is near its plane: its h-factored
-    // contribution, unless x projects into it or is near several planes.
-    for (int p = 0; p < cnt; ++p) {
-      if (s.flag[p] != 0.0 || s.plane[p] == 0.0) continue;
-      const Index t = static_cast<Index>(s.plane_face[p]);
-      Dual wf[3];
-      if (s.plane[p] != 1.0 || !near_plane_face_weights(P, Point<3>(s.px[p], s.py[p], s.pz[p]), t, wf)) {
-        s.flag[p] = 1.0;
-        continue;
-      }
-      const int v[3] = {P.a[t], P.b[t], P.c[t]};
-      for (int i = 0; i < 3; ++i) {
-        s.weight_row(v[i], 0)[p] += wf[i].v;
-        if constexpr (kGrad)
-          for (int c = 0; c < 3; ++c) s.weight_row(v[i], 1 + c)[p] += wf[i].d[c];
-      }
-    }
+    add_near_plane_faces<kGrad>(P, cnt, s);
     for (int p = 0; p < cnt; ++p) iW[p] = Wx[p] = Wy[p] = Wz[p] = 0;
     for (int v = 0; v < static_cast<int>(n); ++v) {
       const double* w = s.weight_row(v, 0);
@@ -575,7 +588,111 @@ WARPFEM_KERNEL_CLONES void gradient_blocks(const PolyhedronArrays& P, const Poin
   evaluate_blocks<true>(P, x, first, last, phi, dx, dy, dz);
 }
 
+/// g = Σ_i φ_i values_i and, with kGrad, its Jacobian Σ_i values_i ∇φ_iᵀ for
+/// the blocks first .. last: the weights' sums are taken per block straight
+/// from the scratch, so no N × n coordinate matrix is written.
+template <bool kGrad>
+WARPFEM_KERNEL_INLINE void combine_blocks(const PolyhedronArrays& P, const Points<3>& x,
+                                          const MatrixX& values, Index first, Index last, Points<3>& g,
+                                          Jacobians<3>* J) {
+  constexpr int B = detail::kPolyhedronBlock;
+  const Index N = x.rows(), n = P.size();
+  const Real isc = 1 / P.scale;
+  detail::PolyhedronScratch s;
+  s.resize(P);
+  std::vector<Real> robust(static_cast<std::size_t>(4 * n));
+  // Per point: W = Σ w_i, ∇W, A_r = Σ w_i v_ir and B_rc = Σ v_ir ∂_c w_i.
+  alignas(64) double W[B], dW[3][B], A[3][B], Bm[9][B];
+  for (Index p0 = first * B; p0 < std::min(N, last * B); p0 += B) {
+    const int cnt = static_cast<int>(std::min<Index>(B, N - p0));
+    load_block(P, x, p0, cnt, s);
+    detail::polyhedron_block<kGrad>(P, cnt, s);
+    add_near_plane_faces<kGrad>(P, cnt, s);
+    for (int p = 0; p < B; ++p) {
+      W[p] = 0;
+      for (int r = 0; r < 3; ++r) dW[r][p] = A[r][p] = 0;
+      for (int k = 0; k < 9; ++k) Bm[k][p] = 0;
+    }
+    for (int v = 0; v < static_cast<int>(n); ++v) {
+      const double v0 = values(v, 0), v1 = values(v, 1), v2 = values(v, 2);
+      const double* w = s.weight_row(v, 0);
+      WARPFEM_IVDEP
+      for (int p = 0; p < B; ++p) {
+        W[p] += w[p];
+        A[0][p] += v0 * w[p];
+        A[1][p] += v1 * w[p];
+        A[2][p] += v2 * w[p];
+      }
+      if constexpr (kGrad) {
+        for (int c = 0; c < 3; ++c) {
+          const double* gc = s.weight_row(v, 1 + c);
+          WARPFEM_IVDEP
+          for (int p = 0; p < B; ++p) {
+            dW[c][p] += gc[p];
+            Bm[c][p] += v0 * gc[p];
+            Bm[3 + c][p] += v1 * gc[p];
+            Bm[6 + c][p] += v2 * gc[p];
+          }
+        }
+      }
+    }
+    for (int p = 0; p < cnt; ++p) {
+      if (s.flag[p] != 0.0) {  // the robust path: coordinates first, then their combination
+        const Point<3> q(s.px[p], s.py[p], s.pz[p]);
+        Real* rb = robust.data();
+        coordinates_normalized(P, q, rb, kGrad ? rb + n : nullptr, rb + 2 * n, rb + 3 * n);
+        Point<3> gp = Point<3>::Zero();
+        Matrix<3> Jp = Matrix<3>::Zero();
+        for (Index v = 0; v < n; ++v) {
+          const Point<3> value = values.row(v).transpose();
+          gp += rb[v] * value;
+          if constexpr (kGrad)
+            Jp += value * Point<3>(rb[n + v], rb[2 * n + v], rb[3 * n + v]).transpose() * isc;
+        }
+        g.row(p0 + p) = gp.transpose();
+        if constexpr (kGrad) set_jacobian_at<3>(*J, p0 + p, Jp);
+        continue;
+      }
+      const double iW = 1 / W[p];
+      double gr[3];
+      for (int r = 0; r < 3; ++r) g(p0 + p, r) = gr[r] = A[r][p] * iW;
+      if constexpr (kGrad) {
+        // ∇φ_i = (∇w_i − φ_i ∇W) / W, so Σ_i v_i ∇φ_iᵀ = (B − g ∇Wᵀ) / W.
+        const double iWs = iW * isc;
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) (*J)(p0 + p, 3 * r + c) = (Bm[3 * r + c][p] - gr[r] * dW[c][p]) * iWs;
+      }
+    }
+  }
+}
+
+WARPFEM_KERNEL_CLONES void combination_blocks(const PolyhedronArrays& P, const Points<3>& x,
+                                              const MatrixX& values, Index first, Index last, Points<3>& g) {
+  combine_blocks<false>(P, x, values, first, last, g, nullptr);
+}
+
+WARPFEM_KERNEL_CLONES void combination_gradient_blocks(const PolyhedronArrays& P, const Points<3>& x,
+                                                       const MatrixX& values, Index first, Index last,
+                                                       Points<3>& g, Jacobians<3>* J) {
+  combine_blocks<true>(P, x, values, first, last, g, J);
+}
+
 }  // namespace
+
+void mean_value_combination(const PolyhedronArrays& polyhedron, const Points<3>& x, const MatrixX& values,
+                            Points<3>& g, Jacobians<3>* J) {
+  require(values.rows() == polyhedron.size() && values.cols() == 3,
+          "mean_value_combination: values must be n x 3 (one row per vertex)");
+  const Index N = x.rows(), B = detail::kPolyhedronBlock;
+  g.resize(N, 3);
+  if (J) J->resize(N, 9);
+  parallel_for((N + B - 1) / B, 4, [&](Index first, Index last) {
+    if (J)
+      combination_gradient_blocks(polyhedron, x, values, first, last, g, J);
+    else
+      combination_blocks(polyhedron, x, values, first, last, g);
+  });
+}
 
 void mean_value_coordinates(const PolyhedronArrays& polyhedron, const Points<3>& x, MatrixX& phi) {
   const Index N = x.rows(), B = detail::kPolyhedronBlock;

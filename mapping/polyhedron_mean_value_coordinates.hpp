@@ -68,6 +68,14 @@ void mean_value_coordinates(const PolyhedronArrays& polyhedron, const Points<3>&
 void mean_value_coordinates(const PolyhedronArrays& polyhedron, const Points<3>& x, MatrixX& phi,
                             MatrixX& dphi_dx, MatrixX& dphi_dy, MatrixX& dphi_dz);
 
+/// The mean value combination of vertex values (n x 3, row i at vertex i):
+/// g(x) = Σ_i φ_i(x) values_i at every point, and if J is given its Jacobian
+/// Σ_i values_i ∇φ_i(x)ᵀ (J(p, 3 r + c) = ∂g_r/∂x_c). The same numbers as φ ·
+/// values and ∇φ · values from mean_value_coordinates, without the N x n
+/// coordinate matrices: one step of a mean value map.
+void mean_value_combination(const PolyhedronArrays& polyhedron, const Points<3>& x, const MatrixX& values,
+                            Points<3>& g, Jacobians<3>* J = nullptr);
+
 /// Robust evaluation at a single point (the path of the batched functions for
 /// points near the surface or near a triangle's plane, exposed for tests).
 /// Writes n values to phi and, if dx is not null, n gradient components to

@@ -248,3 +248,57 @@ TEST(PolyhedronMeanValue, InvariantUnderSimilarityTransforms) {
 
 }  // namespace
 }  // namespace warpfem::mapping
+
+namespace warpfem::mapping {
+namespace {
+
+// mean_value_combination (one step of a mean value map, without the N x n
+// matrices) gives φ · V and Σ_i v_i ∇φ_iᵀ of the coordinates, on every path:
+// interior points, points next to the surface and the vertices (robust path),
+// and points on the planes of distant faces (h-factored faces).
+TEST(PolyhedronMeanValue, CombinationIsTheCoordinatesTimesTheValues) {
+  const Polyhedron P = bumpy_sphere();
+  const PolyhedronArrays A(P);
+  const Points<3> inner = interior_points(P, 257, 11);  // not a multiple of the block
+  const auto on_planes = points_on_distant_planes(P, 1e-9);
+  Points<3> x(inner.rows() + P.vertex_count() + static_cast<Index>(on_planes.size()), 3);
+  x.topRows(inner.rows()) = inner;
+  for (Index i = 0; i < P.vertex_count(); ++i) x.row(inner.rows() + i) = (0.999999 * P.vertex(i)).transpose();
+  for (std::size_t k = 0; k < on_planes.size(); ++k)
+    x.row(inner.rows() + P.vertex_count() + static_cast<Index>(k)) = on_planes[k].first.transpose();
+  MatrixX V(P.vertex_count(), 3);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<Real> u(-2, 2);
+  for (Index i = 0; i < V.rows(); ++i) V.row(i) << u(rng), u(rng), u(rng);
+
+  const Values v = batched(A, x);
+  const Points<3> expected = v.phi * V;
+  Points<3> g, g_only;
+  Jacobians<3> J;
+  mean_value_combination(A, x, V, g, &J);
+  mean_value_combination(A, x, V, g_only);
+  Real value_error = 0, jacobian_error = 0;
+  for (Index p = 0; p < x.rows(); ++p) {
+    Matrix<3> expected_J;
+    expected_J.col(0) = (v.dx.row(p) * V).transpose();
+    expected_J.col(1) = (v.dy.row(p) * V).transpose();
+    expected_J.col(2) = (v.dz.row(p) * V).transpose();
+    value_error = std::max({value_error, (g.row(p) - expected.row(p)).cwiseAbs().maxCoeff(),
+                            (g_only.row(p) - expected.row(p)).cwiseAbs().maxCoeff()});
+    jacobian_error = std::max(jacobian_error, (jacobian_at<3>(J, p) - expected_J).cwiseAbs().maxCoeff() /
+                                                  std::max(expected_J.cwiseAbs().maxCoeff(), 1.0));
+  }
+  EXPECT_LT(value_error, 1e-13);
+  EXPECT_LT(jacobian_error, 1e-12);
+  // Linear precision of the map itself: V = the vertices gives the identity.
+  MatrixX I(P.vertex_count(), 3);
+  for (Index i = 0; i < I.rows(); ++i) I.row(i) = P.vertex(i).transpose();
+  mean_value_combination(A, x, I, g, &J);
+  for (Index p = 0; p < x.rows(); ++p) {
+    ASSERT_LT((g.row(p) - x.row(p)).cwiseAbs().maxCoeff(), 1e-12) << p;
+    ASSERT_LT((jacobian_at<3>(J, p) - Matrix<3>::Identity()).cwiseAbs().maxCoeff(), 1e-9) << p;
+  }
+}
+
+}  // namespace
+}  // namespace warpfem::mapping
