@@ -10,6 +10,9 @@
 // and vector floating-point throughput micro-benchmarks to relate the kernel's
 // rate to the machine's limits.
 //
+// Also one step of a mean value map (Σ φ_i v_i and its Jacobian) from the
+// weights against through the coordinate matrices.
+//
 // Run (Release):  build/bench/mapping/bench_mean_value_3d [rounds]
 
 #include <time.h>
@@ -280,7 +283,21 @@ int main(int argc, char** argv) {
   vtk.values(chunks[0], vphi);
   std::printf("max |phi - VTK| = %.2e\n", (phi - vphi.transpose()).cwiseAbs().maxCoeff());
 
-  std::vector<double> t_fast1, t_fast1_wall, t_fast2, t_scalar, t_values1, t_vtk;
+  // One step of a mean value map, g = Σ φ_i v_i and its Jacobian: through the
+  // coordinate matrices and their products, and straight from the weights.
+  MatrixX V(P.vertex_count(), 3);
+  for (Index i = 0; i < V.rows(); ++i) V.row(i) = (1.1 * P.vertex(i) + Point<3>(0.1, 0, 0)).transpose();
+  warpfem::Points<3> g;
+  warpfem::Jacobians<3> J;
+  const auto step_through_coordinates = [&](const warpfem::Points<3>& x) {
+    wm::mean_value_coordinates(A, x, phi, dx, dy, dz);
+    g = phi * V;
+    const MatrixX Jx = dx * V, Jy = dy * V, Jz = dz * V;
+    J.resize(x.rows(), 9);
+    for (int r = 0; r < 3; ++r)
+      J.col(3 * r) = Jx.col(r), J.col(3 * r + 1) = Jy.col(r), J.col(3 * r + 2) = Jz.col(r);
+  };
+  std::vector<double> t_fast1, t_fast1_wall, t_fast2, t_scalar, t_values1, t_vtk, t_step_matrices, t_step;
   const Index scalar_points = kPoints / 10;  // the scalar code is slow: time a tenth of the points
   for (int r = 0; r < rounds; ++r) {
     warpfem::set_thread_count(1);
@@ -306,6 +323,12 @@ int main(int argc, char** argv) {
     for (Index made = 0, c = 0; made < scalar_points; made += chunks[c].rows(), ++c)
       vtk.values(chunks[c], vphi);
     t_vtk.push_back(timed_scalar / (thread_seconds() - c0));
+    c0 = thread_seconds();
+    for (const auto& x : chunks) step_through_coordinates(x);
+    t_step_matrices.push_back(kPoints / (thread_seconds() - c0));
+    c0 = thread_seconds();
+    for (const auto& x : chunks) wm::mean_value_combination(A, x, V, g, &J);
+    t_step.push_back(kPoints / (thread_seconds() - c0));
   }
   const double m = static_cast<double>(P.triangle_count());
   const double f1 = median(t_fast1), f2 = median(t_fast2), sc = median(t_scalar), v1 = median(t_values1),
@@ -327,6 +350,10 @@ int main(int argc, char** argv) {
       "VTK values only, 1 thread    : %8.3f M points/s in thread CPU time (vectorized values only is "
       "x%.1f)\n",
       vt / 1e6, v1 / vt);
+  std::printf(
+      "map step g = sum phi_i v_i + Jacobian, 1 thread: %.3f M points/s from the weights "
+      "(mean_value_combination), %.3f through the coordinate matrices (x%.2f)\n",
+      median(t_step) / 1e6, median(t_step_matrices) / 1e6, median(t_step) / median(t_step_matrices));
   // Per point: each edge (E of them) takes 1 sqrt and 1 divide, each triangle
   // 1 divide, each vertex 1 sqrt.
   const double edges = static_cast<double>(A.edge_a.size()), verts = static_cast<double>(P.vertex_count());
