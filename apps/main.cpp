@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return argc < 2 ? 2 : 0;
   }
-  warpfem::restart_with_huge_pages(argv);  // before MPI and threads; costs a process start (~0.1 s)
+  warpfem::restart_with_huge_pages(argv);  // before MPI and threads start; costs a second process start
   const std::string command = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
   warpfem::Environment env(argc, argv);
