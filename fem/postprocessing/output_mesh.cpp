@@ -55,45 +55,52 @@ void filled(std::vector<T>& v, std::size_t n, T value) {
 
 // The edges of the local cells, each once: per smaller vertex number, the
 // sorted larger vertex numbers of its edges (a compressed row, searched
-// linearly: a vertex has a handful of edges). An edge's position in these rows
-// is its slot.
+// linearly: a vertex has a handful of edges). Edges are numbered by their
+// place in these rows, from 0 to size() − 1 without gaps.
 class LocalEdges {
  public:
   LocalEdges() = default;
   template <int dim>
   LocalEdges(const Mesh<dim>& mesh, const std::vector<Index>& cells) {
     const auto& edges = cell_edges(mesh.cell_type);
-    filled(start_, static_cast<std::size_t>(mesh.num_vertices()) + 1, Index{0});
+    const auto nv = static_cast<std::size_t>(mesh.num_vertices());
+    std::vector<Index> first;  // rows with repeats: each edge once per cell holding it
+    filled(first, nv + 1, Index{0});
     for (const Index c : cells)
       for (const auto& e : edges)
-        ++start_[static_cast<std::size_t>(std::min(mesh.cells(c, e[0]), mesh.cells(c, e[1]))) + 1];
-    for (std::size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
-    resize_prefaulted(other_, static_cast<std::size_t>(start_.back()));
-    filled(count_, static_cast<std::size_t>(mesh.num_vertices()), TableIndex{0});
+        ++first[static_cast<std::size_t>(std::min(mesh.cells(c, e[0]), mesh.cells(c, e[1]))) + 1];
+    for (std::size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
+    std::vector<TableIndex> with_repeats, count;
+    resize_prefaulted(with_repeats, static_cast<std::size_t>(first.back()));
+    filled(count, nv, TableIndex{0});
     for (const Index c : cells)
       for (const auto& e : edges) {
         const TableIndex p = mesh.cells(c, e[0]), q = mesh.cells(c, e[1]);
         const auto a = static_cast<std::size_t>(std::min(p, q));
-        other_[static_cast<std::size_t>(start_[a] + count_[a]++)] = std::max(p, q);
+        with_repeats[static_cast<std::size_t>(first[a] + count[a]++)] = std::max(p, q);
       }
-    for (std::size_t a = 0; a < count_.size(); ++a) {
-      const auto first = other_.begin() + start_[a], last = first + count_[a];
-      std::sort(first, last);
-      count_[a] = static_cast<TableIndex>(std::unique(first, last) - first);
+    filled(start_, nv + 1, Index{0});
+    for (std::size_t a = 0; a < nv; ++a) {
+      const auto row = with_repeats.begin() + first[a], end = row + count[a];
+      std::sort(row, end);
+      start_[a + 1] = start_[a] + (std::unique(row, end) - row);
     }
+    resize_prefaulted(other_, static_cast<std::size_t>(start_.back()));
+    for (std::size_t a = 0; a < nv; ++a)
+      std::copy_n(with_repeats.begin() + first[a], start_[a + 1] - start_[a], other_.begin() + start_[a]);
   }
-  Index slots() const { return static_cast<Index>(other_.size()); }
-  Index slot(TableIndex p, TableIndex q) const {
+  Index size() const { return static_cast<Index>(other_.size()); }
+  Index index(TableIndex p, TableIndex q) const {
     const auto a = static_cast<std::size_t>(std::min(p, q));
     const TableIndex b = std::max(p, q);
-    for (Index j = start_[a]; j < start_[a] + count_[a]; ++j)
+    for (Index j = start_[a]; j < start_[a + 1]; ++j)
       if (other_[static_cast<std::size_t>(j)] == b) return j;
     throw Error("make_output_mesh: an edge of a local cell is missing from the edge table");
   }
 
  private:
   std::vector<Index> start_;
-  std::vector<TableIndex> count_, other_;
+  std::vector<TableIndex> other_;
 };
 
 // A sub-region of mesh cell `cell_index` (index into the local cells), given
@@ -1163,80 +1170,93 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
           for (int v = 0; v < nvert; ++v) foreign[static_cast<std::size_t>(mesh.cells(c, v))] = 1;
         }
   }
-  // Nodes the local cells share: vertices by their number, edge nodes by their
-  // edge's two vertex numbers, face nodes (Q2 hexahedra) by their face's sorted
-  // vertex numbers (no mesh-wide numbering of edges or faces, so the output of
-  // a level stored only around this rank's cells works too); interior nodes
-  // belong to one cell. Nodes are numbered in the order the cells first reach
-  // them.
-  using FaceKey = std::array<Index, 4>;
-  struct FaceKeyHash {
-    std::size_t operator()(const FaceKey& k) const {
-      std::size_t h = std::hash<Index>()(k[0]);
-      for (std::size_t i = 1; i < k.size(); ++i) h ^= std::hash<Index>()(k[i]) * (0xC2B2AE3D27D4EB4FULL * i);
-      return h;
-    }
-  };
+  // Nodes the local cells share are numbered without a search: first the
+  // vertices of the local cells (in the mesh's order), then their edges
+  // (LocalEdges' order), then face nodes (Q2 hexahedra, by their face's sorted
+  // vertex numbers) and interior nodes in the order the cells first reach
+  // them. No mesh-wide numbering of edges or faces is used, so the output of a
+  // level stored only around this rank's cells works too.
   std::vector<TableIndex> vertex_node;
   filled(vertex_node, static_cast<std::size_t>(mesh.num_vertices()), TableIndex{-1});
-  const LocalEdges local_edges = edge_nodes_end > nvert ? LocalEdges(mesh, cells) : LocalEdges();
-  std::vector<TableIndex> edge_node;
-  filled(edge_node, static_cast<std::size_t>(local_edges.slots()), TableIndex{-1});
-  std::unordered_map<FaceKey, TableIndex, FaceKeyHash> face_node;
-  const auto face_key = [&](Index c, int k) {
-    FaceKey key;
-    key.fill(-1);
-    if constexpr (dim == 3) {
-      const auto& f = cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)];
-      for (std::size_t j = 0; j < f.size(); ++j) key[j] = mesh.cells(c, f[j]);
-      for (std::size_t a = 1; a < f.size(); ++a)  // sorted: insertion into at most four
-        for (std::size_t b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
-    }
-    return key;
-  };
+  for (const Index c : cells)
+    for (int v = 0; v < nvert; ++v) vertex_node[static_cast<std::size_t>(mesh.cells(c, v))] = 0;
   Index n = 0;
-  for (Index i = 0; i < ncells; ++i) {
-    const Index c = cells[static_cast<std::size_t>(i)];
-    for (int k = 0; k < nloc; ++k) {
-      TableIndex* slot = nullptr;
-      if (k < nvert) {
-        slot = &vertex_node[static_cast<std::size_t>(mesh.cells(c, k))];
-      } else if (k < edge_nodes_end) {
+  for (TableIndex& node : vertex_node)
+    if (node == 0) node = static_cast<TableIndex>(n++);
+  const Index num_vertex_nodes = n;
+  const LocalEdges local_edges = edge_nodes_end > nvert ? LocalEdges(mesh, cells) : LocalEdges();
+  n += local_edges.size();
+  require(n < std::numeric_limits<TableIndex>::max(), "make_output_mesh: too many output nodes on one rank");
+  parallel_for(ncells, 1 << 14, [&](Index first, Index last) {
+    for (Index i = first; i < last; ++i) {
+      const Index c = cells[static_cast<std::size_t>(i)];
+      for (int v = 0; v < nvert; ++v)
+        out.cells(i, v) = vertex_node[static_cast<std::size_t>(mesh.cells(c, v))];
+      for (int k = nvert; k < edge_nodes_end; ++k) {
         const auto& e = edges[static_cast<std::size_t>(k - nvert)];
-        slot =
-            &edge_node[static_cast<std::size_t>(local_edges.slot(mesh.cells(c, e[0]), mesh.cells(c, e[1])))];
-      } else if (k < face_nodes_end) {
-        slot = &face_node.try_emplace(face_key(c, k), -1).first->second;
+        out.cells(i, k) = static_cast<TableIndex>(
+            num_vertex_nodes + local_edges.index(mesh.cells(c, e[0]), mesh.cells(c, e[1])));
       }
-      TableIndex node = slot ? *slot : -1;
-      if (node < 0) {
+    }
+  });
+  std::vector<TableIndex>().swap(vertex_node);
+  if (nloc > edge_nodes_end) {
+    using FaceKey = std::array<Index, 4>;
+    struct FaceKeyHash {
+      std::size_t operator()(const FaceKey& k) const {
+        std::size_t h = std::hash<Index>()(k[0]);
+        for (std::size_t i = 1; i < k.size(); ++i)
+          h ^= std::hash<Index>()(k[i]) * (0xC2B2AE3D27D4EB4FULL * i);
+        return h;
+      }
+    };
+    std::unordered_map<FaceKey, TableIndex, FaceKeyHash> face_node;
+    for (Index i = 0; i < ncells; ++i) {
+      const Index c = cells[static_cast<std::size_t>(i)];
+      for (int k = edge_nodes_end; k < nloc; ++k) {
+        TableIndex* slot = nullptr;
+        if constexpr (dim == 3)
+          if (k < face_nodes_end) {
+            const auto& f = cell_faces(mesh.cell_type)[static_cast<std::size_t>(k - edge_nodes_end)];
+            FaceKey key;
+            key.fill(-1);
+            for (std::size_t j = 0; j < f.size(); ++j) key[j] = mesh.cells(c, f[j]);
+            for (std::size_t a = 1; a < f.size(); ++a)  // sorted: insertion into at most four
+              for (std::size_t b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
+            slot = &face_node.try_emplace(key, -1).first->second;
+          }
+        if (slot && *slot >= 0) {
+          out.cells(i, k) = *slot;
+          continue;
+        }
         require(n < std::numeric_limits<TableIndex>::max(),
                 "make_output_mesh: too many output nodes on one rank");
-        node = static_cast<TableIndex>(n++);
-        if (slot) *slot = node;
+        out.cells(i, k) = static_cast<TableIndex>(n++);
+        if (slot) *slot = out.cells(i, k);
       }
-      out.cells(i, k) = node;
     }
   }
-  std::vector<TableIndex>().swap(vertex_node);
-  std::vector<TableIndex>().swap(edge_node);
-  // Positions in Ω0 and sources of the nodes, visited in the order they were numbered.
+  // Every node's source, the first local cell that reaches it (cells visited
+  // last to first, so the first one writes last).
+  resize_prefaulted(out.node_in_cell_, static_cast<std::size_t>(n));
+  for (Index i = ncells - 1; i >= 0; --i) {
+    const Index c = cells[static_cast<std::size_t>(i)];
+    for (int k = 0; k < nloc; ++k)
+      out.node_in_cell_[static_cast<std::size_t>(out.cells(i, k))] = c * nloc + k;
+  }
+  // Positions in Ω0 by the straight geometry of that cell.
   out.reference_points.resize(n, dim);
   prefault(out.reference_points.data(), static_cast<std::size_t>(n * dim) * sizeof(double));
-  out.node_in_cell_.reserve(static_cast<std::size_t>(n));
-  prefault(out.node_in_cell_.data(), static_cast<std::size_t>(n) * sizeof(Index));
   std::vector<char> frozen;  // per node
   if (!foreign.empty()) filled(frozen, static_cast<std::size_t>(n), char{0});
-  for (Index i = 0, next = 0; i < ncells; ++i) {
-    const Index c = cells[static_cast<std::size_t>(i)];
-    for (int k = 0; k < nloc; ++k) {
-      const Index node = out.cells(i, k);
-      if (node != next) continue;
-      ++next;
+  parallel_for(n, 1 << 14, [&](Index first, Index last) {
+    for (Index node = first; node < last; ++node) {
+      const Index code = out.node_in_cell_[static_cast<std::size_t>(node)];
+      const Index c = code / nloc;
+      const int k = static_cast<int>(code % nloc);
       Point<dim> x = Point<dim>::Zero();
       for (int v = 0; v < nvert; ++v) x += geometry(k, v) * mesh.vertex(mesh.cells(c, v));
       out.reference_points.row(node) = x.transpose();
-      out.node_in_cell_.push_back(c * nloc + k);
       if (!foreign.empty() && k >= nvert && k < face_nodes_end) {
         bool shared = true;  // every vertex of the node's edge or face is a foreign one
         if (k < edge_nodes_end) {
@@ -1249,7 +1269,7 @@ OutputMesh<dim> make_output_mesh(const Mesh<dim>& mesh, const DofDistribution<di
         frozen[static_cast<std::size_t>(node)] = shared ? 1 : 0;
       }
     }
-  }
+  });
   log::debug("output mesh: ", n, " nodes numbered in ", format_seconds(watch.seconds()), " (CPU ",
              format_seconds(process_cpu_seconds() - cpu), ")");
   watch.reset();
