@@ -111,6 +111,10 @@ class ElasticityPhysics final : public Physics<dim> {
     if (options_.gather_solution) result.solution = op_->space().gather_all(u_.get());
   }
 
+  // The multigrid transfers and level operators; the operator stays, since the
+  // output's stresses are evaluated through it.
+  void release_solver() override { mg_.reset(); }
+
   Vec state() const override { return u_.get(); }
   void add_fields(const fem::OutputMesh<dim>& mesh, Vec u, io::VtkOutput<dim>& vtk) const override {
     const fem::VectorSpace<dim>& space = op_->space();

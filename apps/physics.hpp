@@ -37,6 +37,10 @@ class Physics {
   /// Step 6: errors, energies, min det F, the gathered solution: into `result` and the log.
   virtual void report(RunResult& result) const = 0;
 
+  /// After the report: frees what only the solve needed, so that the output
+  /// reuses that memory instead of touching fresh pages.
+  virtual void release_solver() = 0;
+
   /// The solved state (the problem's PETSc layout).
   virtual Vec state() const = 0;
   /// Step 7: point fields, then cell fields, of `state` on the output mesh

@@ -116,6 +116,13 @@ class PoissonPhysics final : public Physics<dim> {
     if (options_.gather_solution) result.solution = p.distribution().gather_all(p.solution());
   }
 
+  void release_solver() override {
+    if (mg_)
+      mg_->release_solver();
+    else
+      single_->release_operator();
+  }
+
   Vec state() const override { return problem().solution(); }
   void add_fields(const fem::OutputMesh<dim>& mesh, Vec u, io::VtkOutput<dim>& vtk) const override {
     const fem::PoissonProblem<dim>& p = problem();

@@ -99,6 +99,7 @@ RunResult run_recipe(const Config& cfg, MPI_Comm comm, const RunOptions& options
 
   // 6. Report: errors against an exact solution, energies, min det F.
   physics->report(result);
+  physics->release_solver();
 
   // 7. Output through io: the solved state (a time series is written already).
   if (output) output->finish(physics->state(), result);

@@ -103,6 +103,14 @@ class PoissonMultigridSolver {
   Mat interpolation(int fine_level) const { return multigrid_->interpolation(fine_level); }
   const GeometricMultigrid<dim>& multigrid() const { return *multigrid_; }
   KSP ksp() const { return ksp_.get(); }
+  /// Frees the solver, the coarse levels' problems and the finest problem's
+  /// operator once the solution is final; finest() keeps its solution.
+  void release_solver() {
+    ksp_.reset();
+    multigrid_.reset();
+    for (std::size_t l = 0; l + 1 < problems_.size(); ++l) problems_[l].reset();
+    problems_.back()->release_operator();
+  }
 
  private:
   MultigridTimings timings_;  // declared first: the hierarchy's construction is timed into it

@@ -104,6 +104,14 @@ class WarpedGeometry {
   const Mesh<dim>& mesh() const { return *mesh_; }
   const QuadratureRule<dim>& rule() const { return rule_; }
   GeometryStorage storage() const { return storage_; }
+  /// Frees the cached arrays: later passes evaluate the map again, as streamed
+  /// storage does.
+  void stop_caching() {
+    storage_ = GeometryStorage::streamed;
+    x_ = {};
+    JinvT_ = {};
+    JxW_ = {};
+  }
 
   /// Calls body(chunk) for consecutive chunks covering all cells, in order
   /// (cached: one chunk viewing the stored arrays; streamed: the map evaluated

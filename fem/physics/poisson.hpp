@@ -93,6 +93,12 @@ class PoissonProblem final : public LinearProblem<dim> {
   /// Copies the assembled matrix into J (of create_matrix()'s pattern).
   void jacobian(Vec u, const LoadState& load, Mat J) const override;
   const WarpedGeometry<dim>& geometry() const { return geometry_; }
+  /// Frees what only assembly and the solve need (the cached geometry, the
+  /// matrix); the solution, the DOFs and errors() stay available.
+  void release_operator() {
+    geometry_.stop_caching();
+    A_.reset();
+  }
   const PoissonSetupTimings& setup_timings() const { return setup_timings_; }
   const mapping::Map<dim>& map() const { return *map_; }
 
