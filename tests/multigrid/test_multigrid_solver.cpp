@@ -184,3 +184,36 @@ TEST(MultigridGeometryStorage, StreamedFinestLevelGivesTheCachedSolution) {
   WARPFEM_PETSC_CHECK(VecNorm(streamed.get(), NORM_2, &diff));
   EXPECT_LE(diff, 1e-12 * norm);
 }
+
+// The run frees the solver before its output; what the output and the report
+// read of the finest problem (solution, errors through the geometry, area) must
+// stay as it was, with the geometry evaluated again instead of cached.
+TEST(MultigridSolver, ReleasingTheSolverKeepsTheSolutionAndTheErrors) {
+  const auto warp = std::make_shared<SineWarp>();
+  multigrid::PoissonMultigridSolver<2> mg(MPI_COMM_SELF, coarse_l_shape(warpfem::CellType::triangle, 0.5), 2,
+                                          warp, 1, 2, multigrid::test::mixed_problem(), {});
+  mg.solve();
+  const fem::ScalarFunction<2> u = [](const Point<2>& x, double) { return std::sin(x(0)) * x(1); };
+  const fem::GradientFunction<2> grad_u = [](const Point<2>& x, double) {
+    return Point<2>(std::cos(x(0)) * x(1), std::sin(x(0)));
+  };
+  const fem::PoissonProblem<2>& finest = mg.finest();
+  const auto before = finest.errors(u, grad_u);
+  const double area_before = finest.area();
+  petsc::Vector solved;
+  WARPFEM_PETSC_CHECK(VecDuplicate(finest.solution(), solved.out()));
+  WARPFEM_PETSC_CHECK(VecCopy(finest.solution(), solved.get()));
+  ASSERT_EQ(finest.geometry().storage(), fem::GeometryStorage::cached);
+
+  mg.release_solver();
+  EXPECT_EQ(mg.ksp(), nullptr);
+  EXPECT_EQ(finest.geometry().storage(), fem::GeometryStorage::streamed);
+  EXPECT_EQ(finest.matrix(), nullptr);
+  const auto after = finest.errors(u, grad_u);
+  EXPECT_NEAR(after.l2, before.l2, 1e-14 * before.l2);
+  EXPECT_NEAR(after.h1_semi, before.h1_semi, 1e-14 * before.h1_semi);
+  EXPECT_NEAR(finest.area(), area_before, 1e-14 * area_before);
+  PetscBool same = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(VecEqual(finest.solution(), solved.get(), &same));
+  EXPECT_TRUE(same);
+}
