@@ -19,6 +19,13 @@
 # the whole process, of the output alone, CG iterations, peak RSS, DOFs), then
 # medians and ratios against deal.II of the same degree. Exits non-zero if a
 # run fails.
+#
+# Every run starts after a pause of RACE_PAUSE seconds (default 8). On a VM
+# whose balloon driver reports free memory to the host, memory freed a moment
+# ago is cheap to touch again and memory free for a few seconds is not (a
+# host fault per 2 MiB block): without the pause a program's set-up depends on
+# how its predecessor freed its memory (1.4 against 2.7 s for the P2 gear).
+# With it every program starts cold, as a job on a shared machine does.
 set -euo pipefail
 
 if [ $# -lt 2 ] || ! [[ "$1" =~ ^[1-9][0-9]*$ ]]; then
@@ -92,10 +99,13 @@ run() {
   esac
 }
 
+pause=${RACE_PAUSE:-8}
+[[ "$pause" =~ ^[0-9]+$ ]] || { echo "race_gear: RACE_PAUSE must be a whole number of seconds" >&2; exit 2; }
 results=$work/results.txt
 printf "%-14s %8s %8s %9s %4s %7s %8s\n" run wall_s cpu_s output_s its rss_MB dofs
 for ((r = 0; r < rounds; ++r)); do
   for ((k = 0; k < ${#programs[@]}; ++k)); do
+    sleep "$pause"
     line=$(run "${programs[(k + r) % ${#programs[@]}]}")
     echo "$line" >> "$results"
     echo "$line" | awk '{ printf "%-14s %8.2f %8.2f %9.2f %4d %7.0f %8d\n", $1, $2, $3, $4, $5, $6, $7 }'
