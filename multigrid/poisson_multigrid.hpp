@@ -104,7 +104,8 @@ class PoissonMultigridSolver {
   const GeometricMultigrid<dim>& multigrid() const { return *multigrid_; }
   KSP ksp() const { return ksp_.get(); }
   /// Frees the solver, the coarse levels' problems and the finest problem's
-  /// operator once the solution is final; finest() keeps its solution.
+  /// operator once the solution is final. Afterwards only finest() (its
+  /// solution, DOFs, errors() and area()) and hierarchy() may be used.
   void release_solver() {
     ksp_.reset();
     multigrid_.reset();
