@@ -70,24 +70,26 @@ class LocalEdges {
       for (const auto& e : edges)
         ++first[static_cast<std::size_t>(std::min(mesh.cells(c, e[0]), mesh.cells(c, e[1]))) + 1];
     for (std::size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
-    std::vector<TableIndex> with_repeats, count;
-    resize_prefaulted(with_repeats, static_cast<std::size_t>(first.back()));
+    std::vector<TableIndex> count;
+    resize_prefaulted(other_, static_cast<std::size_t>(first.back()));
     filled(count, nv, TableIndex{0});
     for (const Index c : cells)
       for (const auto& e : edges) {
         const TableIndex p = mesh.cells(c, e[0]), q = mesh.cells(c, e[1]);
         const auto a = static_cast<std::size_t>(std::min(p, q));
-        with_repeats[static_cast<std::size_t>(first[a] + count[a]++)] = std::max(p, q);
+        other_[static_cast<std::size_t>(first[a] + count[a]++)] = std::max(p, q);
       }
+    // Each row sorted, its repeats dropped, and moved left onto the rows before
+    // it (start_[a] <= first[a], so no row is overwritten before it is read).
     filled(start_, nv + 1, Index{0});
     for (std::size_t a = 0; a < nv; ++a) {
-      const auto row = with_repeats.begin() + first[a], end = row + count[a];
-      std::sort(row, end);
-      start_[a + 1] = start_[a] + (std::unique(row, end) - row);
+      const auto row = other_.begin() + first[a];
+      std::sort(row, row + count[a]);
+      const auto end = std::unique(row, row + count[a]);
+      if (start_[a] < first[a]) std::copy(row, end, other_.begin() + start_[a]);
+      start_[a + 1] = start_[a] + (end - row);
     }
-    resize_prefaulted(other_, static_cast<std::size_t>(start_.back()));
-    for (std::size_t a = 0; a < nv; ++a)
-      std::copy_n(with_repeats.begin() + first[a], start_[a + 1] - start_[a], other_.begin() + start_[a]);
+    other_.resize(static_cast<std::size_t>(start_.back()));
   }
   Index size() const { return static_cast<Index>(other_.size()); }
   Index index(TableIndex p, TableIndex q) const {
