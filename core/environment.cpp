@@ -16,12 +16,27 @@
 
 namespace warpfem {
 
+namespace {
+
+bool started_by_launcher(const std::function<const char*(const char*)>& env) {
+  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+    if (env(launched)) return true;
+  return false;
+}
+
+}  // namespace
+
 std::string Environment::singleton_session_base(const std::function<const char*(const char*)>& env,
                                                 long pid) {
-  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "OMPI_MCA_orte_tmpdir_base"})
-    if (env(launched)) return {};
+  if (started_by_launcher(env) || env("OMPI_MCA_orte_tmpdir_base")) return {};
   const char* tmp = env("TMPDIR");
   return std::string(tmp && *tmp ? tmp : "/tmp") + "/warpfem-mpi-" + std::to_string(pid);
+}
+
+std::vector<std::pair<std::string, std::string>> Environment::singleton_mca_defaults(
+    const std::function<const char*(const char*)>& env) {
+  if (started_by_launcher(env)) return {};
+  return {{"OMPI_MCA_ess_singleton_isolated", "1"}, {"OMPI_MCA_pml", "ob1"}};
 }
 
 Environment::Environment(int& argc, char**& argv) {
@@ -32,6 +47,8 @@ Environment::Environment(int& argc, char**& argv) {
                                            static_cast<long>(getpid()));
     if (!session_base_.empty() && setenv("OMPI_MCA_orte_tmpdir_base", session_base_.c_str(), 0) != 0)
       session_base_.clear();
+    for (const auto& [name, value] : singleton_mca_defaults([](const char* name) { return std::getenv(name); }))
+      setenv(name.c_str(), value.c_str(), 0);  // a failure keeps Open MPI's defaults: slower, not wrong
   }
 #if WARPFEM_ADDRESS_SANITIZER
   // PETSc's signal handler would replace AddressSanitizer's: it runs on the

@@ -7,6 +7,8 @@
 
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace warpfem {
 
@@ -22,6 +24,9 @@ class Environment {
   /// aborts ("A call to mkdir was unable to create the desired directory ...
   /// File exists", open-mpi/ompi#8510) — seen under `ctest -j`, and possible in
   /// any script that starts several runs at once.
+  ///
+  /// A singleton also gets singleton_mca_defaults() (variables already set
+  /// keep their values).
   Environment(int& argc, char**& argv);
   ~Environment();
   Environment(const Environment&) = delete;
@@ -39,6 +44,17 @@ class Environment {
   /// launcher started it (OMPI_COMM_WORLD_SIZE, PMIX_RANK or PMI_RANK set) or
   /// OMPI_MCA_orte_tmpdir_base is already set.
   static std::string singleton_session_base(const std::function<const char*(const char*)>& env, long pid);
+
+  /// Open MPI parameters for a process no launcher started, as environment
+  /// variables: no support daemon (`ess_singleton_isolated`: warpfem never
+  /// spawns processes) and the ob1 point-to-point layer, which a single
+  /// process needs nothing else from. Without them MPI_Init forks `orted` and
+  /// opens every network library, whose start-up waits for hardware that may
+  /// not exist (Debian's PSM2 polls for Omni-Path adapters), which costs more
+  /// than a small run. Empty when a launcher started the process, which then
+  /// keeps what mpiexec chose.
+  static std::vector<std::pair<std::string, std::string>> singleton_mca_defaults(
+      const std::function<const char*(const char*)>& env);
 
  private:
   std::string session_base_;  ///< this singleton's own session base, removed at exit; empty if none

@@ -48,6 +48,36 @@ TEST(Environment, SingletonsGetTheirOwnMpiSessionBase) {
   }
 }
 
+TEST(Environment, SingletonsSkipTheSupportDaemonAndNetworkLibraries) {
+  std::map<std::string, std::string> vars;
+  const auto env = [&vars](const char* name) -> const char* {
+    const auto it = vars.find(name);
+    return it == vars.end() ? nullptr : it->second.c_str();
+  };
+  const auto defaults = Environment::singleton_mca_defaults(env);
+  const std::map<std::string, std::string> as_map(defaults.begin(), defaults.end());
+  EXPECT_EQ(as_map.size(), 2u);
+  EXPECT_EQ(as_map.at("OMPI_MCA_ess_singleton_isolated"), "1");
+  EXPECT_EQ(as_map.at("OMPI_MCA_pml"), "ob1");
+  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"}) {
+    vars[launched] = "2";
+    EXPECT_TRUE(Environment::singleton_mca_defaults(env).empty()) << launched;
+    vars.erase(launched);
+  }
+}
+
+// This test process, if no launcher started it: MPI came up with the
+// singleton's parameters (or with ones the caller set beforehand).
+TEST(Environment, SingletonRunsWithItsMpiDefaults) {
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK") || std::getenv("PMI_RANK"))
+    GTEST_SKIP() << "started by a launcher";
+  EXPECT_NE(std::getenv("OMPI_MCA_pml"), nullptr);
+  EXPECT_NE(std::getenv("OMPI_MCA_ess_singleton_isolated"), nullptr);
+  int size = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  EXPECT_EQ(size, 1);
+}
+
 // This test process: if it set its own base (a singleton under CTest), Open
 // MPI has put its session directory there by now.
 TEST(Environment, OwnSessionBaseIsUsedByOpenMpi) {
