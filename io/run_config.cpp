@@ -429,6 +429,9 @@ PoissonRunConfig<dim> parse_poisson_config(const nlohmann::json& json, const std
                      "\"gershgorin\" bounds the Jacobi-preconditioned operator of rediscretized levels only",
                      "use \"auto\" or \"estimate\", or the smoother \"chebyshev_jacobi\" with "
                      "\"coarse_operators\": \"rediscretization\"");
+    if (m.chebyshev_bounds == S::ChebyshevBounds::ssor && m.smoother != S::Smoother::chebyshev_sor)
+      throw mg.error("chebyshev_bounds", "\"ssor\" bounds the SOR-preconditioned operator only",
+                     "add \"smoother\": \"chebyshev_sor\", or use \"auto\" or \"estimate\"");
     mg.finish();
   }
   solver.finish();

@@ -135,13 +135,18 @@ MultigridSettings resolved(MultigridSettings s, const fem::LagrangeElement<dim>&
                      ? Smoother::chebyshev_sor
                      : Smoother::chebyshev_jacobi;
   // Automatic Chebyshev bounds: Gershgorin's is tight for first-order stiffness
-  // matrices (no eigenvalue estimates at set-up), loose for higher orders.
+  // matrices (no eigenvalue estimates at set-up), loose for higher orders;
+  // symmetric SOR's λmax ≤ 1 is what the estimate finds (0.999) for scalar
+  // problems, whose matrices are symmetric positive definite.
   using Bounds = MultigridSettings::ChebyshevBounds;
-  if (s.chebyshev_bounds == Bounds::automatic)
-    s.chebyshev_bounds =
-        order == 1 && !galerkin && s.smoother == MultigridSettings::Smoother::chebyshev_jacobi
-            ? Bounds::gershgorin
-            : Bounds::estimate;
+  if (s.chebyshev_bounds == Bounds::automatic) {
+    if (order == 1 && !galerkin && s.smoother == Smoother::chebyshev_jacobi)
+      s.chebyshev_bounds = Bounds::gershgorin;
+    else if (s.smoother == Smoother::chebyshev_sor && components == 1)
+      s.chebyshev_bounds = Bounds::ssor;
+    else
+      s.chebyshev_bounds = Bounds::estimate;
+  }
   return s;
 }
 

@@ -52,6 +52,25 @@ bool plain_jacobi(PC jacobi) {
   return type == PC_JACOBI_DIAGONAL && !abs;
 }
 
+/// True if `pc` is symmetric SOR with 0 < ω < 2 and the smoother runs on one
+/// process, where λ(M⁻¹A) ≤ 1 for every symmetric positive definite A.
+bool symmetric_sor_on_one_process(KSP smoother, PC pc) {
+  PetscBool sor = PETSC_FALSE;
+  WARPFEM_PETSC_CHECK(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCSOR, &sor));
+  if (!sor) return false;
+  MPI_Comm comm = MPI_COMM_NULL;
+  WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(smoother), &comm));
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  MatSORType sweep{};
+  PetscReal omega = 0;
+  WARPFEM_PETSC_CHECK(PCSORGetSymmetric(pc, &sweep));
+  WARPFEM_PETSC_CHECK(PCSORGetOmega(pc, &omega));
+  const bool symmetric = (sweep & SOR_SYMMETRIC_SWEEP) == SOR_SYMMETRIC_SWEEP ||
+                         (sweep & SOR_LOCAL_SYMMETRIC_SWEEP) == SOR_LOCAL_SYMMETRIC_SWEEP;
+  return size == 1 && symmetric && omega > 0 && omega < 2;
+}
+
 }  // namespace
 
 void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::vector<Mat>& operators,
@@ -155,6 +174,13 @@ void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings) {
       PetscBool has_operator = PETSC_FALSE;
       WARPFEM_PETSC_CHECK(KSPGetOperatorsSet(smoother, &has_operator, nullptr));
       if (has_operator) use_fused_residual(pc, l);
+      continue;
+    }
+    if (settings.chebyshev_bounds == MultigridSettings::ChebyshevBounds::ssor) {
+      if (symmetric_sor_on_one_process(smoother, spc)) {
+        WARPFEM_PETSC_CHECK(KSPChebyshevEstEigSet(smoother, 0.0, 0.0, 0.0, 0.0));
+        WARPFEM_PETSC_CHECK(KSPChebyshevSetEigenvalues(smoother, 1.1, 0.1));
+      }
       continue;
     }
     if (!gershgorin) continue;  // configure_pcmg's estimate stands

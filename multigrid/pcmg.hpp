@@ -32,10 +32,16 @@ struct MultigridSettings {
   /// `estimate`: λmax of M⁻¹A from 10 CG steps per level at set-up (PETSc's way);
   /// `gershgorin`: [0.1, 1]·jacobi_gershgorin_bound(A_l), a guaranteed upper bound
   /// found in one pass over each level's matrix (chebyshev_jacobi with
-  /// rediscretized levels only); `automatic`: what the solver that builds the
-  /// levels picks (PoissonMultigridSolver: gershgorin for order-1 elements with
-  /// chebyshev_jacobi, else estimate); configure_pcmg itself treats it as estimate.
-  enum class ChebyshevBounds { automatic, estimate, gershgorin };
+  /// rediscretized levels only); `ssor`: [0.1, 1.1], since symmetric SOR
+  /// (0 < ω < 2) preconditioning a symmetric positive definite A has λ(M⁻¹A)
+  /// in (0, 1] (M − A is positive semidefinite); chebyshev_sor levels on one
+  /// process only (across processes the sweeps are local, block Jacobi
+  /// between them, and the bound fails: those levels are estimated);
+  /// `automatic`: what the solver that builds the levels picks
+  /// (PoissonMultigridSolver: gershgorin for order-1 elements with
+  /// chebyshev_jacobi, ssor with chebyshev_sor, else estimate); configure_pcmg
+  /// itself treats it as estimate.
+  enum class ChebyshevBounds { automatic, estimate, gershgorin, ssor };
   ChebyshevBounds chebyshev_bounds = ChebyshevBounds::automatic;
   /// How levels that keep Chebyshev–Jacobi (after the options database has
   /// been read) run it. `petsc`: KSPCHEBYSHEV + PCJACOBI. `fused_double`: the
@@ -77,8 +83,11 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
 /// configure_pcmg's estimate otherwise. With Gershgorin bounds, a level whose
 /// preconditioner the options database changed from Jacobi (e.g.
 /// -mg_levels_pc_type sor) gets PETSc's eigenvalue estimate back, since the
-/// bound is one for D⁻¹A only. Levels where the options asked for an
-/// estimate or for eigenvalues themselves are left alone.
+/// bound is one for D⁻¹A only. With ssor bounds, a Chebyshev level
+/// preconditioned by symmetric SOR with 0 < ω < 2 on a one-process
+/// communicator gets [0.1, 1.1] and no estimate; other levels keep the
+/// estimate. Levels where the options asked for an estimate or for
+/// eigenvalues themselves are left alone.
 void reconcile_chebyshev_bounds(KSP ksp, const MultigridSettings& settings);
 
 }  // namespace warpfem::multigrid

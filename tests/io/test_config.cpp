@@ -210,6 +210,10 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"gershgorin\" bounds");
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "gershgorin", "smoother": "sor"})");
   expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"gershgorin\" bounds");
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "ssor", "smoother": "chebyshev_sor"})");
+  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_bounds, S::ChebyshevBounds::ssor);
+  j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "ssor"})");
+  expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"ssor\" bounds");
   j["solver"]["multigrid"] = json::parse(
       R"({"smoother": "chebyshev_sor", "cycle": "w", "coarse_operators": "galerkin", "smoothing_steps": 3})");
   const io::RunConfig cfg = io::parse_run_config(j, "config.json");
