@@ -47,7 +47,8 @@ Environment::Environment(int& argc, char**& argv) {
                                            static_cast<long>(getpid()));
     if (!session_base_.empty() && setenv("OMPI_MCA_orte_tmpdir_base", session_base_.c_str(), 0) != 0)
       session_base_.clear();
-    for (const auto& [name, value] : singleton_mca_defaults([](const char* name) { return std::getenv(name); }))
+    for (const auto& [name, value] :
+         singleton_mca_defaults([](const char* name) { return std::getenv(name); }))
       setenv(name.c_str(), value.c_str(), 0);  // a failure keeps Open MPI's defaults: slower, not wrong
   }
 #if WARPFEM_ADDRESS_SANITIZER

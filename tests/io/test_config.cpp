@@ -211,7 +211,8 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "gershgorin", "smoother": "sor"})");
   expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"gershgorin\" bounds");
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "ssor", "smoother": "chebyshev_sor"})");
-  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_bounds, S::ChebyshevBounds::ssor);
+  EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_bounds,
+            S::ChebyshevBounds::ssor);
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "ssor"})");
   expect_contains(error_of(j), "/solver/multigrid/chebyshev_bounds: \"ssor\" bounds");
   j["solver"]["multigrid"] = json::parse(

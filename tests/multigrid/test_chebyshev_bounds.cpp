@@ -55,7 +55,7 @@ double symmetric_gauss_seidel_lambda_max(Mat A) {
     return d;
   }();
   const VectorX diagonal = dense.diagonal();
-  const MatrixX lower = MatrixX(dense.triangularView<Eigen::Lower>());  // D + L
+  const MatrixX lower = MatrixX(dense.triangularView<Eigen::Lower>());              // D + L
   const MatrixX factor = lower * diagonal.cwiseSqrt().cwiseInverse().asDiagonal();  // M = factor factorᵀ
   const MatrixX inverse = factor.inverse();
   const MatrixX similar = inverse * dense * inverse.transpose();
