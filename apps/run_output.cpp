@@ -32,10 +32,7 @@ std::string RunOutput<dim>::write(const std::string& name, Vec state) {
        1,
        {},
        std::span<const double>(mesh_->map_det.data(), static_cast<std::size_t>(mesh_->map_det.size()))});
-  int rank = 0;
-  MPI_Comm_rank(comm_, &rank);
-  vtk.cell_fields.push_back(
-      {"rank", 1, std::vector<double>(static_cast<std::size_t>(mesh_->num_cells()), rank)});
+  vtk.rank_field = true;
   nodes_seconds_ = watch.seconds();
   const std::string file = io::write_vtk(comm_, vtk, settings_.directory, name);
   files_.push_back(file);

@@ -14,6 +14,8 @@
 #include <vtkPoints.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkUnsignedIntArray.h>
+#include <vtkUnsignedShortArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPUnstructuredGridWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -130,6 +132,21 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const Inde
   return grid;
 }
 
+/// The cell field "rank": every cell `rank`, in the smallest unsigned type holding size − 1.
+vtkSmartPointer<vtkDataArray> rank_array(vtkIdType cells, int rank, int size) {
+  vtkSmartPointer<vtkDataArray> a;
+  if (size <= 256)
+    a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  else if (size <= 65536)
+    a = vtkSmartPointer<vtkUnsignedShortArray>::New();
+  else
+    a = vtkSmartPointer<vtkUnsignedIntArray>::New();
+  a->SetName("rank");
+  a->SetNumberOfTuples(cells);
+  a->Fill(rank);
+  return a;
+}
+
 /// VTK's writers report most failures (a full disk included) through the error code and
 /// may still return 1 from Write(), so both are checked.
 void check_written(vtkXMLWriter& writer, int ok, const std::string& path) {
@@ -169,6 +186,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
                                    output.mesh->order, output, &output.mesh->simplex_cells)
                        : make_grid(output.cells->points, output.cells->cells, output.cells->cell_type,
                                    output.cells->order, output);
+    if (output.rank_field) grid->GetCellData()->AddArray(rank_array(grid->GetNumberOfCells(), rank, size));
   });
 
   log::debug("vtk: grid of ", grid->GetNumberOfPoints(), " points built in ",

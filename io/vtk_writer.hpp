@@ -45,6 +45,10 @@ struct VtkOutput {
   const VtkCells* cells = nullptr;
   std::vector<VtkField> point_fields;
   std::vector<VtkField> cell_fields;
+  /// Adds the cell field "rank" (the rank that wrote the cell, for viewing the
+  /// partition), in the smallest unsigned integer type that holds every rank:
+  /// one byte per cell below 256 ranks instead of a double.
+  bool rank_field = false;
   VtkCompression compression = VtkCompression::none;
 };
 

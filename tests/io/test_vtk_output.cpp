@@ -58,7 +58,11 @@ TEST(VtkOutput, VtuReadsBackWithPointsCellsAndSolution) {
   vtkDataArray* u = grid->GetPointData()->GetArray("u");
   ASSERT_NE(u, nullptr);
   ASSERT_NE(grid->GetPointData()->GetArray("det_Jf"), nullptr);
-  ASSERT_NE(grid->GetCellData()->GetArray("rank"), nullptr);
+  vtkDataArray* rank = grid->GetCellData()->GetArray("rank");
+  ASSERT_NE(rank, nullptr);
+  EXPECT_EQ(rank->GetDataType(), VTK_UNSIGNED_CHAR);  // one byte per cell, not a double
+  EXPECT_EQ(rank->GetRange()[0], 0.0);
+  EXPECT_EQ(rank->GetRange()[1], 0.0);
   // Linear data is reproduced exactly by P1: the stored field equals 1 + x + 2y at every point.
   double worst = 0;
   for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {

@@ -1,6 +1,11 @@
 // Run under mpiexec -n 2: the distributed solve equals the serial one.
 
 #include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLPUnstructuredGridReader.h>
 
 #include <cmath>
 #include <ostream>
@@ -50,6 +55,26 @@ TEST_P(MpiPoisson, TwoRanksEqualSerial) {
   EXPECT_LT(diff, 1e-9 * scale) << "max difference " << diff;
   EXPECT_NEAR(parallel.area, serial.area, 1e-12);
   EXPECT_EQ(parallel.output_file, "output/test_mpi/p" + std::to_string(GetParam()) + ".pvtu");
+  // Read back: every cell carries the rank that wrote it, one byte each.
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) {
+    vtkNew<vtkXMLPUnstructuredGridReader> reader;
+    reader->SetFileName(parallel.output_file.c_str());
+    reader->Update();
+    vtkDataArray* ranks = reader->GetOutput()->GetCellData()->GetArray("rank");
+    ASSERT_NE(ranks, nullptr);
+    EXPECT_EQ(ranks->GetDataType(), VTK_UNSIGNED_CHAR);
+    EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), parallel.num_cells);
+    Index on_rank1 = 0;
+    for (vtkIdType c = 0; c < ranks->GetNumberOfTuples(); ++c) {
+      const double r = ranks->GetTuple1(c);
+      ASSERT_TRUE(r == 0 || r == 1) << "cell " << c << ": rank " << r;
+      on_rank1 += r == 1;
+    }
+    EXPECT_GT(on_rank1, 0);
+    EXPECT_LT(on_rank1, parallel.num_cells);
+  }
 }
 
 namespace {
