@@ -46,7 +46,7 @@ struct PoissonSpec {
   std::vector<BoundarySpec> dirichlet;
   std::vector<BoundarySpec> neumann;  ///< ∂u/∂n = h (outward normal)
   std::string exact_solution;         ///< optional: report L2/H1 errors against it
-  std::string geometry = "cached";    ///< cached | streamed (fem::GeometryStorage)
+  std::string geometry = "auto";      ///< cached | streamed (fem::GeometryStorage); auto: resolved when read
 };
 
 struct SolverSpec {

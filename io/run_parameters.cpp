@@ -34,11 +34,14 @@ ParameterTable<PoissonSpec> make_poisson() {
             "with half the map evaluations of 2·order + 2. `warpfem study` takes 2·order + 2 (it compares "
             "areas and norms across discretizations)")
       .with_default("0 = 2·order");
-  t.choice("geometry", &PoissonSpec::geometry, {"cached", "streamed"},
+  t.choice("geometry", &PoissonSpec::geometry, {"auto", "cached", "streamed"},
            "`WarpedGeometry` storage of the finest level: cached keeps x, J⁻ᵀ, w det J at every quadrature "
            "point (56 bytes each, the largest array of the problem); streamed keeps nothing and evaluates "
-           "the map again in every pass (assembly, each error norm) — about half the memory and a faster "
-           "set-up for a problem assembled and evaluated once; multigrid coarse levels always stream");
+           "the map again in every pass (the assembly, which also sums the area, and each error norm): "
+           "about a fifth less memory and a faster run for a problem assembled and evaluated once, since "
+           "fresh memory is dear ([BENCHMARKS.md](../BENCHMARKS.md#memory-pages)). `auto`: streamed, "
+           "cached when `exact_solution` asks for error norms (a second pass); multigrid coarse levels "
+           "always stream");
   t.expression("source", &PoissonSpec::source,
                "g; a constant (no x, y, z, t) is integrated without evaluating the expression at every "
                "quadrature point");

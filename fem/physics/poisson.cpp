@@ -172,6 +172,7 @@ void PoissonProblem<dim>::assemble() {
   const bool constant_gradients = constant_gradients_;
   const IndexTable& cell_dofs = dofs_.cell_dofs();
   const std::vector<char>& fixed = fixed_;
+  double local_area = 0;
   // ∇φa·∇φb = ĝa^T M ĝb with the metric M = w det J J⁻¹J⁻ᵀ (kMetric numbers):
   // the push-forward of the gradients is folded into it, so the values object
   // computes none (P1 on simplices: the metric summed over the cell times the
@@ -190,6 +191,7 @@ void PoissonProblem<dim>::assemble() {
           },
           [&](const CellValues<dim>& v, Index q) __attribute__((always_inline)) {
             const double wp = v.JxW(q);
+            local_area += wp;
             if constexpr (dim == 2) {
               const double j00 = v.inverse_transpose(q, 0), j01 = v.inverse_transpose(q, 1),
                            j10 = v.inverse_transpose(q, 2), j11 = v.inverse_transpose(q, 3);
@@ -268,6 +270,7 @@ void PoissonProblem<dim>::assemble() {
   assemble_neumann(assembler);
   assembler.finish();
   apply_dirichlet();
+  assembled_local_area_ = local_area;
 }
 
 template <int dim>
@@ -450,10 +453,13 @@ ErrorNorms PoissonProblem<dim>::errors(const ScalarFunction<dim>& exact,
 
 template <int dim>
 double PoissonProblem<dim>::area() const {
-  double local = 0, global = 0;
-  CellValues<dim> values(dofs_.element(), geometry_, 0);
-  integrate_cells(geometry_, values,
-                  point_kernel([&](const CellValues<dim>& v, Index q) { local += v.JxW(q); }));
+  double local = assembled_local_area_, global = 0;
+  if (local < 0) {
+    local = 0;
+    CellValues<dim> values(dofs_.element(), geometry_, 0);
+    integrate_cells(geometry_, values,
+                    point_kernel([&](const CellValues<dim>& v, Index q) { local += v.JxW(q); }));
+  }
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, comm_);
   return global;
 }

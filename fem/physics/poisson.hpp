@@ -104,7 +104,9 @@ class PoissonProblem final : public LinearProblem<dim> {
 
   /// L2 and H1-seminorm errors against an exact solution (global over ranks).
   ErrorNorms errors(const ScalarFunction<dim>& exact, const GradientFunction<dim>& exact_gradient) const;
-  /// ∫ 1 over the warped domain (the thesis' s(T)).
+  /// ∫ 1 over the warped domain (the thesis' s(T)). Collective. Summed by
+  /// assemble() on the way (the same sum in the same order), so that a
+  /// streamed geometry is not evaluated again for it.
   double area() const;
   /// ‖u_h‖_L2 over the warped domain.
   double solution_l2_norm() const;
@@ -146,7 +148,8 @@ class PoissonProblem final : public LinearProblem<dim> {
   std::vector<int> packed_entry_;  // entry a n + b of the element matrix -> its pair (row)
   std::array<MatrixX, kMetric> gradient_products_;
   std::array<std::vector<double>, kMetric> constant_products_;  // constant gradients: full n x n, any point
-  bool constant_gradients_ = false;  // P1 on simplices: sum the metric over the cell first
+  bool constant_gradients_ = false;   // P1 on simplices: sum the metric over the cell first
+  double assembled_local_area_ = -1;  // Σ w det J over this rank's cells from assemble(); −1 before
   bool serial_ = true;
   // Dirichlet DOFs on the rank's stored boundary facets, owned or not: a flag
   // per DOF (empty without Dirichlet conditions) and the data at each flagged

@@ -118,7 +118,11 @@ TEST(WarpedGeometryStorage, PoissonDoesNotDependOnTheStorage) {
     fem::PoissonProblem<2> cached(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, data);
     fem::PoissonProblem<2> streamed(MPI_COMM_SELF, mesh, map, order, 2 * order + 2, data,
                                     fem::GeometryStorage::streamed);
+    // The area assemble() sums on the way is the one a pass of its own gives, bit for bit.
+    const double area_by_pass = cached.area();
+    EXPECT_GT(area_by_pass, 0.5);
     cached.assemble();
+    EXPECT_EQ(cached.area(), area_by_pass) << "P" << order;
     streamed.assemble();
     PetscReal a_norm = 0, diff = 0, b_norm = 0;
     WARPFEM_PETSC_CHECK(MatNorm(cached.matrix(), NORM_FROBENIUS, &a_norm));
