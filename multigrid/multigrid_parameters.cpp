@@ -42,7 +42,11 @@ ParameterTable<MultigridSettings> make_table() {
            "to 15 ([multigrid.md](multigrid.md#smoothed-prolongations-for-strongly-warped-maps)); the "
            "set-up then costs the sparse products of every level, 3.7 s at 1.12 M P1 DOFs (0.07 s for the "
            "geometric P). Poisson only");
-  t.integer("smoothing_steps", &S::smoothing_steps, 1, 20, "pre- and post-smoothing steps per level");
+  t.integer("smoothing_steps", &S::smoothing_steps, 0, 20,
+            "pre- and post-smoothing steps per level. 0: one with `chebyshev_sor` (one symmetric SOR sweep "
+            "pair per step; the P2 gear at 1.31 M DOFs takes 12 V-cycles instead of 9 and solves faster, "
+            "P2 tetrahedra 11 instead of 8, likewise), two with the other smoothers")
+      .with_default("0 = auto");
   t.choice("chebyshev_bounds", &S::chebyshev_bounds,
            Names<S::ChebyshevBounds>{{"auto", S::ChebyshevBounds::automatic},
                                      {"estimate", S::ChebyshevBounds::estimate},

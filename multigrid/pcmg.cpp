@@ -73,6 +73,11 @@ bool symmetric_sor_on_one_process(KSP smoother, PC pc) {
 
 }  // namespace
 
+int smoothing_steps_for(const MultigridSettings& settings) {
+  if (settings.smoothing_steps > 0) return settings.smoothing_steps;
+  return settings.smoother == MultigridSettings::Smoother::chebyshev_sor ? 1 : 2;
+}
+
 void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::vector<Mat>& operators,
                     const MultigridSettings& settings) {
   const int levels = static_cast<int>(interpolations.size()) + 1;
@@ -83,7 +88,7 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
                 {.file = "",
                  .key_path = "",
                  .hint = "pass one operator per level, or only the finest with Galerkin coarse operators"});
-  require(settings.smoothing_steps >= 1, "configure_pcmg: smoothing_steps must be >= 1");
+  require(settings.smoothing_steps >= 0, "configure_pcmg: smoothing_steps must be >= 0 (0: automatic)");
   MPI_Comm comm = MPI_COMM_NULL;
   WARPFEM_PETSC_CHECK(PetscObjectGetComm(reinterpret_cast<PetscObject>(ksp), &comm));
   int size = 1;
@@ -100,7 +105,7 @@ void configure_pcmg(KSP ksp, const std::vector<Mat>& interpolations, const std::
   WARPFEM_PETSC_CHECK(
       PCMGSetCycleType(pc, settings.cycle == MultigridSettings::Cycle::w ? PC_MG_CYCLE_W : PC_MG_CYCLE_V));
   WARPFEM_PETSC_CHECK(PCMGSetGalerkin(pc, galerkin ? PC_MG_GALERKIN_BOTH : PC_MG_GALERKIN_NONE));
-  WARPFEM_PETSC_CHECK(PCMGSetNumberSmooth(pc, settings.smoothing_steps));
+  WARPFEM_PETSC_CHECK(PCMGSetNumberSmooth(pc, smoothing_steps_for(settings)));
   for (int l = 1; l < levels; ++l) WARPFEM_PETSC_CHECK(PCMGSetInterpolation(pc, l, interpolations[l - 1]));
 
   const bool gershgorin = settings.chebyshev_bounds == MultigridSettings::ChebyshevBounds::gershgorin;

@@ -27,7 +27,8 @@ struct MultigridSettings {
   Cycle cycle = Cycle::v;  ///< -pc_mg_cycle_type v|w; f is -pc_mg_type full
   Smoother smoother = Smoother::automatic;
   CoarseOperators coarse_operators = CoarseOperators::rediscretization;  ///< -pc_mg_galerkin
-  int smoothing_steps = 2;  ///< pre- and post-smoothing steps; override: -mg_levels_ksp_max_it
+  /// Pre- and post-smoothing steps; 0: smoothing_steps_for() picks. Override: -mg_levels_ksp_max_it.
+  int smoothing_steps = 0;
   /// Where the Chebyshev smoothers' target interval [0.1, 1.1]·λmax comes from:
   /// `estimate`: λmax of M⁻¹A from 10 CG steps per level at set-up (PETSc's way);
   /// `gershgorin`: [0.1, 1]·jacobi_gershgorin_bound(A_l), a guaranteed upper bound
@@ -62,6 +63,12 @@ struct MultigridSettings {
   enum class Prolongation { geometric, smoothed };
   Prolongation prolongation = Prolongation::geometric;
 };
+
+/// The smoothing steps `settings` ask for: its own, or with 0 one Chebyshev–SOR
+/// step (one symmetric sweep pair does the work of two Jacobi steps: fewer
+/// V-cycles do not pay for the second sweep, in 2D and 3D) and two of any
+/// other smoother.
+int smoothing_steps_for(const MultigridSettings& settings);
 
 /// Makes the preconditioner of `ksp` a PCMG with interpolations.size() + 1
 /// levels (level 0 coarsest). `interpolations[l]` maps level l to level l + 1

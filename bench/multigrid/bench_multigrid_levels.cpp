@@ -100,9 +100,9 @@ int run(int argc, char** argv) {
   const std::string prolongation = string_option("-prolongation", "geometric");
   if (prolongation != "geometric" && prolongation != "smoothed")
     throw Error("-prolongation " + prolongation + ": expected geometric or smoothed");
-  // The config's solver.multigrid.smoother / smoothing_steps (defaults: chebyshev_jacobi, 2).
+  // The config's solver.multigrid.smoother / smoothing_steps (defaults: chebyshev_jacobi, 0 = automatic).
   const std::string smoother = string_option("-smoother", "chebyshev_jacobi");
-  const int smoothing_steps = static_cast<int>(int_option("-smoothing_steps", 2));
+  const int smoothing_steps = static_cast<int>(int_option("-smoothing_steps", 0));
   // solver.multigrid.chebyshev_kernel: petsc | fused_double | fused_single (default)
   const std::string kernel = string_option("-chebyshev_kernel", "fused_single");
   if (kernel != "petsc" && kernel != "fused_double" && kernel != "fused_single")

@@ -184,7 +184,7 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   EXPECT_EQ(defaults.solver.multigrid.smoother, S::Smoother::automatic);
   EXPECT_EQ(defaults.solver.multigrid.cycle, S::Cycle::v);
   EXPECT_EQ(defaults.solver.multigrid.coarse_operators, S::CoarseOperators::rediscretization);
-  EXPECT_EQ(defaults.solver.multigrid.smoothing_steps, 2);
+  EXPECT_EQ(defaults.solver.multigrid.smoothing_steps, 0);  // automatic: smoothing_steps_for()
   EXPECT_EQ(defaults.solver.multigrid.chebyshev_bounds, S::ChebyshevBounds::automatic);
   j["solver"]["multigrid"] = json::parse(R"({"chebyshev_bounds": "estimate"})");
   EXPECT_EQ(io::parse_run_config(j, "config.json").solver.multigrid.chebyshev_bounds,
@@ -229,7 +229,7 @@ TEST(RunConfig, MultigridSettingsAreChoices) {
   EXPECT_EQ(cfg.solver.multigrid.smoothing_steps, 3);
   j["solver"]["multigrid"]["smoother"] = "gauss";
   expect_contains(error_of(j), "/solver/multigrid/smoother: unknown value \"gauss\"");
-  j["solver"]["multigrid"] = json::parse(R"({"smoothing_steps": 0})");
+  j["solver"]["multigrid"] = json::parse(R"({"smoothing_steps": -1})");
   expect_contains(error_of(j), "/solver/multigrid/smoothing_steps");
   j["solver"]["multigrid"] = json::parse(R"({"cycles": "w"})");
   expect_contains(error_of(j), "/solver/multigrid/cycles: unknown key");
