@@ -19,8 +19,8 @@ using namespace warpfem;
 
 namespace {
 
-/// λmax(D⁻¹A) = λmax(D^{-1/2} A D^{-1/2}) of a small sequential matrix, densely.
-double jacobi_lambda_max(Mat A) {
+/// A small sequential matrix as a dense one.
+MatrixX dense_copy(Mat A) {
   PetscInt n = 0;
   WARPFEM_PETSC_CHECK(MatGetSize(A, &n, nullptr));
   MatrixX dense = MatrixX::Zero(n, n);
@@ -32,6 +32,12 @@ double jacobi_lambda_max(Mat A) {
     for (PetscInt k = 0; k < nz; ++k) dense(r, cols[k]) = vals[k];
     WARPFEM_PETSC_CHECK(MatRestoreRow(A, r, &nz, &cols, &vals));
   }
+  return dense;
+}
+
+/// λmax(D⁻¹A) = λmax(D^{-1/2} A D^{-1/2}) of a small sequential matrix, densely.
+double jacobi_lambda_max(Mat A) {
+  const MatrixX dense = dense_copy(A);
   const VectorX s = dense.diagonal().cwiseSqrt().cwiseInverse();
   const MatrixX scaled = s.asDiagonal() * dense * s.asDiagonal();
   return Eigen::SelfAdjointEigenSolver<MatrixX>(scaled, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
@@ -40,20 +46,7 @@ double jacobi_lambda_max(Mat A) {
 /// The largest eigenvalue of M⁻¹A for symmetric Gauss–Seidel, M = (D + L) D⁻¹ (D + U),
 /// densely (M⁻¹A is similar to the symmetric L_M⁻¹ A L_M⁻ᵀ, M = L_M L_Mᵀ).
 double symmetric_gauss_seidel_lambda_max(Mat A) {
-  const MatrixX dense = [&] {
-    PetscInt n = 0;
-    WARPFEM_PETSC_CHECK(MatGetSize(A, &n, nullptr));
-    MatrixX d = MatrixX::Zero(n, n);
-    for (PetscInt r = 0; r < n; ++r) {
-      PetscInt nz = 0;
-      const PetscInt* cols = nullptr;
-      const PetscScalar* vals = nullptr;
-      WARPFEM_PETSC_CHECK(MatGetRow(A, r, &nz, &cols, &vals));
-      for (PetscInt k = 0; k < nz; ++k) d(r, cols[k]) = vals[k];
-      WARPFEM_PETSC_CHECK(MatRestoreRow(A, r, &nz, &cols, &vals));
-    }
-    return d;
-  }();
+  const MatrixX dense = dense_copy(A);
   const VectorX diagonal = dense.diagonal();
   const MatrixX lower = MatrixX(dense.triangularView<Eigen::Lower>());              // D + L
   const MatrixX factor = lower * diagonal.cwiseSqrt().cwiseInverse().asDiagonal();  // M = factor factorᵀ
