@@ -65,9 +65,8 @@ struct MultigridSettings {
 };
 
 /// The smoothing steps `settings` ask for: its own, or with 0 one Chebyshev–SOR
-/// step (one symmetric sweep pair does the work of two Jacobi steps: fewer
-/// V-cycles do not pay for the second sweep, in 2D and 3D) and two of any
-/// other smoother.
+/// step (a symmetric sweep pair each; the V-cycles a second step saves do not
+/// pay for it, measured in 2D and 3D) and two of any other smoother.
 int smoothing_steps_for(const MultigridSettings& settings);
 
 /// Makes the preconditioner of `ksp` a PCMG with interpolations.size() + 1

@@ -453,9 +453,8 @@ ErrorNorms PoissonProblem<dim>::errors(const ScalarFunction<dim>& exact,
 
 template <int dim>
 double PoissonProblem<dim>::area() const {
-  double local = assembled_local_area_, global = 0;
-  if (local < 0) {
-    local = 0;
+  double local = assembled_local_area_.value_or(0), global = 0;
+  if (!assembled_local_area_) {
     CellValues<dim> values(dofs_.element(), geometry_, 0);
     integrate_cells(geometry_, values,
                     point_kernel([&](const CellValues<dim>& v, Index q) { local += v.JxW(q); }));

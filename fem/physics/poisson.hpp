@@ -148,8 +148,8 @@ class PoissonProblem final : public LinearProblem<dim> {
   std::vector<int> packed_entry_;  // entry a n + b of the element matrix -> its pair (row)
   std::array<MatrixX, kMetric> gradient_products_;
   std::array<std::vector<double>, kMetric> constant_products_;  // constant gradients: full n x n, any point
-  bool constant_gradients_ = false;   // P1 on simplices: sum the metric over the cell first
-  double assembled_local_area_ = -1;  // Σ w det J over this rank's cells from assemble(); −1 before
+  bool constant_gradients_ = false;             // P1 on simplices: sum the metric over the cell first
+  std::optional<double> assembled_local_area_;  // Σ w det J over this rank's cells, from assemble()
   bool serial_ = true;
   // Dirichlet DOFs on the rank's stored boundary facets, owned or not: a flag
   // per DOF (empty without Dirichlet conditions) and the data at each flagged
