@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <sstream>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -33,10 +34,13 @@ std::string Environment::singleton_session_base(const std::function<const char*(
   return std::string(tmp && *tmp ? tmp : "/tmp") + "/warpfem-mpi-" + std::to_string(pid);
 }
 
-std::vector<std::pair<std::string, std::string>> Environment::singleton_mca_defaults(
+std::vector<std::pair<std::string, std::string>> Environment::mca_defaults(
     const std::function<const char*(const char*)>& env) {
-  if (started_by_launcher(env)) return {};
-  return {{"OMPI_MCA_ess_singleton_isolated", "1"}, {"OMPI_MCA_pml", "ob1"}};
+  if (!started_by_launcher(env)) return {{"OMPI_MCA_ess_singleton_isolated", "1"}, {"OMPI_MCA_pml", "ob1"}};
+  const char* size = env("OMPI_COMM_WORLD_SIZE");
+  const char* local_size = env("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (size && local_size && *size && std::string_view(size) == local_size) return {{"OMPI_MCA_pml", "ob1"}};
+  return {};
 }
 
 Environment::Environment(int& argc, char**& argv) {
@@ -47,8 +51,7 @@ Environment::Environment(int& argc, char**& argv) {
                                            static_cast<long>(getpid()));
     if (!session_base_.empty() && setenv("OMPI_MCA_orte_tmpdir_base", session_base_.c_str(), 0) != 0)
       session_base_.clear();
-    for (const auto& [name, value] :
-         singleton_mca_defaults([](const char* name) { return std::getenv(name); }))
+    for (const auto& [name, value] : mca_defaults([](const char* name) { return std::getenv(name); }))
       setenv(name.c_str(), value.c_str(), 0);  // a failure keeps Open MPI's defaults: slower, not wrong
   }
 #if WARPFEM_ADDRESS_SANITIZER

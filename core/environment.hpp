@@ -25,8 +25,8 @@ class Environment {
   /// File exists", open-mpi/ompi#8510) — seen under `ctest -j`, and possible in
   /// any script that starts several runs at once.
   ///
-  /// A singleton also gets singleton_mca_defaults() (variables already set
-  /// keep their values).
+  /// Open MPI parameters from mca_defaults() are set before MPI starts
+  /// (variables already set keep their values).
   Environment(int& argc, char**& argv);
   ~Environment();
   Environment(const Environment&) = delete;
@@ -45,15 +45,19 @@ class Environment {
   /// OMPI_MCA_orte_tmpdir_base is already set.
   static std::string singleton_session_base(const std::function<const char*(const char*)>& env, long pid);
 
-  /// Open MPI parameters for a process no launcher started, as environment
-  /// variables: no support daemon (`ess_singleton_isolated`: warpfem never
-  /// spawns processes) and the ob1 point-to-point layer, which a single
-  /// process needs nothing else from. Without them MPI_Init forks `orted` and
-  /// opens every network library, whose start-up waits for hardware that may
-  /// not exist (Debian's PSM2 polls for Omni-Path adapters), which costs more
-  /// than a small run. Empty when a launcher started the process, which then
-  /// keeps what mpiexec chose.
-  static std::vector<std::pair<std::string, std::string>> singleton_mca_defaults(
+  /// Open MPI parameters for this process, as environment variables.
+  ///  - No launcher started it (a singleton): no support daemon
+  ///    (`ess_singleton_isolated`: warpfem never spawns processes) and the ob1
+  ///    point-to-point layer, which a single process needs nothing else from.
+  ///  - Open MPI's mpiexec started every rank on this one node
+  ///    (OMPI_COMM_WORLD_LOCAL_SIZE = OMPI_COMM_WORLD_SIZE): ob1, whose
+  ///    shared-memory transport is what ranks on one node talk through. Every
+  ///    rank sees the same two sizes, so all choose alike.
+  /// Without ob1, MPI_Init opens every network library, whose start-up waits
+  /// for hardware that may not exist (Debian's PSM2 polls for Omni-Path
+  /// adapters), which costs more than a small run. Empty otherwise (ranks on
+  /// several nodes, or another launcher): they keep what mpiexec chose.
+  static std::vector<std::pair<std::string, std::string>> mca_defaults(
       const std::function<const char*(const char*)>& env);
 
  private:

@@ -54,16 +54,32 @@ TEST(Environment, SingletonsSkipTheSupportDaemonAndNetworkLibraries) {
     const auto it = vars.find(name);
     return it == vars.end() ? nullptr : it->second.c_str();
   };
-  const auto defaults = Environment::singleton_mca_defaults(env);
+  const auto defaults = Environment::mca_defaults(env);
   const std::map<std::string, std::string> as_map(defaults.begin(), defaults.end());
   EXPECT_EQ(as_map.size(), 2u);
   EXPECT_EQ(as_map.at("OMPI_MCA_ess_singleton_isolated"), "1");
   EXPECT_EQ(as_map.at("OMPI_MCA_pml"), "ob1");
+  // Other launchers, or Open MPI's without the sizes: what the launcher chose.
   for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"}) {
     vars[launched] = "2";
-    EXPECT_TRUE(Environment::singleton_mca_defaults(env).empty()) << launched;
+    EXPECT_TRUE(Environment::mca_defaults(env).empty()) << launched;
     vars.erase(launched);
   }
+}
+
+TEST(Environment, RanksOnOneNodeUseTheSharedMemoryLayerOnly) {
+  std::map<std::string, std::string> vars{{"OMPI_COMM_WORLD_SIZE", "4"}, {"PMIX_RANK", "1"}};
+  const auto env = [&vars](const char* name) -> const char* {
+    const auto it = vars.find(name);
+    return it == vars.end() ? nullptr : it->second.c_str();
+  };
+  vars["OMPI_COMM_WORLD_LOCAL_SIZE"] = "4";
+  const auto one_node = Environment::mca_defaults(env);
+  ASSERT_EQ(one_node.size(), 1u);
+  EXPECT_EQ(one_node[0].first, "OMPI_MCA_pml");
+  EXPECT_EQ(one_node[0].second, "ob1");
+  vars["OMPI_COMM_WORLD_LOCAL_SIZE"] = "2";  // two nodes: the network layer mpiexec picks
+  EXPECT_TRUE(Environment::mca_defaults(env).empty());
 }
 
 // This test process, if no launcher started it: MPI came up with the
@@ -76,6 +92,25 @@ TEST(Environment, SingletonRunsWithItsMpiDefaults) {
   int size = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   EXPECT_EQ(size, 1);
+}
+
+// This test process, if Open MPI's mpiexec started all its ranks on this node
+// (test_mpi_core): MPI came up with ob1, and so did every other rank.
+TEST(Environment, RanksOnOneNodeRunWithTheirMpiDefaults) {
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const char* local_size = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (!size || !local_size || std::string(size) != local_size)
+    GTEST_SKIP() << "not started by Open MPI's mpiexec on one node";
+  const char* pml = std::getenv("OMPI_MCA_pml");
+  ASSERT_NE(pml, nullptr);
+  int ranks = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  EXPECT_EQ(std::to_string(ranks), size);
+  // The layers agree, or MPI_Init would have failed; a message both ways proves it carries data.
+  int rank = 0, sum = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Allreduce(&rank, &sum, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(sum, ranks * (ranks - 1) / 2);
 }
 
 // This test process: if it set its own base (a singleton under CTest), Open
