@@ -121,17 +121,16 @@ class ElasticityPhysics final : public Physics<dim> {
     const VectorX ur = space.gather_relevant(u);
     std::vector<double> disp;  // VTK vectors have three components (z = 0 in 2D)
     for (int c = 0; c < dim; ++c) {
-      const VectorX uc = mesh.interpolate(space.dofs(), space.nodes(), space.component(ur, c));
-      disp.resize(static_cast<std::size_t>(3 * uc.size()), 0.0);
-      for (Index i = 0; i < uc.size(); ++i) disp[static_cast<std::size_t>(3 * i + c)] = uc(i);
+      const std::vector<double> uc = mesh.interpolate(space.dofs(), space.nodes(), space.component(ur, c));
+      disp.resize(3 * uc.size(), 0.0);
+      for (std::size_t i = 0; i < uc.size(); ++i) disp[3 * i + static_cast<std::size_t>(c)] = uc[i];
     }
     const auto cells = op_->point_values(u);
     const fem::NodalProjection<dim>& p = *projection_;
-    const VectorX vm = mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.von_mises));
-    const VectorX det = mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.det_F));
-    vtk.point_fields.push_back({"displacement", 3, disp});
-    vtk.point_fields.push_back({"von_mises", 1, std::vector<double>(vm.data(), vm.data() + vm.size())});
-    vtk.point_fields.push_back({"det_F", 1, std::vector<double>(det.data(), det.data() + det.size())});
+    vtk.point_fields.push_back({"displacement", 3, std::move(disp)});
+    vtk.point_fields.push_back(
+        {"von_mises", 1, mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.von_mises))});
+    vtk.point_fields.push_back({"det_F", 1, mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.det_F))});
     vtk.cell_fields.push_back({"det_F_min", 1, mesh.cell_values(cells.min_det_F)});
     vtk.cell_fields.push_back({"von_mises_mean", 1, mesh.cell_values(cells.mean_von_mises)});
   }

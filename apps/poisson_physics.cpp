@@ -126,8 +126,8 @@ class PoissonPhysics final : public Physics<dim> {
   Vec state() const override { return problem().solution(); }
   void add_fields(const fem::OutputMesh<dim>& mesh, Vec u, io::VtkOutput<dim>& vtk) const override {
     const fem::PoissonProblem<dim>& p = problem();
-    const VectorX values = mesh.interpolate(p.dofs(), p.distribution(), p.distribution().gather_relevant(u));
-    vtk.point_fields.push_back({"u", 1, std::vector<double>(values.data(), values.data() + values.size())});
+    vtk.point_fields.push_back(
+        {"u", 1, mesh.interpolate(p.dofs(), p.distribution(), p.distribution().gather_relevant(u))});
   }
 
  private:

@@ -1542,11 +1542,11 @@ std::vector<double> OutputMesh<dim>::cell_values(const VectorX& per_local_cell) 
 }
 
 template <int dim>
-VectorX OutputMesh<dim>::interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
-                                     const VectorX& relevant_values) const {
+std::vector<double> OutputMesh<dim>::interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
+                                                 const VectorX& relevant_values) const {
   const Index nmesh = static_cast<Index>(node_in_cell_.size());
-  VectorX values(nmesh + static_cast<Index>(added_node_source_.size()));
-  prefault(values.data(), static_cast<std::size_t>(values.size()) * sizeof(double));
+  std::vector<double> values;
+  resize_prefaulted(values, node_in_cell_.size() + added_node_source_.size());
   const Index ndofs = dofs.cell_dofs().cols();
   const auto value = [&](const auto& phi, Index row, Index cell) {
     double v = 0;
@@ -1561,7 +1561,7 @@ VectorX OutputMesh<dim>::interpolate(const DofMap<dim>& dofs, const DofDistribut
   parallel_for(nmesh, 1 << 14, [&](Index first, Index last) {
     for (Index p = first; p < last; ++p) {
       const Index code = node_in_cell_[static_cast<std::size_t>(p)];
-      values(p) = value(phi_nodes, code % nloc, code / nloc);
+      values[static_cast<std::size_t>(p)] = value(phi_nodes, code % nloc, code / nloc);
     }
   });
   // Nodes added by subdivision: the basis at their points, in blocks.
@@ -1574,7 +1574,8 @@ VectorX OutputMesh<dim>::interpolate(const DofMap<dim>& dofs, const DofDistribut
       xi.row(p) = added_node_source_[static_cast<std::size_t>(start + p)].xi.transpose();
     const MatrixX phi = dofs.element().values(xi);  // nodes x element dofs
     for (Index p = 0; p < count; ++p)
-      values(nmesh + start + p) = value(phi, p, added_node_source_[static_cast<std::size_t>(start + p)].cell);
+      values[static_cast<std::size_t>(nmesh + start + p)] =
+          value(phi, p, added_node_source_[static_cast<std::size_t>(start + p)].cell);
   }
   return values;
 }

@@ -47,8 +47,8 @@ struct OutputMesh {
   std::vector<double> cell_values(const VectorX& per_local_cell) const;
 
   /// Values at the nodes of the FE function with coefficients `relevant_values`
-  /// (ordered as dist.relevant_dofs()).
-  VectorX interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
+  /// (ordered as dist.relevant_dofs()), in the form a VTK field takes them.
+  std::vector<double> interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
                       const VectorX& relevant_values) const;
 
  private:

@@ -279,9 +279,11 @@ TEST(UntangledOutput, QuadrilateralsAtAnOpenedCornerAreWrittenAsStraightTriangle
   for (std::size_t i = 0; i < relevant.size(); ++i)
     coefficients(static_cast<Index>(i)) =
         quadratic(dofs.dof_points()(relevant[i], 0), dofs.dof_points()(relevant[i], 1));
-  const VectorX values = out.interpolate(dofs, dist, coefficients);
+  const std::vector<double> values = out.interpolate(dofs, dist, coefficients);
+  ASSERT_EQ(values.size(), static_cast<std::size_t>(out.reference_points.rows()));
   for (Index p = 0; p < out.reference_points.rows(); ++p)
-    ASSERT_NEAR(values(p), quadratic(out.reference_points(p, 0), out.reference_points(p, 1)), 1e-12)
+    ASSERT_NEAR(values[static_cast<std::size_t>(p)],
+                quadratic(out.reference_points(p, 0), out.reference_points(p, 1)), 1e-12)
         << "node " << p;
 
   expect_written_unfolded(out, "opened_corner_quadrilateral");
@@ -331,9 +333,11 @@ TEST(UntangledOutput, HexahedraAtAnOpenedEdgeAreWrittenAsStraightTetrahedra) {
   VectorX coefficients(static_cast<Index>(relevant.size()));
   for (std::size_t i = 0; i < relevant.size(); ++i)
     coefficients(static_cast<Index>(i)) = quadratic(dofs.dof_points().row(relevant[i]).transpose());
-  const VectorX values = out.interpolate(dofs, dist, coefficients);
+  const std::vector<double> values = out.interpolate(dofs, dist, coefficients);
+  ASSERT_EQ(values.size(), static_cast<std::size_t>(out.reference_points.rows()));
   for (Index p = 0; p < out.reference_points.rows(); ++p)
-    ASSERT_NEAR(values(p), quadratic(out.reference_points.row(p).transpose()), 1e-12) << "node " << p;
+    ASSERT_NEAR(values[static_cast<std::size_t>(p)], quadratic(out.reference_points.row(p).transpose()), 1e-12)
+        << "node " << p;
 
   expect_written_unfolded(out, "hexahedra_opened_edge");
 }
