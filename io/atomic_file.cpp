@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "io/early_writeback.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;
@@ -146,7 +147,10 @@ void write_atomically(const std::string& path, const std::function<void(const st
   prepare_output_directory(directory);
   const std::string tmp = temporary_path(directory, final_path.filename().string());
   try {
-    write(tmp);
+    {
+      const EarlyWriteback writeback(tmp);
+      write(tmp);
+    }
     std::error_code ec;
     if (!fs::is_regular_file(tmp, ec))
       throw Error("the writer produced no file", {.file = path, .key_path = "", .hint = kWriteHint});

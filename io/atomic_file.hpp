@@ -4,7 +4,8 @@
 // leaves a truncated result behind and an old result stays until the new one is complete.
 //
 // Every step is checked: the writer's own status, then fsync of the temporary file (a full
-// disk on a file system with delayed allocation is often reported only there), then the
+// disk on a file system with delayed allocation is often reported only there; its
+// writeback starts while the writer is still writing, see EarlyWriteback), then the
 // rename, then fsync of the directory. Temporary names carry the host and process id,
 // `.<name>.tmp-<host>-<pid>`, so that leftovers of a killed run can be told from the files
 // of a run still in progress, and removed by the next run on the same host.

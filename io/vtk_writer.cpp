@@ -12,6 +12,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkSOADataArrayTemplate.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnsignedIntArray.h>
@@ -21,6 +22,8 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <new>
 #include <filesystem>
 #include <limits>
 #include <type_traits>
@@ -30,6 +33,7 @@
 #include "core/prefault.hpp"
 #include "core/timer.hpp"
 #include "io/atomic_file.hpp"
+#include "io/early_writeback.hpp"
 
 namespace warpfem::io {
 namespace fs = std::filesystem;
@@ -80,13 +84,22 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const PointTable& xyz, const Inde
   constexpr int cols = PointTable::ColsAtCompileTime;
   const Index npoints = xyz.rows(), ncells = table.rows(), nodes_per_cell = table.cols();
   const Index nsimplices = simplices ? simplices->rows() : 0;
-  vtkNew<vtkDoubleArray> coordinates;
+  // The point table is column-major: its columns are lent to VTK as the
+  // components of a structure-of-arrays, not copied into x, y, z triples. The
+  // missing z of 2D points is a zero array from calloc, whose pages the writer
+  // only reads (the kernel's zero page), so it costs no fresh memory.
+  static_assert(!PointTable::IsRowMajor);
+  vtkNew<vtkSOADataArrayTemplate<double>> coordinates;
   coordinates->SetNumberOfComponents(3);
-  coordinates->SetNumberOfTuples(npoints);
-  double* xyz_out = coordinates->GetPointer(0);
-  prefault(xyz_out, static_cast<std::size_t>(3 * npoints) * sizeof(double));
-  for (Index i = 0; i < npoints; ++i)
-    for (int d = 0; d < 3; ++d) xyz_out[3 * i + d] = d < cols ? xyz(i, d) : 0.0;
+  for (int d = 0; d < cols; ++d)
+    coordinates->SetArray(d, const_cast<double*>(xyz.col(d).data()), npoints, /*updateMaxId=*/true,
+                          /*save=*/true);
+  for (int d = cols; d < 3; ++d) {
+    void* zeros = std::calloc(static_cast<std::size_t>(std::max<Index>(npoints, 1)), sizeof(double));
+    if (!zeros) throw std::bad_alloc();
+    coordinates->SetArray(d, static_cast<double*>(zeros), npoints, /*updateMaxId=*/true, /*save=*/false,
+                          vtkSOADataArrayTemplate<double>::VTK_DATA_ARRAY_FREE);
+  }
   vtkNew<vtkPoints> points;
   points->SetData(coordinates);
   grid->SetPoints(points);
@@ -248,7 +261,11 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
       writer->SetDataModeToAppended();
       writer->EncodeAppendedDataOff();
       writer->SetCompressorType(compressor_type(output.compression));  // passed on to the pieces
-      const int ok = writer->Write();
+      int ok = 0;
+      {
+        const EarlyWriteback writeback(staged_piece.string());
+        ok = writer->Write();
+      }
       check_written(*writer, ok, rank == 0 ? path : (fs::path(directory) / name / piece).string());
       sync_file(staged_piece.string(), (fs::path(directory) / name / piece).string());
       if (rank == 0) sync_file(staged_summary.string(), path);

@@ -15,13 +15,16 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "apps/run.hpp"
 #include "io/atomic_file.hpp"
+#include "io/early_writeback.hpp"
 #include "io/png_image.hpp"
 #include "io/pvd_writer.hpp"
 
@@ -254,6 +257,41 @@ std::vector<std::string> hidden_entries(const std::string& dir) {
 }
 
 }  // namespace
+
+// The helper hands the file to the disk while it grows and changes none of its bytes; a
+// file that never appears costs nothing and stops promptly.
+TEST(EarlyWriteback, StartsWritebackWhileTheFileGrowsAndLeavesItsBytes) {
+  const std::string dir = "output/test_early_writeback";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/growing.bin";
+  std::string expected;
+  int rounds = 0;
+  {
+    const io::EarlyWriteback writeback(path);
+    std::ofstream out(path, std::ios::binary);
+    for (int chunk = 0; chunk < 40; ++chunk) {
+      const std::string bytes(1 << 16, static_cast<char>('a' + chunk % 26));
+      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      out.flush();
+      expected += bytes;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ASSERT_TRUE(out.good());
+    rounds = writeback.rounds();
+  }
+  EXPECT_GE(rounds, 1) << "no writeback was started in 80+ ms of writing";
+  EXPECT_EQ(file_bytes(path), expected);
+
+  const auto start = std::chrono::steady_clock::now();
+  {
+    const io::EarlyWriteback never(dir + "/never_written.bin");
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    EXPECT_EQ(never.rounds(), 0);
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/never_written.bin"));
+}
 
 TEST(AtomicFile, FullDiskKeepsThePreviousVtuAndThrows) {
   const std::string dir = "output/test_full_disk_vtu";
