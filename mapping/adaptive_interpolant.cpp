@@ -1,6 +1,7 @@
 #include "mapping/adaptive_interpolant.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -545,16 +546,37 @@ void AdaptiveInterpolant::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J
       if (J)
         for (int c = 0; c < 4; ++c) JJ(p, c) = v[(c + 2 - first) * stride];
     };
-    alignas(64) Real bu[kLanes], bv[kLanes], res[kComponents * kLanes];
-    Index bp[kLanes];
-    int count = 0;
-    const Node* batch_leaf = nullptr;
-    const auto flush = [&] {
-      if (count == 0) return;
-      for (int l = count; l < kLanes; ++l) bu[l] = bu[count - 1], bv[l] = bv[count - 1];
-      evaluate_leaf8(coefficients_.data() + batch_leaf->coefficients, n1, bu, bv, first, last, res);
-      for (int l = 0; l < count; ++l) put(bp[l], res + l, kLanes);
-      count = 0;
+    // A few batches stay open at once: the points of neighbouring cells
+    // alternate between two or three leaves where leaves meet, and a single
+    // open batch would be flushed half empty at every switch.
+    struct Batch {
+      alignas(64) Real u[kLanes];
+      alignas(64) Real v[kLanes];
+      Index p[kLanes];
+      int count = 0;
+      const Node* leaf = nullptr;
+    };
+    constexpr int kOpenBatches = 4;
+    std::array<Batch, kOpenBatches> batches;
+    alignas(64) Real res[kComponents * kLanes];
+    const auto flush = [&](Batch& b) {
+      if (b.count == 0) return;
+      for (int l = b.count; l < kLanes; ++l) b.u[l] = b.u[b.count - 1], b.v[l] = b.v[b.count - 1];
+      evaluate_leaf8(coefficients_.data() + b.leaf->coefficients, n1, b.u, b.v, first, last, res);
+      for (int l = 0; l < b.count; ++l) put(b.p[l], res + l, kLanes);
+      b.count = 0;
+      b.leaf = nullptr;
+    };
+    // The open batch of `leaf`, or a free one, or the fullest one flushed.
+    const auto batch_for = [&](const Node* leaf) -> Batch& {
+      Batch* chosen = nullptr;
+      for (Batch& b : batches) {
+        if (b.leaf == leaf) return b;
+        if (!chosen || (chosen->count > 0 && (b.count == 0 || b.count > chosen->count))) chosen = &b;
+      }
+      flush(*chosen);
+      chosen->leaf = leaf;
+      return *chosen;
     };
     for (Index p = begin; p < end; ++p) {
       const Real px = x0(p, 0), py = x0(p, 1);
@@ -580,11 +602,11 @@ void AdaptiveInterpolant::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J
         put(p, v, 1);
         continue;
       }
-      if (leaf != batch_leaf) flush(), batch_leaf = leaf;
-      bu[count] = u, bv[count] = w, bp[count] = p;
-      if (++count == kLanes) flush();
+      Batch& b = batch_for(leaf);
+      b.u[b.count] = u, b.v[b.count] = w, b.p[b.count] = p;
+      if (++b.count == kLanes) flush(b);
     }
-    flush();
+    for (Batch& b : batches) flush(b);
   });
   std::vector<Index> rest;
   for (Index p = 0; p < N; ++p)
