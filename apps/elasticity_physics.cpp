@@ -130,7 +130,8 @@ class ElasticityPhysics final : public Physics<dim> {
     vtk.point_fields.push_back({"displacement", 3, std::move(disp)});
     vtk.point_fields.push_back(
         {"von_mises", 1, mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.von_mises))});
-    vtk.point_fields.push_back({"det_F", 1, mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.det_F))});
+    vtk.point_fields.push_back(
+        {"det_F", 1, mesh.interpolate(p.dofs(), p.distribution(), p.project(cells.det_F))});
     vtk.cell_fields.push_back({"det_F_min", 1, mesh.cell_values(cells.min_det_F)});
     vtk.cell_fields.push_back({"von_mises_mean", 1, mesh.cell_values(cells.mean_von_mises)});
   }

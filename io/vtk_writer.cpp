@@ -23,9 +23,9 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <new>
 #include <filesystem>
 #include <limits>
+#include <new>
 #include <type_traits>
 
 #include "core/collective_error.hpp"

@@ -388,8 +388,7 @@ class AdaptiveInterpolant::Builder {
     st.max_J_error = std::max(st.max_J_error, f.worst_J);
     ++st.interpolated_leaves;
     cell.kind = 1;
-    cell.coefficients = static_cast<Index>(m_.coefficients_.size());
-    m_.coefficients_.insert(m_.coefficients_.end(), f.stored.begin(), f.stored.end());
+    cell.coefficients = m_.coefficients_.append(f.stored.data());
     // Evaluation tests inside/outside only against the edges that meet the cell
     // itself (grown by a margin far above rounding): the others can neither
     // cross the segment from the centre nor hold the point, so the parity is
@@ -483,6 +482,15 @@ class AdaptiveInterpolant::Builder {
   std::vector<std::pair<Real, Real>> tests_;
 };
 
+Index AdaptiveInterpolant::LeafCoefficients::append(const Real* values) {
+  if (count_ % kLeavesPerBlock == 0)
+    blocks_.push_back(
+        std::make_unique_for_overwrite<Real[]>(static_cast<std::size_t>(kLeavesPerBlock) * leaf_size_));
+  std::copy_n(values, leaf_size_,
+              blocks_.back().get() + static_cast<std::size_t>(count_ % kLeavesPerBlock) * leaf_size_);
+  return count_++;
+}
+
 AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source, InterpolantOptions options,
                                          MPI_Comm comm)
     : exact_(std::move(exact)), source_(source), options_(options) {
@@ -491,6 +499,8 @@ AdaptiveInterpolant::AdaptiveInterpolant(MapPtr<2> exact, const Polygon& source,
     throw Error(
         "map interpolant: the tolerance must be positive, the degree in [1, 30] and the depth in [0, 40]",
         {.file = "", .key_path = "map.interpolation_tolerance", .hint = "e.g. 1e-12"});
+  coefficients_ = LeafCoefficients(
+      static_cast<std::size_t>(kComponents * (options_.degree + 1) * padded(options_.degree + 1)));
   const Stopwatch watch;
   const double cpu = process_cpu_seconds();
   Builder(*this).build(comm);
@@ -562,7 +572,7 @@ void AdaptiveInterpolant::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J
     const auto flush = [&](Batch& b) {
       if (b.count == 0) return;
       for (int l = b.count; l < kLanes; ++l) b.u[l] = b.u[b.count - 1], b.v[l] = b.v[b.count - 1];
-      evaluate_leaf8(coefficients_.data() + b.leaf->coefficients, n1, b.u, b.v, first, last, res);
+      evaluate_leaf8(coefficients_[b.leaf->coefficients], n1, b.u, b.v, first, last, res);
       for (int l = 0; l < b.count; ++l) put(b.p[l], res + l, kLanes);
       b.count = 0;
       b.leaf = nullptr;
@@ -598,7 +608,7 @@ void AdaptiveInterpolant::run(const Points<2>& x0, Points<2>* x, Jacobians<2>* J
       const Real u = 2 * (px - leaf->x0) / leaf->h - 1, w = 2 * (py - leaf->y0) / leaf->h - 1;
       if (!batched) {
         Real v[kComponents];
-        evaluate_leaf(coefficients_.data() + leaf->coefficients, n1, u, w, first, last, v);
+        evaluate_leaf(coefficients_[leaf->coefficients], n1, u, w, first, last, v);
         put(p, v, 1);
         continue;
       }

@@ -78,7 +78,7 @@ class AdaptiveInterpolant final : public Map<2> {
     Real x0, y0, h;          // the cell [x0, x0 + h] × [y0, y0 + h]
     int child = -1;          // first of four children (x-major bits), -1 for a leaf
     int kind = 0;            // leaf: 0 exact, 1 interpolated
-    Index coefficients = 0;  // interpolated: offset into coefficients_
+    Index coefficients = 0;  // interpolated: its number in coefficients_
     int edges_begin = 0;     // interpolated: Ω0 edges crossing the cell (edge_list_)
     int edges_count = 0;
     bool center_inside = true;
@@ -97,7 +97,26 @@ class AdaptiveInterpolant final : public Map<2> {
   InterpolantOptions options_;
   InterpolantStats stats_;
   std::vector<Node> nodes_;
-  std::vector<Real> coefficients_;  // per leaf: 6 components × (degree+1)², i fastest
+  // Per interpolated leaf: 6 components × (degree+1) × padded(degree+1), i fastest. Kept in
+  // blocks that never move: the tree grows level by level, and one growing
+  // array would copy everything stored so far into fresh memory each time.
+  class LeafCoefficients {
+   public:
+    explicit LeafCoefficients(std::size_t leaf_size = 0) : leaf_size_(leaf_size) {}
+    /// Stores one leaf's coefficients (leaf_size values); returns its number.
+    Index append(const Real* values);
+    const Real* operator[](Index leaf) const {
+      return blocks_[static_cast<std::size_t>(leaf / kLeavesPerBlock)].get() +
+             static_cast<std::size_t>(leaf % kLeavesPerBlock) * leaf_size_;
+    }
+
+   private:
+    static constexpr Index kLeavesPerBlock = 256;
+    std::size_t leaf_size_;
+    Index count_ = 0;
+    std::vector<std::unique_ptr<Real[]>> blocks_;
+  };
+  LeafCoefficients coefficients_;
   std::vector<int> edge_list_;
 };
 

@@ -49,7 +49,7 @@ struct OutputMesh {
   /// Values at the nodes of the FE function with coefficients `relevant_values`
   /// (ordered as dist.relevant_dofs()), in the form a VTK field takes them.
   std::vector<double> interpolate(const DofMap<dim>& dofs, const DofDistribution<dim>& dist,
-                      const VectorX& relevant_values) const;
+                                  const VectorX& relevant_values) const;
 
  private:
   template <int d>

@@ -336,7 +336,8 @@ TEST(UntangledOutput, HexahedraAtAnOpenedEdgeAreWrittenAsStraightTetrahedra) {
   const std::vector<double> values = out.interpolate(dofs, dist, coefficients);
   ASSERT_EQ(values.size(), static_cast<std::size_t>(out.reference_points.rows()));
   for (Index p = 0; p < out.reference_points.rows(); ++p)
-    ASSERT_NEAR(values[static_cast<std::size_t>(p)], quadratic(out.reference_points.row(p).transpose()), 1e-12)
+    ASSERT_NEAR(values[static_cast<std::size_t>(p)], quadratic(out.reference_points.row(p).transpose()),
+                1e-12)
         << "node " << p;
 
   expect_written_unfolded(out, "hexahedra_opened_edge");
