@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/mesh/boundary_locator.hpp"
@@ -49,6 +51,56 @@ TEST(BoundaryLocator, PointsOnEdgesAndVertices) {
   EXPECT_EQ(e, std::vector<int>({0, 1}));
   loc.edges_at({0.5, 0.5}, e);
   EXPECT_TRUE(e.empty());
+}
+
+// A polygon of many edges is searched in CGAL's AABB tree: the same edges, in
+// the same order, as a scan over all of them, on and off the boundary.
+TEST(BoundaryLocator, ManyEdgesFindTheSameEdgesAsAScan) {
+  const Index n = 480;
+  std::vector<Point<2>> v;
+  for (Index i = 0; i < n; ++i) {
+    const double t = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+    const double r = 1 + 0.1 * std::sin(12 * t);
+    v.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  const Polygon wavy = Polygon::checked(v);
+  const double tol = 1e-9 * (wavy.bbox_max() - wavy.bbox_min()).norm();
+  const BoundaryLocator loc(wavy);
+  const auto scan = [&](const Point<2>& x) {
+    std::vector<int> found;
+    for (Index e = 0; e < n; ++e) {
+      const Point<2> a = wavy.vertex(e), d = wavy.vertex(e + 1) - a;
+      const double s = std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      if ((x - (a + s * d)).norm() <= tol) found.push_back(static_cast<int>(e));
+    }
+    return found;
+  };
+  std::vector<Point<2>> probes;
+  for (Index i = 0; i < n; ++i) {
+    const Point<2> a = wavy.vertex(i), b = wavy.vertex(i + 1);
+    const Point<2> normal = Point<2>(b.y() - a.y(), a.x() - b.x()).normalized();
+    probes.push_back(a);                                 // two edges
+    probes.push_back(0.3 * a + 0.7 * b);                 // one edge
+    probes.push_back((a + b) / 2 + 0.5 * tol * normal);  // within the tolerance
+    probes.push_back((a + b) / 2 + 3 * tol * normal);    // beyond it
+    probes.push_back(0.9 * ((a + b) / 2));               // inside, off the boundary
+  }
+  std::vector<int> found;
+  int on_two = 0;
+  for (const Point<2>& x : probes) {
+    loc.edges_at(x, found);
+    const std::vector<int> expected = scan(x);
+    ASSERT_EQ(found, expected) << "at (" << x.x() << ", " << x.y() << ")";
+    on_two += expected.size() == 2 ? 1 : 0;
+    const int nearest = loc.edge_at(x);
+    if (expected.empty())
+      EXPECT_EQ(nearest, -1);
+    else
+      EXPECT_NE(std::find(expected.begin(), expected.end(), nearest), expected.end());
+  }
+  EXPECT_EQ(on_two, n);  // every vertex, and nothing else, lies on two edges
+  loc.edges_at(wavy.vertex(0), found);
+  EXPECT_EQ(found, std::vector<int>({0, static_cast<int>(n - 1)}));
 }
 
 TEST(QuadSplit, CoversThePolygonWithCounterClockwiseQuads) {
