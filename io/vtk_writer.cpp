@@ -26,10 +26,12 @@
 #include <filesystem>
 #include <limits>
 #include <new>
+#include <set>
 #include <type_traits>
 
 #include "core/collective_error.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "core/prefault.hpp"
 #include "core/timer.hpp"
 #include "io/atomic_file.hpp"
@@ -174,6 +176,22 @@ void check_written(vtkXMLWriter& writer, int ok, const std::string& path) {
   }
 }
 
+/// A result of the other kind under the same name (`name.pvtu` and its pieces
+/// next to a serial `name.vtu`, or the reverse) is left from an earlier run on
+/// another number of ranks: not removed (it is not ours to delete), but said
+/// once per directory, since ParaView may open it instead of this run's file.
+void warn_of_other_kind(const std::string& directory, const std::string& name, bool parallel,
+                        const std::string& written) {
+  const fs::path other = fs::path(directory) / (name + (parallel ? ".vtu" : ".pvtu"));
+  std::error_code ec;
+  if (!fs::exists(other, ec)) return;
+  static std::set<std::string> said;  // directories warned about: once each (a series has a file per step)
+  if (!said.insert(directory).second) return;
+  log::warning("output: ", other.string(), " is left from an earlier run on ",
+               parallel ? "one rank" : "several ranks", " and is not this run's result (", written,
+               "); remove it so that ParaView cannot open it by mistake");
+}
+
 std::string broadcast_string(MPI_Comm comm, std::string s) {
   unsigned long size = s.size();
   MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG, 0, comm);
@@ -220,6 +238,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
       watch.reset();
     });
     log::debug("vtk: synced and renamed into place in ", format_seconds(watch.seconds()));
+    warn_of_other_kind(directory, name, false, path);
     return path;
   }
 
@@ -288,6 +307,7 @@ std::string write_vtk(MPI_Comm comm, const VtkOutput<dim>& output, const std::st
   if (rank == 0) {
     std::error_code ec;
     fs::remove_all(staging, ec);
+    warn_of_other_kind(directory, name, true, path);
   }
   return path;
 }

@@ -23,10 +23,13 @@
 #include <thread>
 
 #include "apps/run.hpp"
+#include "core/log.hpp"
+#include "core/mesh/structured_mesher.hpp"
 #include "io/atomic_file.hpp"
 #include "io/early_writeback.hpp"
 #include "io/png_image.hpp"
 #include "io/pvd_writer.hpp"
+#include "io/vtk_writer.hpp"
 
 using namespace warpfem;
 
@@ -367,6 +370,34 @@ TEST(AtomicFile, OutputDirectoryBlockedByAFileIsReportedByName) {
     EXPECT_EQ(e.context().file, dir + "/blocker");
     EXPECT_NE(std::string(e.what()).find("cannot create output directory"), std::string::npos) << e.what();
   }
+}
+
+// A serial result next to a .pvtu of an earlier run on several ranks: the old
+// file stays (it is not ours to delete), and the log says which file is stale.
+TEST(VtkOutput, AResultOfAnEarlierRunOnOtherRanksIsNamedInTheLog) {
+  const std::string dir = "output/test_other_kind";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/solution.pvtu") << "<VTKFile/>";
+  const Mesh<2> mesh =
+      structured_mesh(Polygon::checked({{0, 0}, {1, 0}, {1, 1}, {0, 1}}), 2, 2, CellType::triangle);
+  io::VtkCells cells;
+  cells.cell_type = CellType::triangle;
+  cells.points.resize(mesh.num_vertices(), 3);
+  for (Index v = 0; v < mesh.num_vertices(); ++v) cells.points.row(v) << mesh.vertex(v).transpose(), 0.0;
+  cells.cells = mesh.cells;
+  io::VtkOutput<2> out;
+  out.cells = &cells;
+  const log::Level saved = log::level();
+  log::set_level(log::Level::warning);
+  testing::internal::CaptureStderr();
+  const std::string written = io::write_vtk(MPI_COMM_SELF, out, dir, "solution");
+  const std::string said = testing::internal::GetCapturedStderr();
+  log::set_level(saved);
+  EXPECT_EQ(written, dir + "/solution.vtu");
+  EXPECT_NE(said.find(dir + "/solution.pvtu is left from an earlier run on several ranks"), std::string::npos)
+      << said;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/solution.pvtu"));
 }
 
 TEST(AtomicFile, StaleTemporariesOfDeadProcessesAreRemoved) {
